@@ -1,0 +1,17 @@
+#pragma once
+// Subcommands of the softcut program, one file each (cmd_<name>.cpp). Each
+// takes the arguments after its name and returns the process exit code;
+// softcut::Error thrown out of a command is printed as one line by main().
+#include <string>
+#include <vector>
+
+namespace softcut::cli {
+
+using Args = std::vector<std::string>;
+
+int cmd_mesh(const Args& args);   // softcut mesh info|convert|generate ...
+int cmd_bench(const Args& args);  // softcut bench <name> ...
+int cmd_run(const Args& args);    // softcut run SCENARIO.lua ...
+int cmd_check(const Args& args);  // softcut check PATH...
+
+}  // namespace softcut::cli

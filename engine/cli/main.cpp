@@ -1,0 +1,61 @@
+// softcut command-line program: dispatches to the subcommands in commands.hpp.
+#include <cstdio>
+#include <exception>
+#include <string>
+
+#include "cli/commands.hpp"
+#include "core/error.hpp"
+
+namespace {
+
+const char* kUsage =
+    "softcut " SOFTCUT_VERSION " - scripted surgical soft-tissue simulation (Wu & Heng 2005 hybrid FEM)\n"
+    "\n"
+    "usage: softcut <command> [options]\n"
+    "\n"
+    "commands:\n"
+    "  run SCENARIO.lua [--out DIR] [--set key=value ...] [--frames N] [--quiet]\n"
+    "                       run a Lua scenario headless; frames and logs under renders/\n"
+    "  check PATH...        run scenarios' expectations and compare with reference logs\n"
+    "  mesh info FILE [--json]\n"
+    "  mesh convert IN OUT  convert between mesh formats (by extension)\n"
+    "  mesh generate KIND [options] OUT\n"
+    "                       box, cylinder, tube, band, or from a label volume\n"
+    "  bench NAME [options] benchmarks (ratios against a baseline in the same run)\n"
+    "\n"
+    "  --help, -h           this text (also: softcut <command> --help)\n"
+    "  --version            print the version\n";
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace softcut::cli;
+  if (argc < 2) {
+    std::fputs(kUsage, stderr);
+    return 2;
+  }
+  const std::string cmd = argv[1];
+  if (cmd == "--help" || cmd == "-h" || cmd == "help") {
+    std::fputs(kUsage, stdout);
+    return 0;
+  }
+  if (cmd == "--version") {
+    std::printf("softcut %s\n", SOFTCUT_VERSION);
+    return 0;
+  }
+  const Args args(argv + 2, argv + argc);
+  try {
+    if (cmd == "mesh") return cmd_mesh(args);
+    if (cmd == "bench") return cmd_bench(args);
+    if (cmd == "run") return cmd_run(args);
+    if (cmd == "check") return cmd_check(args);
+    std::fprintf(stderr, "softcut: unknown command '%s' (see softcut --help)\n", cmd.c_str());
+    return 2;
+  } catch (const softcut::Error& e) {
+    std::fprintf(stderr, "softcut: error: %s\n", e.what());
+    return 1;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "softcut: internal error: %s\n", e.what());
+    return 3;
+  }
+}

@@ -1,0 +1,76 @@
+#include "mesh/surface.hpp"
+
+#include <algorithm>
+#include <array>
+
+namespace softcut::mesh {
+
+Surface extract_surface(const TetMesh& m, const std::vector<char>& tet_mask) {
+  // Sort all faces by their sorted node triple; a face that appears once is on
+  // the boundary. O(F log F), no hashing, deterministic.
+  struct Key {
+    std::array<int, 3> sorted;
+    int tet, local;
+  };
+  std::vector<Key> keys;
+  keys.reserve(size_t(m.num_tets()) * 4);
+  for (int t = 0; t < m.num_tets(); ++t) {
+    if (!tet_mask.empty() && !tet_mask[size_t(t)]) continue;
+    for (int f = 0; f < 4; ++f) {
+      std::array<int, 3> v = {m.tets(t, kTetFaces[f][0]), m.tets(t, kTetFaces[f][1]),
+                              m.tets(t, kTetFaces[f][2])};
+      std::sort(v.begin(), v.end());
+      keys.push_back({v, t, f});
+    }
+  }
+  std::sort(keys.begin(), keys.end(), [](const Key& a, const Key& b) {
+    return a.sorted != b.sorted ? a.sorted < b.sorted : a.tet < b.tet;
+  });
+  std::vector<std::pair<int, int>> boundary;  // (tet, local face)
+  for (size_t i = 0; i < keys.size();) {
+    size_t j = i + 1;
+    while (j < keys.size() && keys[j].sorted == keys[i].sorted) ++j;
+    if (j - i == 1) boundary.emplace_back(keys[i].tet, keys[i].local);
+    i = j;
+  }
+  std::sort(boundary.begin(), boundary.end());
+  Surface s;
+  s.faces.resize(Eigen::Index(boundary.size()), 3);
+  s.face_tet.resize(Eigen::Index(boundary.size()));
+  std::vector<char> on(size_t(m.num_nodes()), 0);
+  for (size_t i = 0; i < boundary.size(); ++i) {
+    const auto [t, f] = boundary[i];
+    for (int k = 0; k < 3; ++k) {
+      const int v = m.tets(t, kTetFaces[f][k]);
+      s.faces(Eigen::Index(i), k) = v;
+      on[size_t(v)] = 1;
+    }
+    s.face_tet(Eigen::Index(i)) = t;
+  }
+  for (int v = 0; v < m.num_nodes(); ++v)
+    if (on[size_t(v)]) s.nodes.push_back(v);
+  return s;
+}
+
+std::vector<char> surface_node_mask(const TetMesh& m, const Surface& s) {
+  std::vector<char> mask(size_t(m.num_nodes()), 0);
+  for (int v : s.nodes) mask[size_t(v)] = 1;
+  return mask;
+}
+
+Eigen::MatrixX3d vertex_normals(const TetMesh& m, const Surface& s, const Eigen::MatrixX3d& positions) {
+  const Eigen::MatrixX3d& x = positions.rows() ? positions : m.nodes;
+  Eigen::MatrixX3d n = Eigen::MatrixX3d::Zero(m.num_nodes(), 3);
+  for (Eigen::Index f = 0; f < s.faces.rows(); ++f) {
+    const Eigen::Vector3d a = x.row(s.faces(f, 0)), b = x.row(s.faces(f, 1)), c = x.row(s.faces(f, 2));
+    const Eigen::RowVector3d area_normal = 0.5 * (b - a).cross(c - a).transpose();
+    for (int k = 0; k < 3; ++k) n.row(s.faces(f, k)) += area_normal;
+  }
+  for (Eigen::Index i = 0; i < n.rows(); ++i) {
+    const double len = n.row(i).norm();
+    if (len > 0) n.row(i) /= len;
+  }
+  return n;
+}
+
+}  // namespace softcut::mesh

@@ -1,0 +1,30 @@
+#pragma once
+// Boundary surface of a tet mesh (or of a subset of its tets): the faces used
+// by exactly one tet of the set, oriented outward.
+#include <Eigen/Core>
+#include <vector>
+
+#include "mesh/tet_mesh.hpp"
+
+namespace softcut::mesh {
+
+struct Surface {
+  Eigen::MatrixX3i faces;    // (nface x 3) node ids, counter-clockwise seen from outside
+  Eigen::VectorXi face_tet;  // (nface) the tet each face belongs to
+  std::vector<int> nodes;    // sorted ids of the nodes on some boundary face
+};
+
+// Boundary of the tets with tet_mask[t] != 0 (all tets when the mask is empty).
+// Faces come out in a deterministic order (by tet, then local face).
+Surface extract_surface(const TetMesh& m, const std::vector<char>& tet_mask = {});
+
+// Per node: true if the node lies on the surface. (nnode)
+std::vector<char> surface_node_mask(const TetMesh& m, const Surface& s);
+
+// Area-weighted outward normals at the surface nodes, unit length, (nnode x 3);
+// zero rows for nodes not on the surface. `positions` (nnode x 3) lets callers
+// pass deformed positions; the rest positions are used when it is empty.
+Eigen::MatrixX3d vertex_normals(const TetMesh& m, const Surface& s,
+                                const Eigen::MatrixX3d& positions = {});
+
+}  // namespace softcut::mesh

@@ -1,0 +1,34 @@
+#pragma once
+// Sparse Cholesky factor (CHOLMOD, through Eigen's CholmodSupport): factor once,
+// solve many right-hand sides. Used for the monolithic reference solve, K22 in
+// the hybrid precompute, and the direct operational backend.
+#include <Eigen/CholmodSupport>
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+#include <memory>
+#include <string>
+
+namespace softcut::solve {
+
+class Cholesky {
+ public:
+  Cholesky() = default;
+  // Factors the symmetric positive definite A (lower triangle is read).
+  // Throws softcut::Error naming `what` when A is not positive definite
+  // (e.g. a part of the body without fixed nodes).
+  explicit Cholesky(const Eigen::SparseMatrix<double>& A, const std::string& what = "matrix");
+  void factor(const Eigen::SparseMatrix<double>& A, const std::string& what = "matrix");
+
+  Eigen::VectorXd solve(const Eigen::VectorXd& b) const;
+  Eigen::MatrixXd solve(const Eigen::MatrixXd& B) const;  // one column per right-hand side
+  Eigen::MatrixXd solve(const Eigen::SparseMatrix<double>& B) const;
+
+  int rows() const { return rows_; }
+  bool factored() const { return bool(llt_); }
+
+ private:
+  std::unique_ptr<Eigen::CholmodDecomposition<Eigen::SparseMatrix<double>, Eigen::Lower>> llt_;
+  int rows_ = 0;
+};
+
+}  // namespace softcut::solve
