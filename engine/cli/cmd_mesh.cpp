@@ -1,8 +1,438 @@
+// softcut mesh info|convert|generate: inspect, convert and make tet meshes.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <sstream>
+
 #include "cli/commands.hpp"
+#include "core/atomic_file.hpp"
 #include "core/error.hpp"
+#include "mesh/generate/box.hpp"
+#include "mesh/generate/cylinder.hpp"
+#include "mesh/generate/presets.hpp"
+#include "mesh/io/mesh_io.hpp"
+#include "mesh/quality.hpp"
+#include "mesh/surface.hpp"
+#include "mesh/volume/label_volume.hpp"
 
 namespace softcut::cli {
+namespace {
 
-int cmd_mesh(const Args&) { fail("softcut mesh: not implemented yet"); }
+using namespace softcut::mesh;
+
+const char* kMeshUsage =
+    "usage: softcut mesh info FILE [--json]\n"
+    "       softcut mesh convert IN OUT\n"
+    "       softcut mesh generate KIND [options] OUT\n"
+    "\n"
+    "Formats by extension: read .msh .node/.ele .mesh .vtk .vtu; write .vtu .msh.\n"
+    "See softcut mesh <info|convert|generate> --help.\n";
+
+const char* kInfoUsage =
+    "usage: softcut mesh info FILE [--json]\n"
+    "\n"
+    "Counts (nodes, tets, surface and interior nodes), labels with their tet\n"
+    "counts, bounding box, volume, surface topology, element quality and the\n"
+    "warnings from reading. Aspect ratio is R / (3 r) (1 for the regular tet);\n"
+    "a tet is poor with a dihedral angle < 10 or > 165 degrees or aspect > 5.\n"
+    "  --json   one JSON object on stdout instead of text\n";
+
+const char* kConvertUsage =
+    "usage: softcut mesh convert IN OUT\n"
+    "\n"
+    "Reads IN (.msh .node .ele .mesh .vtk .vtu), validates it (reorients\n"
+    "negative tets, reports unreferenced nodes) and writes OUT (.vtu or .msh).\n";
+
+const char* kGenerateUsage =
+    "usage: softcut mesh generate KIND [options] OUT\n"
+    "\n"
+    "kinds (lengths in m; the body's axis is +z):\n"
+    "  box        --size LX,LY,LZ (1,1,1)        --cells NX,NY,NZ (4,4,4)\n"
+    "  cylinder   --size RADIUS,LENGTH (0.02,0.06) --cells RINGS,LAYERS\n"
+    "  tube       --size RIN,ROUT,LENGTH (0.012,0.024,0.03) --cells RADIAL,AROUND,LAYERS\n"
+    "             --hole-nodes FILE  write the ids of the nodes on the hole (one per line)\n"
+    "  band       --size LENGTH,WIDTH,THICKNESS (0.035,0.010,0.004) --cells ALONG,ACROSS,THROUGH\n"
+    "             --twist DEG (90)  --flare F (1.6, end/middle width)\n"
+    "  ligament   the paper's knee ligament: a band of ~615 nodes, ~1900 tets\n"
+    "  upper_leg  the paper's upper leg: a tube of ~785 nodes, ~2550 tets (accepts --hole-nodes)\n"
+    "  volume     tets from a segmented NRRD label image (docs/label-volume.md):\n"
+    "             softcut mesh generate volume IN.nrrd|IN.nhdr [--labels 1,2] [--smooth N]\n"
+    "                                   [--unit m|cm|mm|um] OUT\n"
+    "             --labels L,...  labels to mesh (default: every nonzero label)\n"
+    "             --smooth N      Taubin smoothing passes over the outer surface (0)\n"
+    "             --unit U        length unit of the file (default: its 'space units', else mm)\n"
+    "\n"
+    "options for box, cylinder, tube, band, ligament, upper_leg:\n"
+    "  --target-tets N, --target-nodes N   pick the resolution to meet these counts\n"
+    "                                      (not for box; ignored when --cells is given)\n"
+    "  --jitter F      move interior nodes by up to F x cell size, 0 <= F < 0.25 (0)\n"
+    "  --seed N        jitter seed (1)\n"
+    "  --label N       label of every tet (1)\n";
+
+// --name value or --name=value options after the positionals are taken out.
+struct Options {
+  std::vector<std::string> positional;
+  std::map<std::string, std::string> named;
+  std::map<std::string, bool> used;
+
+  bool has(const std::string& k) {
+    used[k] = true;
+    return named.count(k) > 0;
+  }
+  const std::string& get(const std::string& k) {
+    used[k] = true;
+    return named.at(k);
+  }
+};
+
+Options parse_options(const Args& args, size_t from, const std::vector<std::string>& flags, const char* cmd) {
+  Options o;
+  for (size_t i = from; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    if (a.size() > 2 && a.rfind("--", 0) == 0) {
+      std::string key = a.substr(2), value;
+      if (const size_t eq = key.find('='); eq != std::string::npos) {
+        value = key.substr(eq + 1);
+        key = key.substr(0, eq);
+      } else if (std::find(flags.begin(), flags.end(), key) != flags.end()) {
+        value = "1";
+      } else {
+        if (i + 1 >= args.size()) fail(cmd, ": option --", key, " needs a value");
+        value = args[++i];
+      }
+      if (o.named.count(key)) fail(cmd, ": option --", key, " given twice");
+      o.named[key] = value;
+    } else {
+      o.positional.push_back(a);
+    }
+  }
+  return o;
+}
+
+bool wants_help(const Args& args) {
+  return std::any_of(args.begin(), args.end(), [](const std::string& a) { return a == "--help" || a == "-h"; });
+}
+
+void reject_unused(Options& o, const std::string& cmd) {
+  for (const auto& [k, v] : o.named)
+    if (!o.used[k]) fail(cmd, ": unknown option --", k, " here (see softcut ", cmd, " --help)");
+}
+
+double to_double(const std::string& opt, const std::string& s) {
+  char* end = nullptr;
+  const double x = std::strtod(s.c_str(), &end);
+  if (s.empty() || end != s.c_str() + s.size() || !std::isfinite(x))
+    fail("option --", opt, ": expected a number, got '", s, "'");
+  return x;
+}
+
+int to_int(const std::string& opt, const std::string& s) {
+  char* end = nullptr;
+  const long x = std::strtol(s.c_str(), &end, 10);
+  if (s.empty() || end != s.c_str() + s.size() || std::abs(x) > 1000000000L)
+    fail("option --", opt, ": expected an integer, got '", s, "'");
+  return int(x);
+}
+
+std::vector<std::string> split(const std::string& s) {
+  std::vector<std::string> out;
+  std::stringstream ss(s);
+  for (std::string x; std::getline(ss, x, ',');) out.push_back(x);
+  return out;
+}
+
+std::vector<double> doubles(Options& o, const std::string& k, size_t n) {
+  const auto parts = split(o.get(k));
+  if (parts.size() != n) fail("option --", k, ": expected ", n, " comma-separated numbers, got '", o.get(k), "'");
+  std::vector<double> v;
+  for (const auto& p : parts) v.push_back(to_double(k, p));
+  return v;
+}
+
+std::vector<int> ints(Options& o, const std::string& k, size_t n) {
+  const auto parts = split(o.get(k));
+  if (n && parts.size() != n) fail("option --", k, ": expected ", n, " comma-separated integers, got '", o.get(k), "'");
+  std::vector<int> v;
+  for (const auto& p : parts) v.push_back(to_int(k, p));
+  return v;
+}
+
+// Options every structured generator has.
+template <class O>
+void common_options(Options& a, O& o) {
+  if (a.has("jitter")) o.jitter = to_double("jitter", a.get("jitter"));
+  if (a.has("seed")) {
+    const int s = to_int("seed", a.get("seed"));
+    if (s < 0) fail("option --seed: must be >= 0");
+    o.seed = unsigned(s);
+  }
+  if (a.has("label")) o.label = to_int("label", a.get("label"));
+  if (a.has("target-tets")) o.target_tets = to_int("target-tets", a.get("target-tets"));
+  if (a.has("target-nodes")) o.target_nodes = to_int("target-nodes", a.get("target-nodes"));
+}
+
+std::string json_number(double x) {
+  if (!std::isfinite(x)) return "null";
+  return cat(x);
+}
+
+std::string json_string(const std::string& s) {
+  std::string out = "\"";
+  for (char c : s) {
+    if (c == '"' || c == '\\') out += '\\', out += c;
+    else if ((unsigned char)c < 0x20) {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\u%04x", c);
+      out += buf;
+    } else out += c;
+  }
+  return out + "\"";
+}
+
+int cmd_info(const Args& args) {
+  if (wants_help(args)) return std::fputs(kInfoUsage, stdout), 0;
+  Options a = parse_options(args, 1, {"json"}, "mesh info");
+  const bool json = a.has("json");
+  reject_unused(a, "mesh info");
+  if (a.positional.size() != 1) fail("mesh info: expected one FILE (see softcut mesh info --help)");
+  const std::string file = a.positional[0];
+  Diagnostics diag;
+  const TetMesh m = read_mesh(file, diag);
+  const Surface s = extract_surface(m);
+  const auto used = referenced_nodes(m);
+  const int referenced = int(std::count(used.begin(), used.end(), 1));
+  const int surface_nodes = int(s.nodes.size());
+  std::map<int, int> labels;
+  for (int t = 0; t < m.num_tets(); ++t) ++labels[m.labels(t)];
+  std::map<std::pair<int, int>, int> edges;
+  for (Eigen::Index f = 0; f < s.faces.rows(); ++f)
+    for (int e = 0; e < 3; ++e) {
+      const int p = s.faces(f, e), q = s.faces(f, (e + 1) % 3);
+      ++edges[{std::min(p, q), std::max(p, q)}];
+    }
+  int odd_edges = 0;
+  for (const auto& [e, n] : edges) odd_edges += n != 2;
+  const int euler = surface_nodes - int(edges.size()) + int(s.faces.rows());
+  const QualityThresholds th;
+  const QualityStats q = tet_quality(m, th);
+  Eigen::Vector3d lo = Eigen::Vector3d::Zero(), hi = Eigen::Vector3d::Zero();
+  if (m.num_nodes() > 0) lo = m.nodes.colwise().minCoeff(), hi = m.nodes.colwise().maxCoeff();
+  if (odd_edges > 0)
+    diag.warn(file, ": surface is not a closed manifold: ", odd_edges, " surface edge(s) not in exactly two faces");
+  if (q.num_poor > 0)
+    diag.warn(file, ": ", q.num_poor, " poor tetrahedra (worst: tet ", q.worst_tet, ", aspect ", q.max_aspect, ")");
+
+  if (json) {
+    std::string labs;
+    for (const auto& [l, n] : labels) labs += cat(labs.empty() ? "" : ", ", "{\"label\": ", l, ", \"tets\": ", n, "}");
+    std::string warns;
+    for (const auto& w : diag.warnings) warns += (warns.empty() ? "" : ", ") + json_string(w);
+    auto vec = [](const Eigen::Vector3d& v) {
+      return cat("[", json_number(v.x()), ", ", json_number(v.y()), ", ", json_number(v.z()), "]");
+    };
+    std::printf(
+        "{\"file\": %s, \"nodes\": %d, \"referenced_nodes\": %d, \"surface_nodes\": %d, \"interior_nodes\": %d, "
+        "\"tets\": %d, \"labels\": [%s], \"bbox_min\": %s, \"bbox_max\": %s, \"volume\": %s, "
+        "\"surface\": {\"faces\": %d, \"edges\": %d, \"euler\": %d, \"closed_manifold\": %s}, "
+        "\"quality\": {\"min_volume\": %s, \"max_volume\": %s, \"min_dihedral_deg\": %s, \"max_dihedral_deg\": %s, "
+        "\"min_aspect\": %s, \"mean_aspect\": %s, \"max_aspect\": %s, \"min_edge\": %s, \"max_edge\": %s, "
+        "\"nonpositive\": %d, \"small_dihedral\": %d, \"large_dihedral\": %d, \"high_aspect\": %d, \"poor\": %d}, "
+        "\"warnings\": [%s]}\n",
+        json_string(file).c_str(), m.num_nodes(), referenced, surface_nodes, referenced - surface_nodes, m.num_tets(),
+        labs.c_str(), vec(lo).c_str(), vec(hi).c_str(), json_number(q.total_volume).c_str(), int(s.faces.rows()),
+        int(edges.size()), euler, odd_edges == 0 ? "true" : "false", json_number(q.min_volume).c_str(),
+        json_number(q.max_volume).c_str(), json_number(q.min_dihedral_deg).c_str(),
+        json_number(q.max_dihedral_deg).c_str(), json_number(q.min_aspect).c_str(),
+        json_number(q.mean_aspect).c_str(), json_number(q.max_aspect).c_str(), json_number(q.min_edge).c_str(),
+        json_number(q.max_edge).c_str(), q.num_nonpositive, q.num_small_dihedral, q.num_large_dihedral,
+        q.num_high_aspect, q.num_poor, warns.c_str());
+    return 0;
+  }
+  std::printf("file:          %s\n", file.c_str());
+  std::printf("nodes:         %d (%d surface, %d interior, %d unreferenced)\n", m.num_nodes(), surface_nodes,
+              referenced - surface_nodes, m.num_nodes() - referenced);
+  std::printf("tets:          %d\n", m.num_tets());
+  std::printf("labels:       ");
+  for (const auto& [l, n] : labels) std::printf(" %d (%d tets)", l, n);
+  std::printf("\n");
+  std::printf("bounding box:  [%.6g, %.6g, %.6g] .. [%.6g, %.6g, %.6g] m\n", lo.x(), lo.y(), lo.z(), hi.x(), hi.y(),
+              hi.z());
+  std::printf("volume:        %.6g m^3\n", q.total_volume);
+  std::printf("surface:       %d faces, %d edges, Euler characteristic %d, %s\n", int(s.faces.rows()),
+              int(edges.size()), euler, odd_edges == 0 ? "closed manifold" : "NOT a closed manifold");
+  if (m.num_tets() > 0) {
+    std::printf("tet volume:    %.4g .. %.4g m^3\n", q.min_volume, q.max_volume);
+    std::printf("edge length:   %.4g .. %.4g m\n", q.min_edge, q.max_edge);
+    std::printf("dihedral:      %.2f .. %.2f deg\n", q.min_dihedral_deg, q.max_dihedral_deg);
+    std::printf("aspect R/3r:   %.3f min, %.3f mean, %.3f max\n", q.min_aspect, q.mean_aspect, q.max_aspect);
+    std::printf("poor tets:     %d (dihedral < %g deg: %d, > %g deg: %d, aspect > %g: %d, non-positive: %d)\n",
+                q.num_poor, th.min_dihedral_deg, q.num_small_dihedral, th.max_dihedral_deg, q.num_large_dihedral,
+                th.max_aspect, q.num_high_aspect, q.num_nonpositive);
+  }
+  for (const auto& w : diag.warnings) std::printf("warning: %s\n", w.c_str());
+  return 0;
+}
+
+int cmd_convert(const Args& args) {
+  if (wants_help(args)) return std::fputs(kConvertUsage, stdout), 0;
+  Options a = parse_options(args, 1, {}, "mesh convert");
+  reject_unused(a, "mesh convert");
+  if (a.positional.size() != 2) fail("mesh convert: expected IN and OUT (see softcut mesh convert --help)");
+  Diagnostics diag;
+  const TetMesh m = read_mesh(a.positional[0], diag);
+  write_mesh(a.positional[1], m);
+  for (const auto& w : diag.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+  std::printf("wrote %s: %d nodes, %d tets\n", a.positional[1].c_str(), m.num_nodes(), m.num_tets());
+  return 0;
+}
+
+void write_hole_nodes(const std::string& path, const std::string& mesh_path, const std::vector<int>& ids) {
+  write_file_atomic(path, [&](std::ostream& os) {
+    os << "# node ids (0-based) on the hole surface of " << mesh_path << ", one per line\n";
+    for (int i : ids) os << i << "\n";
+  });
+}
+
+// `hole` receives the hole-surface node ids for tube and upper_leg.
+TetMesh generate_structured(const std::string& kind, Options& a, std::string& note, std::vector<int>& hole) {
+  const bool cells = a.has("cells"), size = a.has("size");
+  const bool targets = a.named.count("target-tets") || a.named.count("target-nodes");
+  if (kind == "box") {
+    BoxOptions o;
+    if (size) o.max_corner = Eigen::Vector3d(doubles(a, "size", 3).data());
+    if (cells) {
+      const auto c = ints(a, "cells", 3);
+      o.nx = c[0], o.ny = c[1], o.nz = c[2];
+    }
+    if (a.has("jitter")) o.jitter = to_double("jitter", a.get("jitter"));
+    if (a.has("seed")) {
+      const int seed = to_int("seed", a.get("seed"));
+      if (seed < 0) fail("option --seed: must be >= 0");
+      o.seed = unsigned(seed);
+    }
+    if (a.has("label")) o.label = to_int("label", a.get("label"));
+    note = cat("box ", o.nx, " x ", o.ny, " x ", o.nz, " cells");
+    return generate_box(o);
+  }
+  if (kind == "cylinder") {
+    CylinderOptions o;
+    common_options(a, o);
+    if (size) {
+      const auto v = doubles(a, "size", 2);
+      o.radius = v[0], o.length = v[1];
+    }
+    if (cells) {
+      const auto c = ints(a, "cells", 2);
+      o.rings = c[0], o.layers = c[1];
+    }
+    const auto r = resolve_cylinder(o);
+    note = cat("cylinder ", r.rings, " rings x ", r.layers, " layers");
+    return generate_cylinder(o);
+  }
+  if (kind == "band" || kind == "ligament") {
+    BandOptions o = kind == "ligament" ? ligament_preset() : BandOptions{};
+    if (cells || targets) o.target_tets = o.target_nodes = 0;
+    common_options(a, o);
+    if (size) {
+      const auto v = doubles(a, "size", 3);
+      o.length = v[0], o.width = v[1], o.thickness = v[2];
+    }
+    if (cells) {
+      const auto c = ints(a, "cells", 3);
+      o.along = c[0], o.across = c[1], o.through = c[2];
+    }
+    if (a.has("twist")) o.twist_deg = to_double("twist", a.get("twist"));
+    if (a.has("flare")) o.flare = to_double("flare", a.get("flare"));
+    const auto r = resolve_band(o);
+    note = cat(kind, " ", r.along, " along x ", r.across, " across x ", r.through, " through");
+    return generate_band(o);
+  }
+  TubeOptions o = kind == "upper_leg" ? upper_leg_preset() : TubeOptions{};
+  if (cells || targets) o.target_tets = o.target_nodes = 0;
+  common_options(a, o);
+  if (size) {
+    const auto v = doubles(a, "size", 3);
+    o.inner_radius = v[0], o.outer_radius = v[1], o.length = v[2];
+  }
+  if (cells) {
+    const auto c = ints(a, "cells", 3);
+    o.radial = c[0], o.around = c[1], o.layers = c[2];
+  }
+  const auto r = resolve_tube(o);
+  const TetMesh m = generate_tube(o);
+  hole = tube_hole_nodes(m, o);
+  note = cat(kind, " ", r.radial, " radial x ", r.around, " around x ", r.layers, " layers; ", hole.size(),
+             " hole-surface nodes on radius ", o.inner_radius, " m");
+  return m;
+}
+
+int cmd_generate(const Args& args) {
+  if (args.size() < 2) return std::fputs(kGenerateUsage, stderr), 2;
+  if (wants_help(args)) return std::fputs(kGenerateUsage, stdout), 0;
+  const std::string kind = args[1];
+  static const char* kKinds[] = {"box", "cylinder", "tube", "band", "ligament", "upper_leg", "volume"};
+  if (std::find(std::begin(kKinds), std::end(kKinds), kind) == std::end(kKinds))
+    fail("mesh generate: unknown kind '", kind,
+         "' (use box, cylinder, tube, band, ligament, upper_leg or volume; see softcut mesh generate --help)");
+  Options a = parse_options(args, 2, {}, "mesh generate");
+  Diagnostics diag;
+  TetMesh m;
+  std::string note;
+  std::vector<int> hole;
+  if (kind != "tube" && kind != "upper_leg" && a.named.count("hole-nodes"))
+    fail("mesh generate ", kind, ": --hole-nodes is only for tube and upper_leg");
+  if (kind == "volume") {
+    std::string in;
+    if (a.has("input")) in = a.get("input");
+    if (a.positional.size() == 2 && in.empty()) in = a.positional[0];
+    if (in.empty() || a.positional.size() != (a.has("input") ? 1u : 2u))
+      fail("mesh generate volume: expected IN.nrrd (or --input IN) and OUT (see softcut mesh generate --help)");
+    NrrdReadOptions ro;
+    if (a.has("unit")) {
+      const std::string u = a.get("unit");
+      ro.unit_m = u == "m" ? 1 : u == "cm" ? 1e-2 : u == "mm" ? 1e-3 : u == "um" ? 1e-6 : 0;
+      if (ro.unit_m == 0) fail("option --unit: expected m, cm, mm or um, got '", u, "'");
+    }
+    VoxelMeshOptions vo;
+    if (a.has("labels")) vo.labels = ints(a, "labels", 0);
+    if (a.has("smooth")) vo.smooth_iterations = to_int("smooth", a.get("smooth"));
+    if (vo.smooth_iterations < 0) fail("option --smooth: must be >= 0");
+    const LabelVolume v = read_nrrd_labels(in, diag, ro);
+    m = mesh_label_volume(v, vo, diag);
+    note = cat("volume ", v.size(0), " x ", v.size(1), " x ", v.size(2), " voxels from ", in);
+  } else {
+    if (a.positional.size() != 1) fail("mesh generate ", kind, ": expected exactly one OUT file after the options");
+    if (kind == "box" && (a.named.count("target-tets") || a.named.count("target-nodes")))
+      fail("mesh generate box: use --cells; --target-tets / --target-nodes are for the other kinds");
+    if (kind != "band" && kind != "ligament" && (a.named.count("twist") || a.named.count("flare")))
+      fail("mesh generate ", kind, ": --twist and --flare are only for band and ligament");
+    m = generate_structured(kind, a, note, hole);
+  }
+  const bool want_hole = a.has("hole-nodes");
+  reject_unused(a, "mesh generate");
+  const std::string out = a.positional.back();
+  validate(m, "generated " + kind, diag);
+  write_mesh(out, m);
+  if (want_hole) {
+    write_hole_nodes(a.get("hole-nodes"), out, hole);
+    note += cat("; ids in ", a.get("hole-nodes"));
+  }
+  for (const auto& w : diag.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+  std::printf("wrote %s: %d nodes, %d tets (%s)\n", out.c_str(), m.num_nodes(), m.num_tets(), note.c_str());
+  return 0;
+}
+
+}  // namespace
+
+int cmd_mesh(const Args& args) {
+  if (args.empty()) return std::fputs(kMeshUsage, stderr), 2;
+  const std::string& sub = args[0];
+  if (sub == "--help" || sub == "-h" || sub == "help") return std::fputs(kMeshUsage, stdout), 0;
+  if (sub == "info") return cmd_info(args);
+  if (sub == "convert") return cmd_convert(args);
+  if (sub == "generate") return cmd_generate(args);
+  fail("mesh: unknown subcommand '", sub, "' (use info, convert or generate; see softcut mesh --help)");
+}
 
 }  // namespace softcut::cli

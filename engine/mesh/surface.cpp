@@ -1,5 +1,6 @@
 #include "mesh/surface.hpp"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
 

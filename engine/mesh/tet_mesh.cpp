@@ -1,5 +1,6 @@
 #include "mesh/tet_mesh.hpp"
 
+#include <Eigen/Geometry>  // cross()
 #include <cmath>
 
 namespace softcut::mesh {

@@ -10,8 +10,10 @@
 namespace softcut::mesh {
 
 // .msh (Gmsh ASCII 1, 2.2, 4.1), .node/.ele (TetGen; either name), .mesh
-// (medit), .vtk (legacy ASCII/BINARY), .vtu (XML ascii/base64). Throws
-// softcut::Error naming the file, the line or element, and what is wrong.
+// (medit), .vtk (legacy ASCII/BINARY), .vtu (XML ascii/base64/appended, zlib).
+// Throws softcut::Error naming the file, the line or element, and what is
+// wrong; warnings (skipped elements, flips, unused nodes) go to `diag`.
+// What each reader accepts: docs/mesh-formats.md.
 TetMesh read_mesh(const std::filesystem::path& path, Diagnostics& diag);
 
 // .vtu or .msh (Gmsh 2.2 ASCII), atomically (temp + rename).

@@ -1,0 +1,41 @@
+#pragma once
+// Prism extrusion shared by the cylinder, tube and band generators: a 2D
+// triangulated cross-section is stacked into layers and each prism is split
+// into three tets. The split of every quad side face is decided by the global
+// ids of its two bottom corners alone (diagonal from the smaller id at the
+// bottom to the larger id at the top), so two prisms sharing a side face split
+// it the same way and the mesh is conforming, also across a periodic seam.
+#include <Eigen/Core>
+#include <functional>
+#include <vector>
+
+#include "mesh/tet_mesh.hpp"
+
+namespace softcut::mesh {
+
+struct Section {
+  Eigen::MatrixX3i triangles;  // (ntri x 3) section point ids
+  int num_points = 0;          // section points; node id = point + num_points * layer
+  std::vector<char> boundary;  // (num_points) point lies on the section's outline
+};
+
+// Places section point `point` of layer `layer` (0..layers); `offset` (3) is a
+// jitter displacement in [-jitter, jitter]^3 in cell units, which the
+// generator scales by its cell sizes (zero for nodes on the body's surface,
+// which stay exact).
+using PlacePoint = std::function<Eigen::Vector3d(int point, int layer, const Eigen::Vector3d& offset)>;
+
+// Stacks `layers` >= 1 prism layers. Orientation is decided on the unjittered
+// positions; with jitter > 0 the interior nodes get random offsets (seeded,
+// deterministic) and a tet that would turn non-positive is an Error naming
+// `what` (lower the jitter). Every tet gets `label`.
+TetMesh extrude_section(const Section& s, int layers, const PlacePoint& place, double jitter, unsigned seed,
+                        int label, const char* what);
+
+// Resolution choice shared by the generators: how far (nodes, tets) miss the
+// requested counts (0 = not requested), as the larger relative miss, plus a
+// mild penalty for elongated cells (`cell` holds the three cell sizes, m).
+// Smaller is better.
+double resolution_score(long nodes, long tets, int target_nodes, int target_tets, const Eigen::Vector3d& cell);
+
+}  // namespace softcut::mesh

@@ -1,0 +1,413 @@
+// VTK XML unstructured grid reader (.vtu). DataArrays may be ascii, inline
+// base64 binary (header UInt32 or UInt64, optionally zlib-compressed with
+// vtkZLibDataCompressor) or appended (raw or base64). Cells of type 10 are
+// kept; a one-component CellData array named like a label gives the labels.
+#include <zlib.h>
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+
+#include "mesh/io/base64.hpp"
+#include "mesh/io/formats.hpp"
+#include "mesh/io/text_reader.hpp"
+
+namespace softcut::mesh::io {
+
+// Floating-point values are copied byte-wise from little-endian data.
+static_assert(std::endian::native == std::endian::little, "mesh readers assume a little-endian host");
+
+namespace {
+
+struct XmlTag {
+  std::string_view name;
+  std::vector<std::pair<std::string_view, std::string_view>> attrs;
+  bool closing = false, self_closing = false;
+  std::size_t begin = 0, end = 0;  // offsets of '<' and one past '>'
+  std::string_view attr(std::string_view key) const {
+    for (const auto& [k, v] : attrs)
+      if (k == key) return v;
+    return {};
+  }
+};
+
+struct ArrayRef {
+  std::string name, type, format;
+  std::int64_t ncomp = 1, offset = -1;
+  std::size_t begin = 0, end = 0;  // inline content
+  int line = 0, content_line = 0;  // of the tag and of its content
+};
+
+int type_size(const std::string& t) {
+  if (t == "Int8" || t == "UInt8") return 1;
+  if (t == "Int16" || t == "UInt16") return 2;
+  if (t == "Int32" || t == "UInt32" || t == "Float32") return 4;
+  if (t == "Int64" || t == "UInt64" || t == "Float64") return 8;
+  return 0;
+}
+
+class VtuFile {
+ public:
+  VtuFile(const std::string& source, std::string_view text) : source_(source), text_(text) {}
+
+  TetMesh read(Diagnostics& diag);
+
+ private:
+  int line_at(std::size_t off) const {
+    int line = 1;
+    for (std::size_t i = 0; i < off && i < text_.size(); ++i) line += text_[i] == '\n';
+    return line;
+  }
+  // line_at for increasing offsets while scanning (linear overall).
+  int scan_line_at(std::size_t off) {
+    for (; line_pos_ < off && line_pos_ < text_.size(); ++line_pos_) line_ += text_[line_pos_] == '\n';
+    return line_;
+  }
+  template <class... Args>
+  [[noreturn]] void fail_at(std::size_t off, const Args&... args) const {
+    fail(source_, ":", line_at(off), ": ", args...);
+  }
+  template <class... Args>
+  [[noreturn]] void fail_array(const ArrayRef& a, const Args&... args) const {
+    fail(source_, ":", a.line, ": DataArray '", a.name, "': ", args...);
+  }
+
+  bool next_tag(XmlTag& tag);
+  void scan();
+  std::int64_t int_attr(const XmlTag& t, std::string_view key, bool required);
+  std::string block_bytes(const ArrayRef& a, std::string_view bytes) const;
+  std::uint64_t header_value(std::string_view bytes, std::size_t i) const;
+  std::vector<double> decode(const ArrayRef& a, std::int64_t expected) const;
+
+  std::string source_;
+  std::string_view text_;
+  std::size_t pos_ = 0;
+  std::size_t line_pos_ = 0;  // scan_line_at cursor
+  int line_ = 1;
+  bool big_endian_ = false, compressed_ = false;
+  int header_size_ = 4;
+  std::int64_t npoints_ = -1, ncells_ = -1;
+  std::vector<ArrayRef> points_, cells_, cell_data_;
+  std::string appended_encoding_;
+  std::size_t appended_begin_ = 0, appended_end_ = 0;
+  bool have_appended_ = false;
+  std::vector<std::int64_t> appended_offsets_;  // sorted, for base64 chunk ends
+};
+
+bool VtuFile::next_tag(XmlTag& tag) {
+  for (;;) {
+    const std::size_t lt = text_.find('<', pos_);
+    if (lt == std::string_view::npos) return false;
+    auto skip_to = [&](std::string_view end) {
+      const std::size_t e = text_.find(end, lt);
+      if (e == std::string_view::npos) fail_at(lt, "unterminated XML construct");
+      pos_ = e + end.size();
+    };
+    if (text_.substr(lt, 4) == "<!--") { skip_to("-->"); continue; }
+    if (text_.substr(lt, 2) == "<?") { skip_to("?>"); continue; }
+    if (text_.substr(lt, 2) == "<!") { skip_to(">"); continue; }
+    tag = XmlTag{};
+    tag.begin = lt;
+    std::size_t i = lt + 1;
+    auto space = [&](char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r'; };
+    auto need = [&]() { if (i >= text_.size()) fail_at(lt, "file ends inside an XML tag"); };
+    need();
+    if (text_[i] == '/') tag.closing = true, ++i;
+    const std::size_t n0 = i;
+    while (i < text_.size() && !space(text_[i]) && text_[i] != '>' && text_[i] != '/') ++i;
+    tag.name = text_.substr(n0, i - n0);
+    if (tag.name.empty()) fail_at(lt, "malformed XML tag");
+    for (;;) {
+      while (i < text_.size() && space(text_[i])) ++i;
+      need();
+      if (text_[i] == '>') { ++i; break; }
+      if (text_[i] == '/') {
+        ++i;
+        need();
+        if (text_[i] != '>') fail_at(lt, "malformed XML tag <", tag.name, ">");
+        tag.self_closing = true;
+        ++i;
+        break;
+      }
+      const std::size_t k0 = i;
+      while (i < text_.size() && !space(text_[i]) && text_[i] != '=' && text_[i] != '>') ++i;
+      const std::string_view key = text_.substr(k0, i - k0);
+      while (i < text_.size() && space(text_[i])) ++i;
+      need();
+      if (text_[i] != '=') fail_at(lt, "attribute ", key, " of <", tag.name, "> has no value");
+      ++i;
+      while (i < text_.size() && space(text_[i])) ++i;
+      need();
+      const char q = text_[i];
+      if (q != '"' && q != '\'') fail_at(lt, "attribute ", key, " of <", tag.name, "> is not quoted");
+      const std::size_t v0 = ++i;
+      while (i < text_.size() && text_[i] != q) ++i;
+      need();
+      tag.attrs.emplace_back(key, text_.substr(v0, i - v0));
+      ++i;
+    }
+    tag.end = i;
+    pos_ = i;
+    return true;
+  }
+}
+
+std::int64_t VtuFile::int_attr(const XmlTag& t, std::string_view key, bool required) {
+  const std::string_view v = t.attr(key);
+  if (v.empty()) {
+    if (required) fail_at(t.begin, "<", t.name, "> has no ", key, " attribute");
+    return -1;
+  }
+  std::int64_t out;
+  if (!parse_int(v, out) || out < 0) fail_at(t.begin, key, "=\"", v, "\" of <", t.name, "> is not a count");
+  return out;
+}
+
+void VtuFile::scan() {
+  XmlTag tag;
+  bool have_file = false, have_piece = false;
+  std::string section;
+  while (next_tag(tag)) {
+    if (tag.closing) {
+      if (tag.name == section) section.clear();
+      continue;
+    }
+    if (tag.name == "VTKFile") {
+      have_file = true;
+      if (tag.attr("type") != "UnstructuredGrid")
+        fail_at(tag.begin, "VTK XML type '", tag.attr("type"), "' is not supported; expected UnstructuredGrid");
+      const std::string_view order = tag.attr("byte_order"), header = tag.attr("header_type");
+      const std::string_view comp = tag.attr("compressor");
+      if (order == "BigEndian") big_endian_ = true;
+      else if (!order.empty() && order != "LittleEndian") fail_at(tag.begin, "unknown byte_order '", order, "'");
+      if (header == "UInt64") header_size_ = 8;
+      else if (!header.empty() && header != "UInt32") fail_at(tag.begin, "unknown header_type '", header, "'");
+      if (comp == "vtkZLibDataCompressor") compressed_ = true;
+      else if (!comp.empty())
+        fail_at(tag.begin, "compressor '", comp, "' is not supported; save uncompressed or with zlib compression");
+    } else if (tag.name == "Piece") {
+      if (have_piece) fail_at(tag.begin, "more than one <Piece>; merge the pieces into one grid before loading");
+      have_piece = true;
+      npoints_ = int_attr(tag, "NumberOfPoints", true);
+      ncells_ = int_attr(tag, "NumberOfCells", true);
+      if (npoints_ > INT32_MAX || ncells_ > INT32_MAX) fail_at(tag.begin, "too many points or cells");
+    } else if (tag.name == "Points" || tag.name == "Cells" || tag.name == "CellData" || tag.name == "PointData" ||
+               tag.name == "FieldData") {
+      if (!tag.self_closing) section = std::string(tag.name);
+    } else if (tag.name == "DataArray") {
+      ArrayRef a;
+      a.name = std::string(tag.attr("Name"));
+      a.type = std::string(tag.attr("type"));
+      a.format = std::string(tag.attr("format"));
+      a.line = scan_line_at(tag.begin);
+      const std::int64_t nc = int_attr(tag, "NumberOfComponents", false);
+      a.ncomp = nc < 0 ? 1 : nc;
+      if (a.format == "appended") {
+        a.offset = int_attr(tag, "offset", true);
+        appended_offsets_.push_back(a.offset);
+      }
+      if (!tag.self_closing) {
+        const std::size_t close = text_.find("</DataArray>", tag.end);
+        if (close == std::string_view::npos) fail_at(tag.begin, "DataArray '", a.name, "' has no </DataArray>");
+        a.begin = tag.end;
+        a.content_line = scan_line_at(tag.end);
+        a.end = close;
+        pos_ = close;
+      }
+      if (section == "Points") points_.push_back(a);
+      else if (section == "Cells") cells_.push_back(a);
+      else if (section == "CellData") cell_data_.push_back(a);
+    } else if (tag.name == "AppendedData") {
+      have_appended_ = true;
+      appended_encoding_ = std::string(tag.attr("encoding"));
+      if (appended_encoding_ != "raw" && appended_encoding_ != "base64")
+        fail_at(tag.begin, "AppendedData encoding '", appended_encoding_, "' is not supported (raw or base64)");
+      const std::size_t underscore = text_.find('_', tag.end);
+      if (underscore == std::string_view::npos) fail_at(tag.begin, "AppendedData has no '_' marking its start");
+      appended_begin_ = underscore + 1;
+      const std::size_t close = text_.rfind("</AppendedData>");
+      appended_end_ = close == std::string_view::npos || close < appended_begin_ ? text_.size() : close;
+      break;  // raw bytes follow; nothing after them is needed
+    }
+  }
+  if (!have_file) fail(source_, ": not a VTK XML file (no <VTKFile> element)");
+  if (!have_piece) fail(source_, ": no <Piece> element; the grid is empty or the file is truncated");
+  std::sort(appended_offsets_.begin(), appended_offsets_.end());
+}
+
+std::uint64_t VtuFile::header_value(std::string_view bytes, std::size_t i) const {
+  unsigned char b[8] = {};
+  std::memcpy(b, bytes.data() + i * std::size_t(header_size_), std::size_t(header_size_));
+  if (big_endian_) std::reverse(b, b + header_size_);
+  std::uint64_t v = 0;
+  for (int k = header_size_ - 1; k >= 0; --k) v = v << 8 | b[k];
+  return v;
+}
+
+// Header plus data of one binary block -> the (decompressed) data bytes.
+std::string VtuFile::block_bytes(const ArrayRef& a, std::string_view bytes) const {
+  const std::size_t hs = std::size_t(header_size_);
+  if (!compressed_) {
+    if (bytes.size() < hs) fail_array(a, "binary block ends inside its header");
+    const std::uint64_t n = header_value(bytes, 0);
+    if (n > bytes.size() - hs) fail_array(a, "header announces ", n, " bytes but only ", bytes.size() - hs, " follow");
+    return std::string(bytes.substr(hs, std::size_t(n)));
+  }
+  if (bytes.size() < 3 * hs) fail_array(a, "compressed block ends inside its header");
+  const std::uint64_t nb = header_value(bytes, 0), bs = header_value(bytes, 1), last = header_value(bytes, 2);
+  if (nb > bytes.size() / hs - 3) fail_array(a, "compressed header announces ", nb, " blocks; the data is too short");
+  const std::size_t data0 = (3 + std::size_t(nb)) * hs;
+  std::uint64_t csum = 0;
+  for (std::size_t b = 0; b < nb; ++b) csum += header_value(bytes, 3 + b);
+  if (csum > bytes.size() - data0)
+    fail_array(a, "compressed blocks need ", csum, " bytes but only ", bytes.size() - data0, " follow");
+  // zlib expands at most ~1032:1, which bounds what a header may ask for.
+  const std::uint64_t total = nb == 0 ? 0 : (nb - 1) * bs + (last == 0 ? bs : last);
+  if (bs > 1032 * (csum + 64) || total > 1032 * (csum + 64))
+    fail_array(a, "compressed header announces ", total, " bytes, more than ", csum, " compressed bytes can hold");
+  std::string out(std::size_t(total), '\0');
+  std::size_t in = data0, at = 0;
+  for (std::size_t b = 0; b < nb; ++b) {
+    const std::uint64_t csize = header_value(bytes, 3 + b);
+    const uLongf want = uLongf(b + 1 == nb && last != 0 ? last : bs);
+    uLongf got = want;
+    const int rc = uncompress(reinterpret_cast<Bytef*>(out.data() + at), &got,
+                              reinterpret_cast<const Bytef*>(bytes.data() + in), uLong(csize));
+    if (rc != Z_OK || got != want) fail_array(a, "zlib block ", b, " does not decompress to ", want, " bytes (zlib code ", rc, ")");
+    in += std::size_t(csize);
+    at += std::size_t(want);
+  }
+  return out;
+}
+
+std::vector<double> VtuFile::decode(const ArrayRef& a, std::int64_t expected) const {
+  const int size = type_size(a.type);
+  if (size == 0) fail_array(a, "data type '", a.type, "' is not supported");
+  std::vector<double> out;
+  if (a.format == "ascii") {
+    TextReader r(source_, text_.substr(a.begin, a.end - a.begin), a.content_line);
+    out.reserve(reserve_cap(expected, a.end - a.begin, 2));
+    std::string_view tok;
+    while (r.next_token(tok)) {
+      if (std::int64_t(out.size()) >= expected)
+        r.fail_here("DataArray '", a.name, "' holds more than the ", expected, " values expected");
+      out.push_back(r.to_double_lazy(tok, [&] { return cat("a value of DataArray '", a.name, "'"); }));
+    }
+    if (std::int64_t(out.size()) != expected) fail_array(a, "expected ", expected, " values, found ", out.size());
+    return out;
+  }
+  std::string data;
+  if (a.format == "binary") {
+    std::size_t bad = 0;
+    auto bytes = base64_decode(text_.substr(a.begin, a.end - a.begin), &bad);
+    if (!bytes) fail_at(a.begin + bad, "DataArray '", a.name, "': invalid base64 data");
+    data = block_bytes(a, *bytes);
+  } else if (a.format == "appended") {
+    if (!have_appended_) fail_array(a, "format=\"appended\" but the file has no <AppendedData>");
+    const std::size_t len = appended_end_ - appended_begin_;
+    if (std::uint64_t(a.offset) > len) fail_array(a, "offset ", a.offset, " lies beyond the appended data (", len, " bytes)");
+    const std::size_t from = appended_begin_ + std::size_t(a.offset);
+    if (appended_encoding_ == "raw") {
+      data = block_bytes(a, text_.substr(from, appended_end_ - from));
+    } else {
+      auto next = std::upper_bound(appended_offsets_.begin(), appended_offsets_.end(), a.offset);
+      const std::size_t to = next == appended_offsets_.end() ? appended_end_
+                                                             : std::min(appended_end_, appended_begin_ + std::size_t(*next));
+      std::size_t bad = 0;
+      auto bytes = base64_decode(text_.substr(from, to - from), &bad);
+      if (!bytes) fail_at(from + bad, "DataArray '", a.name, "': invalid base64 appended data");
+      data = block_bytes(a, *bytes);
+    }
+  } else {
+    fail_array(a, "format '", a.format, "' is not supported (ascii, binary or appended)");
+  }
+  if (data.size() != std::size_t(expected) * std::size_t(size))
+    fail_array(a, "expected ", expected, " values of type ", a.type, " (", std::size_t(expected) * std::size_t(size),
+               " bytes), found ", data.size(), " bytes");
+  out.resize(std::size_t(expected));
+  const bool is_float = a.type[0] == 'F', is_unsigned = a.type[0] == 'U';
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    unsigned char b[8];  // little-endian after the swap
+    std::memcpy(b, data.data() + i * std::size_t(size), std::size_t(size));
+    if (big_endian_) std::reverse(b, b + size);
+    if (is_float) {
+      if (size == 4) { float f; std::memcpy(&f, b, 4); out[i] = f; }
+      else { double d; std::memcpy(&d, b, 8); out[i] = d; }
+    } else {
+      std::uint64_t u = 0;
+      for (int k = size - 1; k >= 0; --k) u = u << 8 | b[k];
+      const int shift = 64 - 8 * size;
+      out[i] = is_unsigned ? double(u) : double(std::int64_t(u << shift) >> shift);
+    }
+  }
+  return out;
+}
+
+TetMesh VtuFile::read(Diagnostics& diag) {
+  scan();
+  auto find = [&](const std::vector<ArrayRef>& v, std::string_view name, std::string_view what) -> const ArrayRef& {
+    for (const auto& a : v)
+      if (name.empty() || a.name == name) return a;
+    fail(source_, ": no ", what, " DataArray found");
+  };
+  const ArrayRef& pa = find(points_, "", "<Points>");
+  if (pa.ncomp != 3) fail_array(pa, "points need 3 components, found ", pa.ncomp);
+  MeshBuffers buf;
+  buf.xyz = decode(pa, 3 * npoints_);
+  for (std::size_t i = 0; i < buf.xyz.size(); ++i)
+    if (!std::isfinite(buf.xyz[i]))
+      fail_array(pa, "point ", i / 3, " has a non-finite coordinate (", buf.xyz[i], "); fix or remove that node");
+  const ArrayRef& oa = find(cells_, "offsets", "Cells 'offsets'");
+  const ArrayRef& ta = find(cells_, "types", "Cells 'types'");
+  const ArrayRef& ca = find(cells_, "connectivity", "Cells 'connectivity'");
+  const std::vector<double> offsets = decode(oa, ncells_), types = decode(ta, ncells_);
+  double prev = 0;
+  for (std::size_t c = 0; c < offsets.size(); ++c) {
+    if (!(offsets[c] >= prev && offsets[c] == std::floor(offsets[c]) && offsets[c] <= double(INT32_MAX) * 8))
+      fail_array(oa, "offset of cell ", c, " (", offsets[c], ") is not an integer >= the previous offset ", prev);
+    prev = offsets[c];
+  }
+  const std::vector<double> conn = decode(ca, std::int64_t(prev));
+  std::vector<double> labels;
+  const ArrayRef* la = nullptr;
+  for (const auto& a : cell_data_)
+    if (a.ncomp == 1 && label_name_rank(a.name) >= 0 && (!la || label_name_rank(a.name) < label_name_rank(la->name)))
+      la = &a;
+  if (la) {
+    labels = decode(*la, ncells_);
+    for (std::size_t c = 0; c < labels.size(); ++c)
+      if (!label_value_ok(labels[c])) fail_array(*la, "label ", labels[c], " of cell ", c, " is not an integer");
+  }
+  SkippedElements skipped;
+  std::size_t begin = 0;
+  for (std::size_t c = 0; c < offsets.size(); ++c) {
+    const std::size_t end = std::size_t(offsets[c]);
+    const int type = int(types[c]);
+    if (type != 10) {
+      skipped.add(type == 5 ? "triangle" : type == 3 ? "line" : type == 1 ? "vertex" : type == 12 ? "hexahedron" : cat("cell type ", type));
+    } else {
+      if (end - begin != 4) fail_array(oa, "cell ", c, " is a tetrahedron (type 10) with ", end - begin, " points; expected 4");
+      for (std::size_t k = begin; k < end; ++k) {
+        const double v = conn[k];
+        if (!(v >= 0 && v < double(npoints_) && v == std::floor(v)))
+          fail_array(ca, "cell ", c, " refers to point ", v, ", but the file has points 0..", npoints_ - 1);
+        buf.tet.push_back(int(v));
+      }
+      buf.label.push_back(la ? int(labels[c]) : 0);
+    }
+    begin = end;
+  }
+  skipped.report(source_, diag);
+  return buf.finish();
+}
+
+}  // namespace
+
+TetMesh read_vtu(const std::string& source, std::string_view text, Diagnostics& diag) {
+  VtuFile f(source, text);
+  return f.read(diag);
+}
+
+}  // namespace softcut::mesh::io

@@ -1,0 +1,82 @@
+#include <doctest/doctest.h>
+
+#include <fstream>
+#include <string>
+
+#include "cli/commands.hpp"
+#include "core/error.hpp"
+#include "mesh/generate/presets.hpp"
+#include "mesh/io/mesh_io.hpp"
+#include "test_support.hpp"
+
+using namespace softcut;
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string error_of(const cli::Args& args) {
+  try {
+    cli::cmd_mesh(args);
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+}  // namespace
+
+TEST_SUITE("cli/cmd_mesh") {
+  TEST_CASE("generate the paper presets, with hole nodes; info and convert read them back") {
+    const fs::path dir = test::scratch_dir("cmd_mesh");
+    const std::string lig = (dir / "lig.vtu").string(), leg = (dir / "leg.msh").string();
+    const std::string hole = (dir / "hole.txt").string();
+    REQUIRE(cli::cmd_mesh({"generate", "ligament", lig}) == 0);
+    REQUIRE(cli::cmd_mesh({"generate", "upper_leg", "--hole-nodes", hole, leg}) == 0);
+    Diagnostics d;
+    const mesh::TetMesh a = mesh::read_mesh(lig, d), b = mesh::read_mesh(leg, d);
+    CHECK(a.num_tets() == mesh::generate_band(mesh::ligament_preset()).num_tets());
+    CHECK(b.num_nodes() == mesh::generate_tube(mesh::upper_leg_preset()).num_nodes());
+    std::ifstream in(hole);
+    std::string line;
+    std::getline(in, line);
+    CHECK(line.rfind("#", 0) == 0);
+    std::vector<int> ids;
+    for (int id; in >> id;) ids.push_back(id);
+    CHECK(ids == mesh::tube_hole_nodes(b, mesh::upper_leg_preset()));
+    CHECK(cli::cmd_mesh({"info", leg, "--json"}) == 0);
+    CHECK(cli::cmd_mesh({"info", lig}) == 0);
+    CHECK(cli::cmd_mesh({"convert", leg, (dir / "leg.vtu").string()}) == 0);
+    CHECK(mesh::read_mesh(dir / "leg.vtu", d).tets == b.tets);
+  }
+
+  TEST_CASE("generate options and the label volume path") {
+    const fs::path dir = test::scratch_dir("cmd_mesh_opts");
+    Diagnostics d;
+    REQUIRE(cli::cmd_mesh({"generate", "box", "--size", "0.1,0.2,0.3", "--cells=2,3,4", (dir / "b.vtu").string()}) == 0);
+    const mesh::TetMesh box = mesh::read_mesh(dir / "b.vtu", d);
+    CHECK(box.num_tets() == 6 * 24);
+    CHECK(mesh::total_volume(box) == doctest::Approx(0.006));
+    REQUIRE(cli::cmd_mesh({"generate", "tube", "--cells", "2,10,3", "--label", "4", (dir / "t.vtu").string()}) == 0);
+    CHECK(mesh::read_mesh(dir / "t.vtu", d).labels.maxCoeff() == 4);
+    const std::string organ = (test::data_dir() / "volume" / "organ.nhdr").string();
+    REQUIRE(cli::cmd_mesh({"generate", "volume", organ, "--labels", "2", (dir / "v.vtu").string()}) == 0);
+    CHECK(mesh::read_mesh(dir / "v.vtu", d).num_tets() == 6 * 36);
+  }
+
+  TEST_CASE("bad input: one-line reasons") {
+    CHECK(error_of({"frob"}).find("unknown subcommand 'frob'") != std::string::npos);
+    CHECK(error_of({"generate", "sphere", "x.vtu"}).find("unknown kind 'sphere'") != std::string::npos);
+    CHECK(error_of({"generate", "box", "--cells", "2,2", "x.vtu"}).find("expected 3 comma-separated") !=
+          std::string::npos);
+    CHECK(error_of({"generate", "cylinder", "--target-tets", "1.5", "x.vtu"}).find("expected an integer") !=
+          std::string::npos);
+    CHECK(error_of({"generate", "band", "--bogus", "1", "x.vtu"}).find("unknown option --bogus") != std::string::npos);
+    CHECK(error_of({"generate", "box", "--hole-nodes", "h", "x.vtu"}).find("only for tube") != std::string::npos);
+    CHECK(error_of({"generate", "volume", "x.vtu"}).find("expected IN.nrrd") != std::string::npos);
+    CHECK(error_of({"info"}).find("expected one FILE") != std::string::npos);
+    CHECK(error_of({"info", "/nonexistent/x.vtu"}).find("/nonexistent/x.vtu") != std::string::npos);
+    CHECK(error_of({"convert", "a.vtu"}).find("expected IN and OUT") != std::string::npos);
+    for (const std::string& e : {error_of({"generate", "tube", "--jitter", "0.5", "x.vtu"})})
+      CHECK(e.find('\n') == std::string::npos);
+  }
+}
