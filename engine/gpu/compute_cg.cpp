@@ -1,0 +1,257 @@
+#include "gpu/compute_cg.hpp"
+
+#define GL_GLEXT_PROTOTYPES 1
+#include <GL/glcorearb.h>
+
+#include <cmath>
+#include <cstring>
+#include <vector>
+
+#include "core/error.hpp"
+#include "core/timer.hpp"
+#include "gpu/cg_layout.hpp"
+#include "gpu/cg_shaders.hpp"
+#include "gpu/compute_program.hpp"
+
+namespace softcut::gpu {
+namespace L = cg_layout;
+
+namespace {
+
+// Device scalars are float or double; host data is double.
+std::vector<unsigned char> to_device(const double* v, std::size_t n, bool fp64) {
+  std::vector<unsigned char> out(n * (fp64 ? 8 : 4));
+  if (fp64) {
+    std::memcpy(out.data(), v, n * 8);
+  } else {
+    auto* f = reinterpret_cast<float*>(out.data());
+    for (std::size_t i = 0; i < n; ++i) f[i] = float(v[i]);
+  }
+  return out;
+}
+
+std::vector<double> from_device(const std::vector<unsigned char>& bytes, bool fp64) {
+  const std::size_t n = bytes.size() / (fp64 ? 8 : 4);
+  std::vector<double> out(n);
+  if (fp64) {
+    std::memcpy(out.data(), bytes.data(), n * 8);
+  } else {
+    const auto* f = reinterpret_cast<const float*>(bytes.data());
+    for (std::size_t i = 0; i < n; ++i) out[i] = f[i];
+  }
+  return out;
+}
+
+std::uint32_t groups_for(std::uint32_t items) { return (items + L::kGroupSize - 1) / L::kGroupSize; }
+
+}  // namespace
+
+struct ComputeCg::Impl {
+  bool fp64;
+  ComputeProgram spmv, dense, dot_p_ap, reduce_alpha, update, reduce_beta, direction, start;
+  StorageBuffer buf[12];
+  BlockSystem cached;  // what the device holds (values in double)
+  bool have_system = false;
+
+  std::size_t scalar() const { return fp64 ? 8 : 4; }
+
+  explicit Impl(bool fp64_) : fp64(fp64_) {
+    namespace S = cg_shaders;
+    spmv = ComputeProgram("cg.spmv", S::spmv(fp64));
+    dense = ComputeProgram("cg.dense", S::dense(fp64));
+    dot_p_ap = ComputeProgram("cg.dot_p_ap", S::dot_p_ap(fp64));
+    reduce_alpha = ComputeProgram("cg.reduce_alpha", S::reduce_alpha(fp64));
+    update = ComputeProgram("cg.update", S::update(fp64));
+    reduce_beta = ComputeProgram("cg.reduce_beta", S::reduce_beta(fp64));
+    direction = ComputeProgram("cg.direction", S::direction(fp64));
+    start = ComputeProgram("cg.start", S::start(fp64));
+  }
+
+  void set_sizes() {
+    for (ComputeProgram* p : {&spmv, &dense, &dot_p_ap, &reduce_alpha, &update, &reduce_beta, &direction, &start}) {
+      p->set_uint("nb", std::uint32_t(cached.num_blocks));
+      p->set_uint("dense_off", std::uint32_t(cached.dense_offset));
+      p->set_uint("dense_m", std::uint32_t(cached.dense_size));
+    }
+  }
+
+  void bind_all() const {
+    for (std::uint32_t b = 0; b < 12; ++b) buf[b].bind(b);
+  }
+
+  // Uploads only the runs of 9-value blocks (or dense rows) that differ.
+  std::size_t upload_changed(StorageBuffer& dst, const std::vector<double>& old_v, const std::vector<double>& new_v,
+                             std::size_t run) {
+    std::size_t sent = 0;
+    const std::size_t units = new_v.size() / run;
+    std::size_t u = 0;
+    while (u < units) {
+      if (std::memcmp(&old_v[u * run], &new_v[u * run], run * sizeof(double)) == 0) {
+        ++u;
+        continue;
+      }
+      std::size_t e = u + 1;
+      while (e < units && std::memcmp(&old_v[e * run], &new_v[e * run], run * sizeof(double)) != 0) ++e;
+      const auto bytes = to_device(&new_v[u * run], (e - u) * run, fp64);
+      dst.upload_range(u * run * scalar(), bytes.data(), bytes.size());
+      sent += bytes.size();
+      u = e;
+    }
+    return sent;
+  }
+
+  std::size_t set_system(const BlockSystem& s) {
+    const bool same_pattern = have_system && s.row_ptr == cached.row_ptr && s.col == cached.col &&
+                              s.dense_size == cached.dense_size && s.dense_offset == cached.dense_offset;
+    std::size_t sent = 0;
+    if (same_pattern) {
+      sent += upload_changed(buf[L::kValues], cached.values, s.values, 9);
+      sent += upload_changed(buf[L::kDiagInv], cached.diag_inverse, s.diag_inverse, 9);
+      if (s.dense_size > 0) sent += upload_changed(buf[L::kDense], cached.dense, s.dense, std::size_t(s.dense_size));
+    } else {
+      sent += buf[L::kRowPtr].upload(s.row_ptr.data(), 4 * s.row_ptr.size());
+      sent += buf[L::kCol].upload(s.col.data(), 4 * s.col.size());
+      auto v = to_device(s.values.data(), s.values.size(), fp64);
+      sent += buf[L::kValues].upload(v.data(), v.size());
+      v = to_device(s.dense.data(), s.dense.size(), fp64);
+      sent += buf[L::kDense].upload(v.data(), v.size());
+      v = to_device(s.diag_inverse.data(), s.diag_inverse.size(), fp64);
+      sent += buf[L::kDiagInv].upload(v.data(), v.size());
+      const std::size_t vec = std::size_t(s.size()) * scalar();
+      for (auto b : {L::kX, L::kR, L::kP, L::kAp, L::kZ}) buf[b].upload(nullptr, vec);
+      buf[L::kPartial].upload(nullptr, 2 * L::kReduceGroups * scalar());
+      const std::vector<double> zeros(L::kNumScalars, 0.0);
+      const auto z = to_device(zeros.data(), zeros.size(), fp64);
+      buf[L::kScalars].upload(z.data(), z.size());
+    }
+    cached = s;
+    have_system = true;
+    set_sizes();
+    return sent;
+  }
+
+  double read_scalar(L::Scalar slot) const {
+    std::vector<unsigned char> bytes(scalar());
+    buf[L::kScalars].download(bytes.data(), bytes.size(), slot * scalar());
+    return from_device(bytes, fp64)[0];
+  }
+
+  void spmv_p() {
+    spmv.dispatch(groups_for(std::uint32_t(cached.num_blocks)));
+    if (cached.dense_size > 0) {
+      storage_barrier();
+      dense.dispatch(groups_for(std::uint32_t(cached.dense_size)));
+    }
+    storage_barrier();
+  }
+};
+
+ComputeCg::ComputeCg(EglContext& context, ComputeCgOptions options) : opt_(options), context_(context) {
+  context_.make_current();
+  const auto& info = context_.info();
+  if (!info.compute)
+    fail("GPU solver: the OpenGL context (", info.summary(), ") has no compute shaders; use --backend cpu");
+  impl_ = std::make_unique<Impl>(opt_.fp64);
+}
+
+ComputeCg::~ComputeCg() {
+  if (impl_) context_.make_current();
+}
+
+std::size_t ComputeCg::set_system(const BlockSystem& system) {
+  context_.make_current();
+  return impl_->set_system(system);
+}
+
+int ComputeCg::solve_device(const Eigen::VectorXd& r, Eigen::VectorXd& d, double tolerance) {
+  if (!impl_->have_system) fail("GPU solver: solve before set_system");
+  Impl& m = *impl_;
+  const int n = m.cached.size();
+  if (r.size() != n) fail("GPU solver: right-hand side of size ", r.size(), " for a system of size ", n);
+  context_.make_current();
+  m.bind_all();
+  const auto rb = to_device(r.data(), std::size_t(n), m.fp64);
+  m.buf[L::kR].upload_range(0, rb.data(), rb.size());
+  storage_barrier();
+  m.start.dispatch(L::kReduceGroups);
+  storage_barrier();
+  m.reduce_beta.dispatch(1);  // rz, rr of the start residual (beta unused)
+  storage_barrier();
+  const double rr0 = m.read_scalar(L::kRr);
+  if (!std::isfinite(rr0)) fail("GPU solver: the right-hand side has NaN or Inf entries");
+  int it = 0;
+  if (rr0 > 0) {
+    const int max_it = opt_.max_inner_iterations > 0 ? opt_.max_inner_iterations : 10 * std::max(n, 10);
+    const double goal = tolerance * tolerance * rr0;
+    for (;;) {
+      m.spmv_p();
+      m.dot_p_ap.dispatch(L::kReduceGroups);
+      storage_barrier();
+      m.reduce_alpha.dispatch(1);
+      storage_barrier();
+      m.update.dispatch(L::kReduceGroups);
+      storage_barrier();
+      m.reduce_beta.dispatch(1);
+      storage_barrier();
+      ++it;
+      if (it % opt_.check_every == 0 || it >= max_it) {
+        const double rr = m.read_scalar(L::kRr);
+        if (!std::isfinite(rr)) fail("GPU solver: the device iteration diverged (residual ", rr, ")");
+        if (rr <= goal || it >= max_it) break;
+      }
+      m.direction.dispatch(groups_for(std::uint32_t(n)));
+      storage_barrier();
+    }
+  }
+  std::vector<unsigned char> xb(std::size_t(n) * m.scalar());
+  m.buf[L::kX].download(xb.data(), xb.size());
+  const auto xd = from_device(xb, m.fp64);
+  d = Eigen::Map<const Eigen::VectorXd>(xd.data(), n);
+  if (rr0 == 0) d.setZero();
+  return it;
+}
+
+ComputeCgReport ComputeCg::solve(const solve::LinearOperator& exact, const Eigen::VectorXd& b, Eigen::VectorXd& x) {
+  const Eigen::Index n = b.size();
+  if (x.size() != n) x = Eigen::VectorXd::Zero(n);
+  if (!b.allFinite()) fail("GPU solver: the right-hand side has NaN or Inf entries");
+  ComputeCgReport rep;
+  const double bnorm = b.norm();
+  if (bnorm == 0) {
+    x.setZero();
+    rep.converged = true;
+    return rep;
+  }
+  const double inner = opt_.inner_tolerance > 0 ? opt_.inner_tolerance : (opt_.fp64 ? opt_.tolerance / 10 : 1e-4);
+  Eigen::VectorXd Ax(n), r(n), d;
+  double last = INFINITY;
+  for (;;) {
+    exact(x, Ax);
+    r = b - Ax;
+    rep.relative_residual = r.norm() / bnorm;
+    if (rep.relative_residual <= opt_.tolerance) {
+      rep.converged = true;
+      break;
+    }
+    // Refinement stalls when fp32 cannot resolve the correction any more.
+    if (rep.refinements >= opt_.max_refinements || !(rep.relative_residual < last)) break;
+    last = rep.relative_residual;
+    rep.iterations += solve_device(r, d, inner);
+    x += d;
+    ++rep.refinements;
+  }
+  return rep;
+}
+
+double ComputeCg::time_spmv(int repeats) {
+  if (!impl_->have_system) fail("GPU solver: time_spmv before set_system");
+  context_.make_current();
+  impl_->bind_all();
+  glFinish();
+  Timer t;
+  for (int i = 0; i < repeats; ++i) impl_->spmv_p();
+  glFinish();
+  return t.seconds() / std::max(repeats, 1);
+}
+
+}  // namespace softcut::gpu

@@ -1,0 +1,78 @@
+#pragma once
+// Preconditioned CG on the device (OpenGL 4.5 compute shaders in the
+// application's EGL context), DESIGN.md §3. The matrix and every CG vector stay
+// on the device; alpha and beta are computed by reduce kernels, so an
+// iteration is 7 dispatches with no read-back; the residual norm is read every
+// `check_every` iterations.
+//
+// Precision: fp32 kernels inside an fp64 refinement loop on the CPU
+// (mixed-precision iterative refinement): r = b - A x in double with the exact
+// operator, the device solves A d = r to `inner_tolerance`, x += d, until
+// ||b - A x|| <= tolerance ||b||. So the answer meets the CPU solver's
+// tolerance although the device computes in float. With fp64 = true the same
+// kernels run in double (GL 4.0+ core; llvmpipe and NVIDIA offer it).
+#include <Eigen/Core>
+#include <cstddef>
+#include <memory>
+
+#include "gpu/block_system.hpp"
+#include "gpu/egl_context.hpp"
+#include "solve/cg.hpp"
+
+namespace softcut::gpu {
+
+struct ComputeCgOptions {
+  bool fp64 = false;             // double-precision kernels
+  double tolerance = 1e-10;      // outer: ||b - A x|| <= tolerance ||b|| (fp64, CPU)
+  double inner_tolerance = 0;    // device solve; 0: 1e-4 for fp32, tolerance/10 for fp64
+  int max_refinements = 60;      // outer iterations
+  int max_inner_iterations = 0;  // per inner solve; 0: 10 n
+  int check_every = 8;           // device iterations between residual read-backs
+};
+
+struct ComputeCgReport {
+  int refinements = 0;            // outer iterations (CPU residual evaluations - 1)
+  int iterations = 0;             // device CG iterations, all refinements together
+  double relative_residual = 0;   // final ||b - A x|| / ||b||, computed in double on the CPU
+  bool converged = false;
+  std::size_t uploaded_bytes = 0; // matrix bytes sent by the last set_system()
+};
+
+class ComputeCg {
+ public:
+  // Compiles the kernels in `context` (made current). Throws softcut::Error
+  // when the context has no compute shaders (or no fp64 when asked).
+  ComputeCg(EglContext& context, ComputeCgOptions options = {});
+  ~ComputeCg();
+  ComputeCg(const ComputeCg&) = delete;
+  ComputeCg& operator=(const ComputeCg&) = delete;
+
+  // Uploads a system. When the block pattern is unchanged (e.g. a cut that
+  // only changed values, or the same system again) only the changed byte
+  // ranges of the values and the dense block are sent. Returns bytes sent.
+  std::size_t set_system(const BlockSystem& system);
+
+  // Solves A x = b starting from x (warm start). `exact` applies A in double
+  // for the refinement residual (e.g. BlockSystem::apply or the operational
+  // system's own apply).
+  ComputeCgReport solve(const solve::LinearOperator& exact, const Eigen::VectorXd& b, Eigen::VectorXd& x);
+
+  // One device solve A d = r from d = 0 to a relative residual `tolerance`
+  // (device arithmetic); returns the iterations. For benchmarks and tests.
+  int solve_device(const Eigen::VectorXd& r, Eigen::VectorXd& d, double tolerance);
+
+  // Times `repeats` device SpMVs (K p and the dense block) and returns
+  // seconds per product (glFinish before and after).
+  double time_spmv(int repeats);
+
+  const ComputeCgOptions& options() const { return opt_; }
+  ComputeCgOptions& options() { return opt_; }
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+  ComputeCgOptions opt_;
+  EglContext& context_;
+};
+
+}  // namespace softcut::gpu

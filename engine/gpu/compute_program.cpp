@@ -1,0 +1,111 @@
+#include "gpu/compute_program.hpp"
+
+#define GL_GLEXT_PROTOTYPES 1
+#include <GL/glcorearb.h>
+
+#include <utility>
+#include <vector>
+
+#include "core/error.hpp"
+
+namespace softcut::gpu {
+
+ComputeProgram::ComputeProgram(const std::string& name, const std::string& source) {
+  const GLuint shader = glCreateShader(GL_COMPUTE_SHADER);
+  const char* src = source.c_str();
+  glShaderSource(shader, 1, &src, nullptr);
+  glCompileShader(shader);
+  GLint ok = 0;
+  glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
+  if (!ok) {
+    GLint len = 0;
+    glGetShaderiv(shader, GL_INFO_LOG_LENGTH, &len);
+    std::string log(size_t(std::max(len, 1)), '\0');
+    glGetShaderInfoLog(shader, len, nullptr, log.data());
+    glDeleteShader(shader);
+    fail("compute shader '", name, "' does not compile: ", log);
+  }
+  id_ = glCreateProgram();
+  glAttachShader(id_, shader);
+  glLinkProgram(id_);
+  glDeleteShader(shader);
+  glGetProgramiv(id_, GL_LINK_STATUS, &ok);
+  if (!ok) {
+    GLint len = 0;
+    glGetProgramiv(id_, GL_INFO_LOG_LENGTH, &len);
+    std::string log(size_t(std::max(len, 1)), '\0');
+    glGetProgramInfoLog(id_, len, nullptr, log.data());
+    glDeleteProgram(id_);
+    id_ = 0;
+    fail("compute program '", name, "' does not link: ", log);
+  }
+}
+
+ComputeProgram::~ComputeProgram() {
+  if (id_) glDeleteProgram(id_);
+}
+
+ComputeProgram::ComputeProgram(ComputeProgram&& o) noexcept : id_(std::exchange(o.id_, 0)) {}
+
+ComputeProgram& ComputeProgram::operator=(ComputeProgram&& o) noexcept {
+  if (this != &o) {
+    if (id_) glDeleteProgram(id_);
+    id_ = std::exchange(o.id_, 0);
+  }
+  return *this;
+}
+
+void ComputeProgram::set_uint(const char* uniform, std::uint32_t value) const {
+  const GLint loc = glGetUniformLocation(id_, uniform);
+  if (loc >= 0) glProgramUniform1ui(id_, loc, value);
+}
+
+void ComputeProgram::dispatch(std::uint32_t groups) const {
+  glUseProgram(id_);
+  glDispatchCompute(std::max<std::uint32_t>(groups, 1), 1, 1);
+}
+
+StorageBuffer::~StorageBuffer() {
+  if (id_) glDeleteBuffers(1, &id_);
+}
+
+StorageBuffer::StorageBuffer(StorageBuffer&& o) noexcept
+    : id_(std::exchange(o.id_, 0)), capacity_(std::exchange(o.capacity_, 0)) {}
+
+StorageBuffer& StorageBuffer::operator=(StorageBuffer&& o) noexcept {
+  if (this != &o) {
+    if (id_) glDeleteBuffers(1, &id_);
+    id_ = std::exchange(o.id_, 0);
+    capacity_ = std::exchange(o.capacity_, 0);
+  }
+  return *this;
+}
+
+std::size_t StorageBuffer::upload(const void* data, std::size_t bytes) {
+  bytes = std::max<std::size_t>(bytes, 16);  // never a zero-size buffer
+  if (!id_ || bytes > capacity_) {
+    if (id_) glDeleteBuffers(1, &id_);
+    glCreateBuffers(1, &id_);
+    glNamedBufferData(id_, GLsizeiptr(bytes), data, GL_DYNAMIC_DRAW);
+    capacity_ = bytes;
+  } else if (data) {
+    glNamedBufferSubData(id_, 0, GLsizeiptr(bytes), data);
+  }
+  return data ? bytes : 0;
+}
+
+void StorageBuffer::upload_range(std::size_t offset, const void* data, std::size_t bytes) {
+  if (offset + bytes > capacity_) fail("StorageBuffer::upload_range past the allocation");
+  if (bytes) glNamedBufferSubData(id_, GLintptr(offset), GLsizeiptr(bytes), data);
+}
+
+void StorageBuffer::download(void* data, std::size_t bytes, std::size_t offset) const {
+  if (offset + bytes > capacity_) fail("StorageBuffer::download past the allocation");
+  if (bytes) glGetNamedBufferSubData(id_, GLintptr(offset), GLsizeiptr(bytes), data);
+}
+
+void StorageBuffer::bind(std::uint32_t binding) const { glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding, id_); }
+
+void storage_barrier() { glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT); }
+
+}  // namespace softcut::gpu

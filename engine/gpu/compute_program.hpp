@@ -1,0 +1,56 @@
+#pragma once
+// RAII wrappers for compute work in the application's EGL context: a compiled
+// compute program and a shader storage buffer. The context must be current.
+#include <cstddef>
+#include <cstdint>
+#include <string>
+
+namespace softcut::gpu {
+
+class ComputeProgram {
+ public:
+  ComputeProgram() = default;
+  // Compiles and links; throws softcut::Error with the driver's log and `name`.
+  ComputeProgram(const std::string& name, const std::string& source);
+  ~ComputeProgram();
+  ComputeProgram(ComputeProgram&& o) noexcept;
+  ComputeProgram& operator=(ComputeProgram&& o) noexcept;
+  ComputeProgram(const ComputeProgram&) = delete;
+  ComputeProgram& operator=(const ComputeProgram&) = delete;
+
+  std::uint32_t id() const { return id_; }
+  void set_uint(const char* uniform, std::uint32_t value) const;
+  // Binds the program and dispatches `groups` work groups along x.
+  void dispatch(std::uint32_t groups) const;
+
+ private:
+  std::uint32_t id_ = 0;
+};
+
+class StorageBuffer {
+ public:
+  StorageBuffer() = default;
+  ~StorageBuffer();
+  StorageBuffer(StorageBuffer&& o) noexcept;
+  StorageBuffer& operator=(StorageBuffer&& o) noexcept;
+  StorageBuffer(const StorageBuffer&) = delete;
+  StorageBuffer& operator=(const StorageBuffer&) = delete;
+
+  // (Re)allocates when `bytes` exceeds the capacity, then uploads `data`
+  // (nullptr: contents undefined). Returns the bytes transferred.
+  std::size_t upload(const void* data, std::size_t bytes);
+  // Uploads [offset, offset + bytes) into an existing allocation.
+  void upload_range(std::size_t offset, const void* data, std::size_t bytes);
+  void download(void* data, std::size_t bytes, std::size_t offset = 0) const;
+  void bind(std::uint32_t binding) const;
+  std::size_t capacity() const { return capacity_; }
+
+ private:
+  std::uint32_t id_ = 0;
+  std::size_t capacity_ = 0;
+};
+
+// glMemoryBarrier for shader storage writes followed by reads.
+void storage_barrier();
+
+}  // namespace softcut::gpu

@@ -1,0 +1,366 @@
+#include "render/renderer.hpp"
+
+#define GL_GLEXT_PROTOTYPES 1
+#include <GL/glcorearb.h>
+
+#include <algorithm>
+
+#include "core/atomic_file.hpp"
+#include "core/timer.hpp"
+
+namespace softcut::render {
+namespace {
+
+constexpr const char* kSurfaceVs = R"(#version 450 core
+layout(location = 0) in vec3 a_pos;
+layout(location = 1) in vec3 a_normal;
+layout(location = 2) in vec4 a_color;
+uniform mat4 u_view;
+uniform mat4 u_proj;
+out vec3 v_pos;
+out vec3 v_normal;
+out vec4 v_color;
+void main() {
+  vec4 p = u_view * vec4(a_pos, 1.0);
+  v_pos = p.xyz;
+  v_normal = mat3(u_view) * a_normal;  // the view is rigid
+  v_color = a_color;
+  gl_Position = u_proj * p;
+}
+)";
+
+// Blinn-Phong in eye space: a head light at the eye (nothing the camera sees
+// is unlit) plus a dimmer fill from the upper left; both faces lit.
+constexpr const char* kSurfaceFs = R"(#version 450 core
+in vec3 v_pos;
+in vec3 v_normal;
+in vec4 v_color;
+out vec4 o_color;
+const vec3 kFill = normalize(vec3(-0.6, 0.7, 0.4));
+void main() {
+  vec3 n = normalize(v_normal);
+  if (!gl_FrontFacing) n = -n;
+  vec3 v = normalize(-v_pos);
+  float d_head = max(dot(n, v), 0.0);
+  float d_fill = max(dot(n, kFill), 0.0);
+  float s_head = pow(d_head, 40.0);
+  float s_fill = pow(max(dot(n, normalize(kFill + v)), 0.0), 40.0);
+  vec3 c = v_color.rgb * (0.20 + 0.70 * d_head + 0.25 * d_fill) + vec3(0.22 * s_head + 0.08 * s_fill);
+  o_color = vec4(min(c, vec3(1.0)), v_color.a);
+}
+)";
+
+constexpr const char* kFlatVs = R"(#version 450 core
+layout(location = 0) in vec3 a_pos;
+layout(location = 2) in vec4 a_color;
+uniform mat4 u_view;
+uniform mat4 u_proj;
+uniform float u_point_size;
+out vec4 v_color;
+void main() {
+  gl_Position = u_proj * (u_view * vec4(a_pos, 1.0));
+  gl_PointSize = u_point_size;
+  v_color = a_color;
+}
+)";
+
+// Points are round with a dark rim; lines use the colour as is.
+constexpr const char* kFlatFs = R"(#version 450 core
+in vec4 v_color;
+uniform int u_round;
+out vec4 o_color;
+void main() {
+  vec4 c = v_color;
+  if (u_round != 0) {
+    vec2 d = 2.0 * gl_PointCoord - 1.0;
+    float r2 = dot(d, d);
+    if (r2 > 1.0) discard;
+    if (r2 > 0.55) c.rgb *= 0.35;
+  }
+  o_color = c;
+}
+)";
+
+GLuint compile(GLenum type, const char* src) {
+  GLuint sh = glCreateShader(type);
+  glShaderSource(sh, 1, &src, nullptr);
+  glCompileShader(sh);
+  GLint ok = 0;
+  glGetShaderiv(sh, GL_COMPILE_STATUS, &ok);
+  if (!ok) {
+    char log[4096];
+    glGetShaderInfoLog(sh, sizeof log, nullptr, log);
+    glDeleteShader(sh);
+    fail("render: a shader did not compile on this driver: ", log);
+  }
+  return sh;
+}
+
+GLuint link(const char* vs, const char* fs) {
+  const GLuint v = compile(GL_VERTEX_SHADER, vs), f = compile(GL_FRAGMENT_SHADER, fs);
+  GLuint p = glCreateProgram();
+  glAttachShader(p, v);
+  glAttachShader(p, f);
+  glLinkProgram(p);
+  glDeleteShader(v);
+  glDeleteShader(f);
+  GLint ok = 0;
+  glGetProgramiv(p, GL_LINK_STATUS, &ok);
+  if (!ok) {
+    char log[4096];
+    glGetProgramInfoLog(p, sizeof log, nullptr, log);
+    glDeleteProgram(p);
+    fail("render: a shader program did not link on this driver: ", log);
+  }
+  return p;
+}
+
+// One vertex array with position, normal and colour buffers (attributes 0, 1, 2).
+struct Batch {
+  GLuint vao = 0, buf[3] = {0, 0, 0};
+  GLsizei count = 0;
+
+  void create() {
+    glCreateVertexArrays(1, &vao);
+    glCreateBuffers(3, buf);
+    const GLint sizes[3] = {3, 3, 4};
+    for (GLuint a = 0; a < 3; ++a) {
+      glVertexArrayVertexBuffer(vao, a, buf[a], 0, GLsizei(sizes[a] * sizeof(float)));
+      glVertexArrayAttribFormat(vao, a, sizes[a], GL_FLOAT, GL_FALSE, 0);
+      glVertexArrayAttribBinding(vao, a, a);
+    }
+    glEnableVertexArrayAttrib(vao, 0);
+    glEnableVertexArrayAttrib(vao, 2);
+  }
+  void destroy() {
+    glDeleteBuffers(3, buf);
+    glDeleteVertexArrays(1, &vao);
+  }
+  template <class V>
+  static void upload(GLuint b, const std::vector<V>& v) {
+    // Re-specifying the store orphans last frame's data: no stall on it.
+    glNamedBufferData(b, GLsizeiptr(v.size() * sizeof(V)), v.empty() ? nullptr : v.data(), GL_STREAM_DRAW);
+  }
+  void set(const Triangles& t) {
+    upload(buf[0], t.positions);
+    upload(buf[1], t.normals);
+    upload(buf[2], t.colors);
+    glEnableVertexArrayAttrib(vao, 1);
+    count = GLsizei(t.positions.size());
+  }
+  void set(const Primitives& p) {
+    upload(buf[0], p.positions);
+    upload(buf[2], p.colors);
+    glDisableVertexArrayAttrib(vao, 1);
+    count = GLsizei(p.positions.size());
+  }
+};
+
+}  // namespace
+
+FrameTimings& FrameTimings::operator+=(const FrameTimings& o) {
+  extract_ms += o.extract_ms;
+  upload_ms += o.upload_ms;
+  draw_ms += o.draw_ms;
+  readback_ms += o.readback_ms;
+  encode_ms += o.encode_ms;
+  write_ms += o.write_ms;
+  return *this;
+}
+
+struct Renderer::Impl {
+  gpu::EglContext& ctx;
+  GLuint surface_prog = 0, flat_prog = 0;
+  Batch tissue, tools, wire, lines, ipoints, mpoints;
+  // Framebuffers: `ms` multisampled (when samples > 1), `single` the resolve
+  // target and readback source (and draw target without MSAA).
+  GLuint ms_fbo = 0, ms_color = 0, ms_depth = 0, fbo = 0, color = 0, depth = 0;
+  int width = 0, height = 0, samples = -1;
+  float line_range[2] = {1, 1};
+  std::vector<std::uint8_t> readback;
+  Diagnostics warnings;
+  long frame = 0;
+
+  explicit Impl(gpu::EglContext& c) : ctx(c) {
+    ctx.make_current();
+    surface_prog = link(kSurfaceVs, kSurfaceFs);
+    flat_prog = link(kFlatVs, kFlatFs);
+    for (Batch* b : {&tissue, &tools, &wire, &lines, &ipoints, &mpoints}) b->create();
+    glGetFloatv(GL_ALIASED_LINE_WIDTH_RANGE, line_range);
+    check("renderer setup");
+  }
+
+  ~Impl() {
+    if (!ctx.is_current()) ctx.make_current();
+    for (Batch* b : {&tissue, &tools, &wire, &lines, &ipoints, &mpoints}) b->destroy();
+    glDeleteProgram(surface_prog);
+    glDeleteProgram(flat_prog);
+    free_targets();
+    ctx.take_messages();
+  }
+
+  void free_targets() {
+    const GLuint fbos[2] = {ms_fbo, fbo}, rbs[4] = {ms_color, ms_depth, color, depth};
+    glDeleteFramebuffers(2, fbos);
+    glDeleteRenderbuffers(4, rbs);
+    ms_fbo = ms_color = ms_depth = fbo = color = depth = 0;
+  }
+
+  // Throws on GL errors since the last check; keeps other messages as warnings.
+  void check(const std::string& where) {
+    std::string errors;
+    for (const gpu::DebugMessage& m : ctx.take_messages()) {
+      if (m.is_error()) errors += (errors.empty() ? "" : "; ") + m.describe();
+      else warnings.warn(where, ": ", m.describe());
+    }
+    for (GLenum e; (e = glGetError()) != GL_NO_ERROR;)
+      if (errors.empty()) errors = cat("glGetError 0x", std::hex, e);
+    if (!errors.empty()) fail("render: OpenGL failed during ", where, ": ", errors);
+  }
+
+  void ensure_targets(int w, int h, int requested) {
+    const int s = requested > 1 ? std::min(requested, std::max(1, ctx.info().max_samples)) : 0;
+    if (w == width && h == height && s == samples) return;
+    free_targets();
+    glCreateRenderbuffers(1, &color);
+    glNamedRenderbufferStorage(color, GL_RGBA8, w, h);
+    glCreateFramebuffers(1, &fbo);
+    glNamedFramebufferRenderbuffer(fbo, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, color);
+    if (s > 1) {
+      glCreateRenderbuffers(1, &ms_color);
+      glNamedRenderbufferStorageMultisample(ms_color, s, GL_RGBA8, w, h);
+      glCreateRenderbuffers(1, &ms_depth);
+      glNamedRenderbufferStorageMultisample(ms_depth, s, GL_DEPTH_COMPONENT24, w, h);
+      glCreateFramebuffers(1, &ms_fbo);
+      glNamedFramebufferRenderbuffer(ms_fbo, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, ms_color);
+      glNamedFramebufferRenderbuffer(ms_fbo, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, ms_depth);
+    } else {
+      glCreateRenderbuffers(1, &depth);
+      glNamedRenderbufferStorage(depth, GL_DEPTH_COMPONENT24, w, h);
+      glNamedFramebufferRenderbuffer(fbo, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth);
+    }
+    for (GLuint f : {fbo, ms_fbo})
+      if (f && glCheckNamedFramebufferStatus(f, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+        fail("render: the driver cannot make a ", w, " x ", h, " framebuffer with ", s,
+             " samples (try fewer msaa_samples or a smaller frame)");
+    width = w, height = h, samples = s;
+  }
+
+  void set_camera(GLuint prog, const Camera& cam) {
+    const Eigen::Matrix4f view = cam.view.cast<float>(), proj = cam.projection.cast<float>();
+    glProgramUniformMatrix4fv(prog, glGetUniformLocation(prog, "u_view"), 1, GL_FALSE, view.data());
+    glProgramUniformMatrix4fv(prog, glGetUniformLocation(prog, "u_proj"), 1, GL_FALSE, proj.data());
+  }
+
+  void draw_flat(const Batch& b, GLenum mode, float size, bool on_top) {
+    if (!b.count) return;
+    if (on_top) glDisable(GL_DEPTH_TEST);
+    else glEnable(GL_DEPTH_TEST);
+    glProgramUniform1f(flat_prog, glGetUniformLocation(flat_prog, "u_point_size"), size);
+    glProgramUniform1i(flat_prog, glGetUniformLocation(flat_prog, "u_round"), mode == GL_POINTS);
+    if (mode == GL_LINES) glLineWidth(std::clamp(size, line_range[0], line_range[1]));
+    glBindVertexArray(b.vao);
+    glDrawArrays(mode, 0, b.count);
+  }
+
+  Image draw(const Scene& scene, FrameTimings* t) {
+    ctx.make_current();
+    ++frame;
+    const std::string where = cat("frame ", frame);
+    Timer timer;
+    ensure_targets(scene.width, scene.height, scene.msaa_samples);
+    tissue.set(scene.tissue);
+    tools.set(scene.tools);
+    wire.set(scene.wire);
+    lines.set(scene.force_lines);
+    ipoints.set(scene.interface_points);
+    mpoints.set(scene.manipulated_points);
+    if (t) t->upload_ms = timer.ms();
+
+    timer.reset();
+    glBindFramebuffer(GL_FRAMEBUFFER, samples > 1 ? ms_fbo : fbo);
+    glViewport(0, 0, width, height);
+    glClearColor(scene.background[0], scene.background[1], scene.background[2], scene.background[3]);
+    glClearDepth(1.0);
+    glDepthMask(GL_TRUE);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LEQUAL);
+    // The context is shared (compute CG): set every state the passes rely on.
+    glDisable(GL_CULL_FACE);
+    glDisable(GL_BLEND);
+    glDisable(GL_SCISSOR_TEST);
+    glDisable(GL_STENCIL_TEST);
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+    glEnable(GL_PROGRAM_POINT_SIZE);
+    if (samples > 1) glEnable(GL_MULTISAMPLE);
+
+    set_camera(surface_prog, scene.camera);
+    set_camera(flat_prog, scene.camera);
+    glUseProgram(surface_prog);
+    glEnable(GL_POLYGON_OFFSET_FILL);  // pushes faces back so their edges win the depth test
+    glPolygonOffset(1.0f, 1.0f);
+    for (const Batch* b : {&tissue, &tools})
+      if (b->count) {
+        glBindVertexArray(b->vao);
+        glDrawArrays(GL_TRIANGLES, 0, b->count);
+      }
+    glDisable(GL_POLYGON_OFFSET_FILL);
+    glUseProgram(flat_prog);
+    draw_flat(wire, GL_LINES, scene.wire.size_px, scene.wire.on_top);
+    draw_flat(ipoints, GL_POINTS, scene.interface_points.size_px, scene.interface_points.on_top);
+    draw_flat(lines, GL_LINES, scene.force_lines.size_px, scene.force_lines.on_top);
+    draw_flat(mpoints, GL_POINTS, scene.manipulated_points.size_px, scene.manipulated_points.on_top);
+    glBindVertexArray(0);
+    if (samples > 1)
+      glBlitNamedFramebuffer(ms_fbo, fbo, 0, 0, width, height, 0, 0, width, height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    glFinish();
+    if (t) t->draw_ms = timer.ms();
+
+    timer.reset();
+    Image img;
+    img.width = width;
+    img.height = height;
+    img.rgba.resize(size_t(width) * size_t(height) * 4);
+    readback.resize(img.rgba.size());
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo);
+    glReadBuffer(GL_COLOR_ATTACHMENT0);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glReadPixels(0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, readback.data());
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    const size_t row = size_t(width) * 4;
+    for (int y = 0; y < height; ++y)  // GL rows run bottom-up, PNG rows top-down
+      std::copy_n(readback.data() + size_t(height - 1 - y) * row, row, img.rgba.data() + size_t(y) * row);
+    if (t) t->readback_ms = timer.ms();
+    check(where);
+    return img;
+  }
+};
+
+Renderer::Renderer(gpu::EglContext& context) : impl_(std::make_unique<Impl>(context)) {}
+Renderer::~Renderer() = default;
+
+Image Renderer::draw(const Scene& scene, FrameTimings* timings) { return impl_->draw(scene, timings); }
+
+FrameTimings Renderer::render_png(const mesh::TetMesh& mesh, const Eigen::MatrixX3d& positions,
+                                  const SceneContent& content, const RenderSettings& settings,
+                                  const std::filesystem::path& path) {
+  FrameTimings t;
+  Timer timer;
+  const Scene scene = extract_scene(mesh, positions, content, settings);
+  t.extract_ms = timer.ms();
+  const Image img = impl_->draw(scene, &t);
+  timer.reset();
+  const std::string png = encode_png(img);
+  t.encode_ms = timer.ms();
+  timer.reset();
+  write_file_atomic(path, png);
+  t.write_ms = timer.ms();
+  return t;
+}
+
+int Renderer::samples() const { return std::max(0, impl_->samples); }
+Diagnostics& Renderer::warnings() { return impl_->warnings; }
+
+}  // namespace softcut::render

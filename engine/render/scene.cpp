@@ -1,0 +1,191 @@
+#include "render/scene.hpp"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numbers>
+
+#include "mesh/surface.hpp"
+
+namespace softcut::render {
+namespace {
+
+void check_settings(const RenderSettings& s) {
+  if (s.width < 1 || s.height < 1 || s.width > 16384 || s.height > 16384)
+    fail("render: image size ", s.width, " x ", s.height, " must be between 1 and 16384 pixels per side");
+  if (s.msaa_samples < 0 || s.msaa_samples > 64) fail("render: msaa_samples = ", s.msaa_samples, " must be 0..64");
+  if (!(s.crease_angle_deg >= 0.0 && s.crease_angle_deg <= 180.0))
+    fail("render: crease_angle_deg = ", s.crease_angle_deg, " must lie in [0, 180]");
+  if (!(s.point_size_px > 0 && s.line_width_px > 0 && s.wire_width_px > 0))
+    fail("render: point_size_px, line_width_px and wire_width_px must be positive");
+}
+
+void check_content(const mesh::TetMesh& m, const Eigen::MatrixX3d& x, const SceneContent& c) {
+  const int nnode = m.num_nodes(), ntet = m.num_tets();
+  if (x.rows() != nnode)
+    fail("render: positions have ", x.rows(), " rows but the mesh has ", nnode, " nodes (pass one row per node)");
+  if (!c.operational.empty() && int(c.operational.size()) != ntet)
+    fail("render: the operational flags have ", c.operational.size(), " entries but the mesh has ", ntet,
+         " tets (one per tet, or none)");
+  if (!c.cut_faces.empty() && int(c.cut_faces.size()) != 4 * ntet)
+    fail("render: the cut-face flags have ", c.cut_faces.size(), " entries but the mesh needs 4 x ", ntet,
+         " (one per tet face, or none)");
+  for (size_t i = 0; i < c.interface_nodes.size(); ++i)
+    if (c.interface_nodes[i] < 0 || c.interface_nodes[i] >= nnode)
+      fail("render: interface node ", i, " has id ", c.interface_nodes[i], ", outside the mesh's 0..", nnode - 1);
+  for (size_t i = 0; i < c.manipulated.size(); ++i) {
+    const ManipulatedNode& mn = c.manipulated[i];
+    if (mn.node < 0 || mn.node >= nnode)
+      fail("render: manipulated node ", i, " has id ", mn.node, ", outside the mesh's 0..", nnode - 1);
+    if (!mn.line_end.allFinite()) fail("render: manipulated node ", mn.node, " has a non-finite line end");
+  }
+}
+
+// Lines over a dark face colour are lightened, over a light one darkened.
+Rgba wire_color(const Rgba& face) {
+  const float lum = 0.30f * face[0] + 0.59f * face[1] + 0.11f * face[2];
+  Rgba c = lum > 0.45f ? Rgba(0.35f * face) : Rgba(0.5f * face + Rgba(0.35f, 0.35f, 0.35f, 0.5f));
+  c[3] = 1.0f;
+  return c;
+}
+
+// Local face of tet t (kTetFaces numbering) holding nodes (a, b, c): the one
+// opposite the tet's fourth node.
+int local_face(const mesh::TetMesh& m, int t, int a, int b, int c) {
+  for (int f = 0; f < 4; ++f) {
+    const int v = m.tets(t, f);
+    if (v != a && v != b && v != c) return f;
+  }
+  return 0;
+}
+
+}  // namespace
+
+Scene extract_scene(const mesh::TetMesh& m, const Eigen::MatrixX3d& x, const SceneContent& content,
+                    const RenderSettings& settings) {
+  check_settings(settings);
+  check_content(m, x, content);
+  const Palette& pal = settings.palette;
+  Scene scene;
+  scene.width = settings.width;
+  scene.height = settings.height;
+  scene.msaa_samples = settings.msaa_samples;
+  scene.background = pal.background;
+
+  const mesh::Surface surf = mesh::extract_surface(m);
+  for (int v : surf.nodes)
+    if (!x.row(v).allFinite()) fail("render: the position of node ", v, " is not finite (did the solve diverge?)");
+  const int nface = int(surf.faces.rows());
+
+  // Face colours.
+  std::vector<Rgba> face_color(static_cast<size_t>(nface));
+  for (int f = 0; f < nface; ++f) {
+    const int t = surf.face_tet(f);
+    const bool op = content.operational.empty() || content.operational[size_t(t)];
+    bool cut = false;
+    if (!content.cut_faces.empty())
+      cut = content.cut_faces[size_t(4 * t + local_face(m, t, surf.faces(f, 0), surf.faces(f, 1), surf.faces(f, 2)))];
+    face_color[size_t(f)] = cut ? pal.cut : op ? pal.operational : pal.nonoperational;
+    (cut ? scene.tissue_faces_cut : op ? scene.tissue_faces_operational : scene.tissue_faces_nonoperational)++;
+  }
+
+  // Shading normals: per corner, the area-weighted mean of the normals of the
+  // faces around that node that bend by less than the crease angle from this
+  // face, so smooth tissue looks smooth and box edges and cut rims stay sharp.
+  std::vector<Eigen::Vector3d> area_normal(static_cast<size_t>(nface)), unit_normal(static_cast<size_t>(nface));
+  for (int f = 0; f < nface; ++f) {
+    const Eigen::Vector3d a = x.row(surf.faces(f, 0)), b = x.row(surf.faces(f, 1)), c = x.row(surf.faces(f, 2));
+    area_normal[size_t(f)] = 0.5 * (b - a).cross(c - a);
+    const double len = area_normal[size_t(f)].norm();
+    unit_normal[size_t(f)] = len > 0 ? Eigen::Vector3d(area_normal[size_t(f)] / len) : Eigen::Vector3d::Zero();
+  }
+  std::vector<int> start(size_t(m.num_nodes()) + 1, 0), adj(size_t(3 * nface));
+  for (int f = 0; f < nface; ++f)
+    for (int k = 0; k < 3; ++k) ++start[size_t(surf.faces(f, k)) + 1];
+  for (size_t i = 1; i < start.size(); ++i) start[i] += start[i - 1];
+  {
+    std::vector<int> fill(start.begin(), start.end() - 1);
+    for (int f = 0; f < nface; ++f)
+      for (int k = 0; k < 3; ++k) adj[size_t(fill[size_t(surf.faces(f, k))]++)] = f;
+  }
+  const double cos_crease = std::cos(settings.crease_angle_deg * std::numbers::pi / 180.0);
+  const bool flat = settings.crease_angle_deg == 0.0;
+  scene.tissue.reserve(nface);
+  for (int f = 0; f < nface; ++f) {
+    Eigen::Vector3d p[3], n[3];
+    const Eigen::Vector3d& nf = unit_normal[size_t(f)];
+    for (int k = 0; k < 3; ++k) {
+      const int v = surf.faces(f, k);
+      p[k] = x.row(v);
+      Eigen::Vector3d sum = area_normal[size_t(f)];
+      if (!flat)
+        for (int i = start[size_t(v)]; i < start[size_t(v) + 1]; ++i) {
+          const int g = adj[size_t(i)];
+          if (g != f && unit_normal[size_t(g)].dot(nf) >= cos_crease) sum += area_normal[size_t(g)];
+        }
+      const double len = sum.norm();
+      n[k] = len > 0 ? Eigen::Vector3d(sum / len) : Eigen::Vector3d::UnitZ();  // degenerate face
+    }
+    scene.tissue.add(p[0], p[1], p[2], n[0], n[1], n[2], face_color[size_t(f)]);
+  }
+
+  // Wireframe: each surface edge once, coloured after its first face.
+  scene.wire.size_px = settings.wire_width_px;
+  if (settings.wireframe) {
+    std::vector<std::array<int, 3>> edges;  // (lo node, hi node, face)
+    edges.reserve(size_t(3 * nface));
+    for (int f = 0; f < nface; ++f)
+      for (int k = 0; k < 3; ++k) {
+        const int a = surf.faces(f, k), b = surf.faces(f, (k + 1) % 3);
+        edges.push_back({std::min(a, b), std::max(a, b), f});
+      }
+    std::sort(edges.begin(), edges.end());
+    for (size_t i = 0; i < edges.size(); ++i) {
+      if (i > 0 && edges[i][0] == edges[i - 1][0] && edges[i][1] == edges[i - 1][1]) continue;
+      const Rgba c = wire_color(face_color[size_t(edges[i][2])]);
+      scene.wire.add(x.row(edges[i][0]).transpose(), c);
+      scene.wire.add(x.row(edges[i][1]).transpose(), c);
+    }
+  }
+
+  scene.interface_points.size_px = settings.point_size_px;
+  scene.interface_points.on_top = settings.interface_on_top;
+  if (settings.show_interface)
+    for (int v : content.interface_nodes) {
+      if (!x.row(v).allFinite()) fail("render: the position of interface node ", v, " is not finite");
+      scene.interface_points.add(x.row(v).transpose(), pal.interface_nodes);
+    }
+
+  // The manipulated node and its force line stay visible whatever is in front.
+  scene.manipulated_points.size_px = 1.5f * settings.point_size_px;
+  scene.manipulated_points.on_top = true;
+  scene.force_lines.size_px = settings.line_width_px;
+  scene.force_lines.on_top = true;
+  for (const ManipulatedNode& mn : content.manipulated) {
+    if (!x.row(mn.node).allFinite()) fail("render: the position of manipulated node ", mn.node, " is not finite");
+    scene.manipulated_points.add(x.row(mn.node).transpose(), pal.manipulated);
+    scene.force_lines.add(x.row(mn.node).transpose(), pal.manipulated);
+    scene.force_lines.add(mn.line_end, pal.manipulated);
+  }
+
+  for (size_t i = 0; i < content.tools.size(); ++i) {
+    try {
+      add_tool(scene.tools, content.tools[i], settings.tool_segments, pal.tool);
+    } catch (const Error& e) {
+      fail("render: tool ", i, ": ", e.what());
+    }
+  }
+
+  // Framing uses the rest shape (stable while the tissue deforms); its
+  // boundary surface holds every extreme point.
+  std::vector<Eigen::Vector3d> frame;
+  frame.reserve(surf.nodes.size());
+  for (int v : surf.nodes) frame.push_back(m.node(v));
+  scene.camera = resolve_camera(settings.camera, settings.width, settings.height, frame,
+                                {&scene.tissue.positions, &scene.tools.positions, &scene.force_lines.positions,
+                                 &scene.interface_points.positions});
+  return scene;
+}
+
+}  // namespace softcut::render

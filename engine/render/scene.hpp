@@ -1,0 +1,82 @@
+#pragma once
+// The abstract scene: what a frame shows, as plain triangles, lines and points
+// with colours, plus the camera. Built from plain data (a tet mesh, positions,
+// flags, tools) by extract_scene() without any GL, so it is testable anywhere
+// and independent of the simulation types; renderer.hpp draws it.
+#include <Eigen/Core>
+#include <vector>
+
+#include "mesh/tet_mesh.hpp"
+#include "render/camera.hpp"
+#include "render/primitives.hpp"
+#include "render/tool_geometry.hpp"
+
+namespace softcut::render {
+
+// Default colours follow the paper's figures (Figs. 4-11): operational part
+// light grey, nonoperational part dark blue, manipulated node and its force
+// line green; cut faces show the tissue interior.
+struct Palette {
+  Rgba operational{0.80f, 0.80f, 0.78f, 1.0f};
+  Rgba nonoperational{0.12f, 0.20f, 0.55f, 1.0f};
+  Rgba cut{0.72f, 0.16f, 0.24f, 1.0f};
+  Rgba manipulated{0.10f, 0.85f, 0.20f, 1.0f};
+  Rgba interface_nodes{1.00f, 0.78f, 0.10f, 1.0f};
+  Rgba tool{0.70f, 0.72f, 0.76f, 1.0f};
+  Rgba background{0.20f, 0.22f, 0.26f, 1.0f};
+};
+
+struct RenderSettings {
+  int width = 640, height = 480;  // pixels
+  int msaa_samples = 4;            // 0 or 1: no multisampling; clamped to the driver's maximum
+  bool wireframe = false;          // draw the surface edges over the shading
+  bool show_interface = true;      // interface ("common") nodes as points
+  bool interface_on_top = true;    // ... visible through the surface (they are mostly inside)
+  double crease_angle_deg = 40.0;  // normals are smoothed across edges flatter than this; 0: flat
+  int tool_segments = 24;          // facets around a tool's sphere or cylinder, >= 6, even
+  float point_size_px = 6.0f, line_width_px = 2.0f, wire_width_px = 1.0f;
+  Palette palette;
+  CameraSettings camera;
+};
+
+// A node under user manipulation, drawn as a green point with a line from its
+// current position to `line_end` (the tool or "mouse" point; the paper's Figs. 9-11).
+struct ManipulatedNode {
+  int node = 0;
+  Eigen::Vector3d line_end{0, 0, 0};  // m
+};
+
+// Everything but the mesh itself. Sizes refer to the mesh passed alongside.
+struct SceneContent {
+  std::vector<char> operational;  // (ntet) nonzero: operational tet; empty: all operational
+  std::vector<char> cut_faces;    // (4 ntet) nonzero at 4 t + f: face f (opposite local
+                                  // vertex f) of tet t lies on a cut; empty: none
+  std::vector<int> interface_nodes;  // node ids shown as points
+  std::vector<ManipulatedNode> manipulated;
+  std::vector<ToolShape> tools;
+};
+
+// --- the extracted scene ------------------------------------------------------
+
+struct Scene {
+  int width = 0, height = 0, msaa_samples = 0;
+  Rgba background;
+  Triangles tissue;  // boundary faces of the tet mesh, one triangle each
+  Triangles tools;
+  Primitives wire;         // surface edges (lines), when wireframe is on
+  Primitives force_lines;  // manipulated node -> line_end (lines)
+  Primitives interface_points;
+  Primitives manipulated_points;
+  Camera camera;
+  int tissue_faces_operational = 0, tissue_faces_nonoperational = 0, tissue_faces_cut = 0;
+};
+
+// Builds the scene of one frame. `mesh` is the current topology (its nodes are
+// the rest positions, used for framing), `positions` (nnode x 3) the deformed
+// node positions, m. Throws softcut::Error naming the offending item for sizes
+// that do not match the mesh, ids out of range, non-finite positions or bad
+// settings.
+Scene extract_scene(const mesh::TetMesh& mesh, const Eigen::MatrixX3d& positions, const SceneContent& content,
+                    const RenderSettings& settings);
+
+}  // namespace softcut::render

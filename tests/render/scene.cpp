@@ -1,0 +1,201 @@
+#include "render/scene.hpp"
+
+#include <doctest/doctest.h>
+
+#include <Eigen/Geometry>
+#include <random>
+
+#include "mesh/generate/box.hpp"
+#include "mesh/surface.hpp"
+
+using namespace softcut;
+using render::RenderSettings;
+using render::SceneContent;
+
+namespace {
+
+mesh::TetMesh box(int nx, int ny, int nz, Eigen::Vector3d hi = Eigen::Vector3d::Ones()) {
+  mesh::BoxOptions o;
+  o.nx = nx, o.ny = ny, o.nz = nz;
+  o.max_corner = hi;
+  return mesh::generate_box(o);
+}
+
+Eigen::Vector3d centroid(const render::Triangles& t, int i) {
+  return ((t.positions[size_t(3 * i)] + t.positions[size_t(3 * i + 1)] + t.positions[size_t(3 * i + 2)]) / 3.0f)
+      .cast<double>();
+}
+
+Eigen::Vector3d tet_centroid(const mesh::TetMesh& m, int t) {
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();
+  for (int k = 0; k < 4; ++k) c += m.node(m.tets(t, k));
+  return c / 4.0;
+}
+
+}  // namespace
+
+TEST_SUITE("render/scene") {
+  TEST_CASE("two triangles per square of the sides of a box facing out and coloured by region") {
+    std::mt19937 rng(7);
+    for (int trial = 0; trial < 6; ++trial) {
+      const int nx = 1 + int(rng() % 4), ny = 1 + int(rng() % 4), nz = 1 + int(rng() % 4);
+      const mesh::TetMesh m = box(nx, ny, nz, {1.0, 2.0, 0.5});
+      SceneContent c;
+      c.operational.resize(size_t(m.num_tets()));
+      for (int t = 0; t < m.num_tets(); ++t) c.operational[size_t(t)] = tet_centroid(m, t).x() < 0.5;
+      RenderSettings s;
+      s.crease_angle_deg = 40;
+      const render::Scene sc = render::extract_scene(m, m.nodes, c, s);
+      CAPTURE(nx);
+      CAPTURE(ny);
+      CAPTURE(nz);
+      REQUIRE(sc.tissue.count() == 4 * (nx * ny + ny * nz + nz * nx));
+      CHECK(sc.tissue_faces_operational + sc.tissue_faces_nonoperational == sc.tissue.count());
+      CHECK(sc.tissue_faces_cut == 0);
+      const Eigen::Vector3d mid(0.5, 1.0, 0.25);
+      int op = 0;
+      for (int i = 0; i < sc.tissue.count(); ++i) {
+        const Eigen::Vector3d g = centroid(sc.tissue, i);
+        // A face's tet lies in the same cell as the face, so the face centroid
+        // tells the region (cells split at x = 0.5 only when nx is even).
+        const auto& col = sc.tissue.colors[size_t(3 * i)];
+        const bool grey = col == s.palette.operational, blue = col == s.palette.nonoperational;
+        REQUIRE((grey || blue));
+        op += grey;
+        if (nx % 2 == 0) CHECK(grey == (g.x() < 0.5));
+        // Box sides are 90 degree creases: every corner normal is the face's axis normal.
+        const Eigen::Vector3d a = sc.tissue.positions[size_t(3 * i)].cast<double>();
+        const Eigen::Vector3d b = sc.tissue.positions[size_t(3 * i + 1)].cast<double>();
+        const Eigen::Vector3d cc = sc.tissue.positions[size_t(3 * i + 2)].cast<double>();
+        const Eigen::Vector3d n = (b - a).cross(cc - a).normalized();
+        CHECK(n.dot(g - mid) > 0);  // outward for a convex body
+        for (int k = 0; k < 3; ++k)
+          CHECK((sc.tissue.normals[size_t(3 * i + k)].cast<double>() - n).norm() < 1e-6);
+      }
+      CHECK(op == sc.tissue_faces_operational);
+    }
+  }
+
+  TEST_CASE("normals are smoothed across flat creases only") {
+    const mesh::TetMesh m = box(2, 2, 2);
+    RenderSettings s;
+    s.crease_angle_deg = 100;  // now the 90 degree box edges are smoothed too
+    const render::Scene sc = render::extract_scene(m, m.nodes, {}, s);
+    int tilted = 0;
+    for (const auto& n : sc.tissue.normals) {
+      CHECK(std::abs(n.norm() - 1.0f) < 1e-5f);
+      tilted += n.cwiseAbs().maxCoeff() < 0.999f;
+    }
+    CHECK(tilted > 0);
+  }
+
+  TEST_CASE("cut faces take the cut colour") {
+    const mesh::TetMesh m = box(3, 2, 2);
+    SceneContent c;
+    c.cut_faces.assign(size_t(4 * m.num_tets()), 0);
+    // Mark every tet face lying in the plane x = 0 (the boundary there).
+    for (int t = 0; t < m.num_tets(); ++t)
+      for (int f = 0; f < 4; ++f) {
+        bool on = true;
+        for (int k = 0; k < 3; ++k) on &= m.node(m.tets(t, mesh::kTetFaces[f][k])).x() == 0.0;
+        c.cut_faces[size_t(4 * t + f)] = on;
+      }
+    const render::Scene sc = render::extract_scene(m, m.nodes, c, {});
+    CHECK(sc.tissue_faces_cut == 2 * 2 * 2);
+    int red = 0;
+    for (int i = 0; i < sc.tissue.count(); ++i)
+      if (sc.tissue.colors[size_t(3 * i)] == RenderSettings().palette.cut) {
+        ++red;
+        CHECK(centroid(sc.tissue, i).x() == doctest::Approx(0.0));
+      }
+    CHECK(red == 8);
+  }
+
+  TEST_CASE("deformed positions are drawn but framing follows the rest shape") {
+    const mesh::TetMesh m = box(2, 2, 2);
+    Eigen::MatrixX3d x = m.nodes;
+    x.col(2).array() += 0.25;
+    const render::Scene rest = render::extract_scene(m, m.nodes, {}, {});
+    const render::Scene moved = render::extract_scene(m, x, {}, {});
+    CHECK((moved.camera.eye - rest.camera.eye).norm() == doctest::Approx(0.0));
+    for (size_t i = 0; i < rest.tissue.positions.size(); ++i)
+      CHECK((moved.tissue.positions[i] - rest.tissue.positions[i] - Eigen::Vector3f(0, 0, 0.25f)).norm() < 1e-6f);
+  }
+
+  TEST_CASE("wireframe draws each surface edge once") {
+    const mesh::TetMesh m = box(3, 2, 1);
+    RenderSettings s;
+    const render::Scene off = render::extract_scene(m, m.nodes, {}, s);
+    CHECK(off.wire.vertices() == 0);
+    s.wireframe = true;
+    const render::Scene on = render::extract_scene(m, m.nodes, {}, s);
+    // Closed triangulated surface: E = 3F/2, two vertices per edge.
+    CHECK(on.wire.vertices() == 3 * on.tissue.count());
+  }
+
+  TEST_CASE("interface nodes as points and manipulated nodes with their lines") {
+    const mesh::TetMesh m = box(2, 2, 2);
+    Eigen::MatrixX3d x = m.nodes * 1.5;
+    SceneContent c;
+    c.interface_nodes = {13, 4, 22};  // 13 is the centre node, inside the box
+    c.manipulated = {{26, Eigen::Vector3d(2, 2, 3)}};
+    RenderSettings s;
+    render::Scene sc = render::extract_scene(m, x, c, s);
+    REQUIRE(sc.interface_points.vertices() == 3);
+    for (int i = 0; i < 3; ++i) {
+      CHECK((sc.interface_points.positions[size_t(i)].cast<double>() -
+             x.row(c.interface_nodes[size_t(i)]).transpose()).norm() < 1e-6);
+      CHECK(sc.interface_points.colors[size_t(i)] == s.palette.interface_nodes);
+    }
+    CHECK(sc.interface_points.on_top);
+    REQUIRE(sc.manipulated_points.vertices() == 1);
+    REQUIRE(sc.force_lines.vertices() == 2);
+    CHECK((sc.force_lines.positions[0].cast<double>() - x.row(26).transpose()).norm() < 1e-6);
+    CHECK((sc.force_lines.positions[1].cast<double>() - Eigen::Vector3d(2, 2, 3)).norm() < 1e-6);
+    CHECK(sc.force_lines.colors[0] == s.palette.manipulated);
+    // The line end lies beyond the box: near/far must still contain it.
+    const Eigen::Vector3d ndc = sc.camera.to_ndc({2, 2, 3});
+    CHECK(std::abs(ndc.z()) <= 1.0);
+    s.show_interface = false;
+    sc = render::extract_scene(m, x, c, s);
+    CHECK(sc.interface_points.vertices() == 0);
+  }
+
+  TEST_CASE("tools become triangles") {
+    const mesh::TetMesh m = box(1, 1, 1);
+    SceneContent c;
+    c.tools = {render::ProbeShape{}, render::GrasperShape{}, render::ScalpelShape{}};
+    RenderSettings s;
+    s.tool_segments = 16;
+    const render::Scene sc = render::extract_scene(m, m.nodes, c, s);
+    const int S = 16;
+    CHECK(sc.tools.count() == (2 * S * (S / 2 - 1) + 4 * S) + (24 + 4 * S) + (2 + 4 * S));
+    for (const auto& col : sc.tools.colors) CHECK(col == s.palette.tool);
+  }
+
+  TEST_CASE("bad input is refused naming the item") {
+    const mesh::TetMesh m = box(1, 1, 1);
+    Eigen::MatrixX3d x = m.nodes;
+    CHECK_THROWS_WITH_AS(render::extract_scene(m, Eigen::MatrixX3d(x.topRows(3)), {}, {}),
+                         doctest::Contains("positions have 3 rows but the mesh has 8 nodes"), Error);
+    SceneContent c;
+    c.interface_nodes = {8};
+    CHECK_THROWS_WITH_AS(render::extract_scene(m, x, c, {}), doctest::Contains("interface node 0 has id 8"), Error);
+    c = {};
+    c.operational = {1, 0};
+    CHECK_THROWS_WITH_AS(render::extract_scene(m, x, c, {}), doctest::Contains("operational flags have 2"), Error);
+    c = {};
+    c.manipulated = {{-1, {}}};
+    CHECK_THROWS_WITH_AS(render::extract_scene(m, x, c, {}), doctest::Contains("manipulated node 0 has id -1"),
+                         Error);
+    c = {};
+    x(5, 1) = std::nan("");
+    CHECK_THROWS_WITH_AS(render::extract_scene(m, x, c, {}), doctest::Contains("node 5 is not finite"), Error);
+    x = m.nodes;
+    c.tools = {render::ProbeShape{}, render::ProbeShape{{0, 0, 0}, {0, 0, 1}, -1.0, 0.1}};
+    CHECK_THROWS_WITH_AS(render::extract_scene(m, x, c, {}), doctest::Contains("tool 1: probe radius"), Error);
+    RenderSettings s;
+    s.width = 0;
+    CHECK_THROWS_WITH_AS(render::extract_scene(m, x, {}, s), doctest::Contains("image size 0 x 480"), Error);
+  }
+}
