@@ -1,0 +1,163 @@
+// softcut bench gpu: the operational solve's kernels on the device against the
+// CPU in the same run — SpMV bandwidth (GB/s) and time per CG iteration by
+// system size, so one sees where launch overhead dominates and where the
+// device pulls ahead. On llvmpipe (no GPU) the "device" is the CPU itself.
+#include <cstdio>
+#include <sstream>
+
+#include "cli/bench.hpp"
+#include "core/atomic_file.hpp"
+#include "core/error.hpp"
+#include "core/timer.hpp"
+#include "fem/assembly.hpp"
+#include "fem/dof_map.hpp"
+#include "gpu/compute_cg.hpp"
+#include "mesh/generate/box.hpp"
+#include "solve/cg.hpp"
+
+namespace softcut::cli {
+namespace {
+
+constexpr const char* kUsage =
+    "usage: softcut bench gpu [--cells N ...] [--iterations K] [--fp64] [--peak-gbs G] [--json FILE]\n"
+    "  --cells N       box of 2N x N x N Kuhn cells (repeatable; default 4 8 12 16 24)\n"
+    "  --iterations K  CG iterations timed per size (default 50)\n"
+    "  --fp64          double-precision kernels\n"
+    "  --peak-gbs G    the device's peak memory bandwidth, to report the fraction reached\n"
+    "  --json FILE     also write the rows as JSON\n";
+
+struct Row {
+  int cells = 0, dofs = 0;
+  long nnz = 0;
+  double cpu_spmv_us = 0, gpu_spmv_us = 0, cpu_gbs = 0, gpu_gbs = 0;
+  double cpu_iter_us = 0, gpu_iter_us = 0;
+};
+
+int positive(const std::string& flag, const std::string& v) {
+  try {
+    size_t used = 0;
+    const long x = std::stol(v, &used);
+    if (used == v.size() && x > 0 && x < 100000) return int(x);
+  } catch (...) {
+  }
+  fail("bench gpu: ", flag, " needs a positive integer, got '", v, "'");
+}
+
+}  // namespace
+
+int bench_gpu(const Args& args) {
+  std::vector<int> cells;
+  int iterations = 50;
+  bool fp64 = false;
+  double peak = 0;
+  std::string json;
+  for (size_t i = 0; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    auto value = [&]() -> const std::string& {
+      if (i + 1 >= args.size()) fail("bench gpu: ", a, " needs a value");
+      return args[++i];
+    };
+    if (a == "--help" || a == "-h") {
+      std::fputs(kUsage, stdout);
+      return 0;
+    } else if (a == "--cells") {
+      cells.push_back(positive(a, value()));
+    } else if (a == "--iterations") {
+      iterations = positive(a, value());
+    } else if (a == "--fp64") {
+      fp64 = true;
+    } else if (a == "--peak-gbs") {
+      peak = std::atof(value().c_str());
+    } else if (a == "--json") {
+      json = value();
+    } else {
+      fail("bench gpu: unknown option '", a, "' (see softcut bench gpu --help)");
+    }
+  }
+  if (cells.empty()) cells = {4, 8, 12, 16, 24};
+
+  gpu::EglContext context;
+  std::printf("device: %s\n", context.info().summary().c_str());
+  gpu::ComputeCgOptions opt;
+  opt.fp64 = fp64;
+  gpu::ComputeCg cg(context, opt);
+  const double scalar = fp64 ? 8 : 4;
+
+  std::vector<Row> rows;
+  for (int c : cells) {
+    mesh::BoxOptions bo;
+    bo.nx = 2 * c;
+    bo.ny = bo.nz = c;
+    bo.max_corner = {0.2, 0.1, 0.1};
+    const auto m = mesh::generate_box(bo);
+    const std::vector<fem::Material> mats(size_t(m.num_tets()), {3e3, 0.45});
+    std::vector<char> free(size_t(m.num_nodes()));
+    for (int v = 0; v < m.num_nodes(); ++v) free[size_t(v)] = m.nodes(v, 0) > 1e-12;
+    const auto K = fem::restrict_matrix(fem::assemble_stiffness(m, mats), fem::make_dof_map(free));
+    const auto bs = gpu::make_block_system(K);
+    cg.set_system(bs);
+
+    Row r;
+    r.cells = c;
+    r.dofs = int(K.rows());
+    r.nnz = long(K.nonZeros());
+    const Eigen::VectorXd x = Eigen::VectorXd::Random(K.rows());
+    Eigen::VectorXd y(K.rows());
+    const int reps = std::max(5, int(2e7 / double(r.nnz)));
+    Timer t;
+    for (int k = 0; k < reps; ++k) y.noalias() = K * x;
+    r.cpu_spmv_us = t.seconds() / reps * 1e6;
+    // Bytes a SpMV must move at least: values + indices + x + y.
+    const double cpu_bytes = double(r.nnz) * (8 + 4) + 2.0 * 8 * r.dofs;
+    const double gpu_bytes = double(bs.col.size()) * (9 * scalar + 4) + 4.0 * bs.row_ptr.size() + 2.0 * scalar * r.dofs;
+    r.cpu_gbs = cpu_bytes / (r.cpu_spmv_us * 1e3);
+    r.gpu_spmv_us = cg.time_spmv(reps) * 1e6;
+    r.gpu_gbs = gpu_bytes / (r.gpu_spmv_us * 1e3);
+
+    // CG iterations at a fixed count (tolerance unreachable).
+    solve::BlockJacobi M(K);
+    M.finalize();
+    solve::CgOptions co;
+    co.tolerance = 1e-30;
+    co.max_iterations = iterations;
+    Eigen::VectorXd xs;
+    t.reset();
+    solve::pcg(solve::sparse_operator(K), M.as_operator(), x, xs, co);
+    r.cpu_iter_us = t.seconds() / iterations * 1e6;
+    cg.options().max_inner_iterations = iterations;
+    Eigen::VectorXd d;
+    t.reset();
+    const int done = cg.solve_device(x, d, 1e-30);
+    r.gpu_iter_us = t.seconds() / std::max(done, 1) * 1e6;
+    rows.push_back(r);
+  }
+
+  std::printf("\n| cells | DOFs | nnz | CPU SpMV µs | GB/s | GPU SpMV µs | GB/s%s | CPU CG µs/it | GPU CG µs/it | GPU/CPU per it |\n",
+              peak > 0 ? " (of peak)" : "");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|\n");
+  for (const Row& r : rows) {
+    char frac[32] = "";
+    if (peak > 0) std::snprintf(frac, sizeof frac, " (%.0f%%)", 100 * r.gpu_gbs / peak);
+    std::printf("| %d | %d | %ld | %.1f | %.2f | %.1f | %.2f%s | %.1f | %.1f | %.2f |\n", r.cells, r.dofs, r.nnz,
+                r.cpu_spmv_us, r.cpu_gbs, r.gpu_spmv_us, r.gpu_gbs, frac, r.cpu_iter_us, r.gpu_iter_us,
+                r.gpu_iter_us / r.cpu_iter_us);
+  }
+  if (!json.empty()) {
+    std::ostringstream os;
+    os << "{\n  \"device\": \"" << context.info().summary() << "\",\n  \"fp64\": " << (fp64 ? "true" : "false")
+       << ",\n  \"rows\": [\n";
+    for (size_t i = 0; i < rows.size(); ++i) {
+      const Row& r = rows[i];
+      os << "    {\"cells\": " << r.cells << ", \"dofs\": " << r.dofs << ", \"nnz\": " << r.nnz
+         << ", \"cpu_spmv_us\": " << r.cpu_spmv_us << ", \"cpu_gbs\": " << r.cpu_gbs
+         << ", \"gpu_spmv_us\": " << r.gpu_spmv_us << ", \"gpu_gbs\": " << r.gpu_gbs
+         << ", \"cpu_iter_us\": " << r.cpu_iter_us << ", \"gpu_iter_us\": " << r.gpu_iter_us << "}"
+         << (i + 1 < rows.size() ? ",\n" : "\n");
+    }
+    os << "  ]\n}\n";
+    write_file_atomic(json, os.str());
+  }
+  return 0;
+}
+
+}  // namespace softcut::cli
