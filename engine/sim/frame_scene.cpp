@@ -1,0 +1,63 @@
+#include "sim/frame_scene.hpp"
+
+#include <Eigen/Geometry>
+#include <cstdio>
+
+namespace softcut::sim {
+
+render::SceneContent scene_content(const Model& m, const State& s) {
+  const RenderSettings& rs = m.spec.outputs.render;
+  render::SceneContent c;
+  c.operational = m.partition.operational_tet;
+  if (rs.show_interface) c.interface_nodes = m.partition.interface;
+  for (size_t k = 0; k < s.tools.size() && k < s.tool_specs.size(); ++k) {
+    const tools::ToolSpec& spec = s.tool_specs[k];
+    const tools::ToolState& ts = s.tools[k];
+    if (!spec.enabled) continue;
+    if (rs.show_forces)
+      for (int n : ts.nodes) c.manipulated.push_back({n, ts.tip});
+    if (spec.kind == tools::ToolSpec::Kind::probe) {
+      render::ProbeShape p;
+      p.tip = ts.tip;
+      p.axis = rs.up.normalized();
+      p.radius = spec.radius;
+      p.length = 20 * spec.radius;
+      c.tools.push_back(p);
+    } else {
+      render::GrasperShape g;
+      g.axis = -rs.up.normalized();
+      g.hinge = g.axis.unitOrthogonal();
+      g.jaw_length = 4 * spec.radius;
+      g.jaw_width = 1.5 * spec.radius;
+      g.shaft_length = 20 * spec.radius;
+      g.pivot = ts.tip - g.axis * g.jaw_length;  // jaw tips at the tool tip
+      g.opening_deg = ts.engaged ? 0.0 : 30.0;
+      c.tools.push_back(g);
+    }
+  }
+  return c;
+}
+
+render::RenderSettings render_settings(const Model& m, const State& s) {
+  const RenderSettings& r = m.spec.outputs.render;
+  render::RenderSettings o;
+  o.width = r.width, o.height = r.height;
+  o.msaa_samples = r.msaa_samples;
+  o.wireframe = r.wireframe;
+  o.show_interface = r.show_interface;
+  o.palette.background = {float(r.background.x()), float(r.background.y()), float(r.background.z()), 1.0f};
+  o.camera.auto_frame = r.auto_frame;
+  o.camera.azimuth_deg = r.azimuth_deg + r.orbit_deg_per_s * s.time;
+  o.camera.elevation_deg = r.elevation_deg;
+  o.camera.eye = r.eye, o.camera.target = r.target, o.camera.up = r.up;
+  o.camera.fov_y_deg = r.fov_deg;
+  return o;
+}
+
+std::filesystem::path frame_png_path(const std::filesystem::path& dir, int frame) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "frame_%06d.png", frame);
+  return dir / "frames" / buf;
+}
+
+}  // namespace softcut::sim

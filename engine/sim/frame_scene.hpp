@@ -1,0 +1,23 @@
+#pragma once
+// What the renderer needs from a frame, as engine/render's plain inputs:
+// deformed positions, operational tets, interface nodes, manipulated nodes
+// with their force lines, tool shapes, and the render settings at time t.
+#include <filesystem>
+
+#include "render/scene.hpp"
+#include "sim/model.hpp"
+
+namespace softcut::sim {
+
+// Operational tets, interface nodes (if shown), manipulated nodes with a line
+// from each node to its tool's tip (if shown), and one shape per enabled tool
+// (probe: ball-tipped rod; grasper: jaws, closed while engaged).
+render::SceneContent scene_content(const Model& m, const State& s);
+
+// m.spec.outputs.render at the state's time (turntable azimuth applied).
+render::RenderSettings render_settings(const Model& m, const State& s);
+
+// <dir>/frames/frame_000123.png
+std::filesystem::path frame_png_path(const std::filesystem::path& dir, int frame);
+
+}  // namespace softcut::sim

@@ -1,0 +1,159 @@
+#include "sim/mesh_source.hpp"
+
+#include <cmath>
+
+#include "mesh/generate/box.hpp"
+#include "mesh/generate/cylinder.hpp"
+#include "mesh/generate/presets.hpp"
+#include "mesh/io/mesh_io.hpp"
+
+namespace softcut::sim {
+
+namespace {
+
+// Takes options by name, remembers what was asked for, and rejects leftovers.
+class Options {
+ public:
+  Options(const std::map<std::string, double>& opts, std::string what) : left_(opts), what_(std::move(what)) {}
+
+  void num(const char* name, double& v) {
+    known_.push_back(name);
+    if (auto it = left_.find(name); it != left_.end()) {
+      if (!std::isfinite(it->second)) fail(what_, ": option '", name, "' must be finite");
+      v = it->second;
+      left_.erase(it);
+    }
+  }
+  template <class Int>
+  void integer(const char* name, Int& v) {
+    double d = double(v);
+    num(name, d);
+    if (d != std::floor(d) || d < 0 || d > 1e9) fail(what_, ": option '", name, "' must be a whole number >= 0, got ", d);
+    v = Int(d);
+  }
+  void vec(const std::string& name, Eigen::Vector3d& v) {
+    static const char* axes[3] = {".x", ".y", ".z"};
+    for (int c = 0; c < 3; ++c) {
+      known_.push_back(name + axes[c]);
+      if (auto it = left_.find(name + axes[c]); it != left_.end()) {
+        if (!std::isfinite(it->second)) fail(what_, ": option '", it->first, "' must be finite");
+        v(c) = it->second;
+        left_.erase(it);
+      }
+    }
+  }
+  void finish() const {
+    if (left_.empty()) return;
+    std::string known;
+    for (const auto& k : known_) known += (known.empty() ? "" : ", ") + k;
+    fail(what_, ": unknown option '", left_.begin()->first, "' (known: ", known, ")");
+  }
+  const std::vector<std::string>& known() const { return known_; }
+
+ private:
+  std::map<std::string, double> left_;
+  std::string what_;
+  std::vector<std::string> known_;
+};
+
+void common(Options& o, int& target_tets, int& target_nodes, double& jitter, unsigned& seed, int& label) {
+  o.integer("target_tets", target_tets);
+  o.integer("target_nodes", target_nodes);
+  o.num("jitter", jitter);
+  o.integer("seed", seed);
+  o.integer("label", label);
+}
+
+void band_options(Options& o, mesh::BandOptions& b) {
+  o.vec("base_center", b.base_center);
+  o.num("length", b.length), o.num("width", b.width), o.num("thickness", b.thickness);
+  o.num("flare", b.flare), o.num("twist_deg", b.twist_deg);
+  o.integer("along", b.along), o.integer("across", b.across), o.integer("through", b.through);
+  common(o, b.target_tets, b.target_nodes, b.jitter, b.seed, b.label);
+}
+
+void tube_options(Options& o, mesh::TubeOptions& t) {
+  o.vec("base_center", t.base_center);
+  o.num("inner_radius", t.inner_radius), o.num("outer_radius", t.outer_radius), o.num("length", t.length);
+  o.integer("radial", t.radial), o.integer("around", t.around), o.integer("layers", t.layers);
+  common(o, t.target_tets, t.target_nodes, t.jitter, t.seed, t.label);
+}
+
+// Runs the generator (or only collects option names when `run` is false).
+LoadedMesh generate(const std::string& gen, const std::map<std::string, double>& opts, const std::string& what,
+                    bool run, std::vector<std::string>* names) {
+  Options o(opts, what);
+  LoadedMesh out;
+  out.description = "generator " + gen;
+  if (gen == "box") {
+    mesh::BoxOptions b;
+    o.vec("min", b.min_corner), o.vec("max", b.max_corner);
+    o.integer("nx", b.nx), o.integer("ny", b.ny), o.integer("nz", b.nz);
+    o.num("jitter", b.jitter), o.integer("seed", b.seed), o.integer("label", b.label);
+    o.finish();
+    if (run) out.mesh = mesh::generate_box(b);
+  } else if (gen == "cylinder") {
+    mesh::CylinderOptions c;
+    o.vec("base_center", c.base_center);
+    o.num("radius", c.radius), o.num("length", c.length);
+    o.integer("rings", c.rings), o.integer("layers", c.layers);
+    common(o, c.target_tets, c.target_nodes, c.jitter, c.seed, c.label);
+    o.finish();
+    if (run) out.mesh = mesh::generate_cylinder(c);
+  } else if (gen == "tube" || gen == "upper_leg") {
+    mesh::TubeOptions t = gen == "tube" ? mesh::TubeOptions{} : mesh::upper_leg_preset();
+    tube_options(o, t);
+    o.finish();
+    if (run) {
+      out.mesh = mesh::generate_tube(t);
+      out.named_sets["hole"] = mesh::tube_hole_nodes(out.mesh, t);
+    }
+  } else if (gen == "band" || gen == "ligament") {
+    mesh::BandOptions b = gen == "band" ? mesh::BandOptions{} : mesh::ligament_preset();
+    band_options(o, b);
+    o.finish();
+    if (run) out.mesh = mesh::generate_band(b);
+  } else {
+    fail(what, ": unknown generator '", gen, "' (use box, cylinder, tube, band, ligament or upper_leg)");
+  }
+  if (names) *names = o.known();
+  return out;
+}
+
+}  // namespace
+
+std::vector<std::string> generator_options(const std::string& generator) {
+  std::vector<std::string> names;
+  generate(generator, {}, "mesh", false, &names);
+  return names;
+}
+
+LoadedMesh load_mesh_source(const MeshSource& src, Diagnostics& diag) {
+  const std::string what = src.where.empty() ? std::string("mesh") : src.where + ": mesh";
+  const int given = src.given.num_tets() > 0;
+  const int sources = given + !src.file.empty() + !src.generator.empty();
+  if (sources != 1)
+    fail(what, ": give exactly one of a mesh file, a generator, or a mesh (got ", sources, ")");
+  LoadedMesh out;
+  if (given) {
+    out.mesh = src.given;
+    out.named_sets = src.named_sets;
+    out.description = "given mesh";
+    mesh::validate(out.mesh, what, diag);
+  } else if (!src.file.empty()) {
+    if (!src.options.empty()) fail(what, ": generator options given with a mesh file ", src.file.string());
+    out.mesh = mesh::read_mesh(src.file, diag);
+    out.named_sets = src.named_sets;
+    out.description = "file " + src.file.string();
+  } else {
+    out = generate(src.generator, src.options, what + " generator '" + src.generator + "'", true, nullptr);
+    mesh::validate(out.mesh, out.description, diag);
+  }
+  for (const auto& [name, ids] : out.named_sets)
+    for (int n : ids)
+      if (n < 0 || n >= out.mesh.num_nodes())
+        fail(what, ": node set '", name, "' has node ", n, " outside the mesh (", out.mesh.num_nodes(), " nodes)");
+  return out;
+}
+
+}  // namespace softcut::sim

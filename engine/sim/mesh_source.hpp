@@ -1,0 +1,28 @@
+#pragma once
+// The rest mesh of a scenario from its MeshSource: a file, a generator with
+// named numeric options, or a mesh handed in by the caller.
+#include <map>
+#include <string>
+#include <vector>
+
+#include "core/error.hpp"
+#include "mesh/tet_mesh.hpp"
+#include "sim/scenario_spec.hpp"
+
+namespace softcut::sim {
+
+struct LoadedMesh {
+  mesh::TetMesh mesh;                                   // validated
+  std::map<std::string, std::vector<int>> named_sets;   // e.g. "hole" (tube, upper_leg)
+  std::string description;                              // "file liver.msh" / "generator tube"
+};
+
+// Generators: box, cylinder, tube, band, ligament (band preset), upper_leg
+// (tube preset). Options are the generator's option names; vectors as
+// name.x / name.y / name.z. Throws naming the source and the bad option.
+LoadedMesh load_mesh_source(const MeshSource& src, Diagnostics& diag);
+
+// Option names a generator accepts (for messages and docs).
+std::vector<std::string> generator_options(const std::string& generator);
+
+}  // namespace softcut::sim

@@ -1,0 +1,144 @@
+#include "sim/model.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/timer.hpp"
+#include "sim/mesh_source.hpp"
+#include "sim/tissue.hpp"
+
+namespace softcut::sim {
+
+namespace {
+
+std::string prefixed(const std::string& where, const std::string& item) {
+  return where.empty() ? item : where + ": " + item;
+}
+
+SelectContext context(const Model& m) { return SelectContext{m.mesh, m.surface, m.named_sets}; }
+
+fem::Material resolve_material(const MaterialAssignment& a) {
+  const std::string w = prefixed(a.where, "material '" + a.name + "'");
+  fem::Material mat{a.young, a.poisson};
+  if (!a.preset.empty()) {
+    const fem::Material p = tissue_preset(a.preset, w).material;
+    if (!(a.young > 0)) mat.young = p.young;
+    if (!(a.poisson > -1 && a.poisson < 0.5)) mat.poisson = p.poisson;
+  }
+  fem::check_material(mat, w);
+  return mat;
+}
+
+}  // namespace
+
+Model compile(const ScenarioSpec& spec) {
+  check_spec(spec);
+  Model m;
+  m.spec = spec;
+  Diagnostics diag;
+  Timer t;
+
+  LoadedMesh lm = load_mesh_source(spec.mesh, diag);
+  m.mesh = std::move(lm.mesh);
+  m.named_sets = std::move(lm.named_sets);
+  m.surface = mesh::extract_surface(m.mesh);
+  m.rest_normals = mesh::vertex_normals(m.mesh, m.surface);
+  m.precompute_ms.emplace_back("mesh", t.ms());
+  t.reset();
+
+  const SelectContext ctx = context(m);
+  m.tet_material.assign(m.mesh.num_tets(), fem::Material{});
+  for (const auto& a : spec.materials) {
+    const std::string w = prefixed(a.where, "material '" + a.name + "'");
+    const fem::Material mat = resolve_material(a);
+    const std::vector<int> tets = select_tets(a.tets, ctx, w);
+    if (tets.empty()) diag.warn(w, ": selects no tet");
+    for (int k : tets) m.tet_material[k] = mat;
+  }
+
+  std::vector<char> operational(m.mesh.num_tets(), 0);
+  for (int k : select_tets(spec.operational, ctx, "operational")) operational[k] = 1;
+  const std::vector<int> fixed = select_nodes(spec.fixed, ctx, "fixed");
+  if (fixed.empty())
+    fail(prefixed(spec.fixed.where, "fixed"), ": selects no node; the body needs fixed nodes (a ",
+         to_string(spec.fixed.kind), " selector matched nothing)");
+  m.partition = hybrid::make_partition(m.mesh, operational, fixed);
+
+  if (spec.outputs.log_all_surface)
+    m.log_nodes = m.surface.nodes;
+  else
+    m.log_nodes = select_nodes(spec.outputs.log_nodes, ctx, "outputs.log_nodes");
+  m.precompute_ms.emplace_back("selectors", t.ms());
+
+  for (const auto& l : spec.loads) resolve_load(m, l);  // errors now rather than at frame 0
+
+  // Interior nonoperational nodes are condensed away; recover them each frame
+  // only when an output needs them.
+  bool need_interior = spec.outputs.vtu;
+  for (int n : m.log_nodes) need_interior |= m.partition.node_set[n] == hybrid::NodeSet::interior;
+  m.solver = make_solver(m.mesh, m.tet_material, m.partition, spec.solver, need_interior, diag);
+  for (const auto& p : m.solver->precompute_ms()) m.precompute_ms.push_back(p);
+
+  m.dt = 1.0 / spec.timeline.frame_rate;
+  m.num_frames = int(std::floor(spec.timeline.duration * spec.timeline.frame_rate + 1e-9)) + 1;
+  m.warnings = std::move(diag.warnings);
+  return m;
+}
+
+ActiveLoad resolve_load(const Model& m, const LoadSpec& spec) {
+  const std::string w = prefixed(spec.where, "load '" + spec.name + "'");
+  ActiveLoad a;
+  a.spec = spec;
+  a.nodes = select_nodes(m, spec.nodes, w);
+  if (a.nodes.empty()) fail(w, ": selects no node");
+  a.directions.resize(Eigen::Index(a.nodes.size()), 3);
+  const Eigen::Vector3d dir = spec.direction.normalized();
+  for (size_t k = 0; k < a.nodes.size(); ++k) {
+    const int n = a.nodes[k];
+    const hybrid::NodeSet set = m.partition.node_set[n];
+    if (set == hybrid::NodeSet::fixed)
+      fail(w, ": node ", n, " is fixed (a load there has no effect); remove it from the load or from fixed");
+    if (set == hybrid::NodeSet::interior)
+      fail(w, ": node ", n, " is an interior nonoperational node, condensed away by the hybrid model; load surface ",
+           "nodes or make that region operational");
+    if (spec.direction_kind == LoadSpec::Direction::normal) {
+      if (m.rest_normals.row(n).squaredNorm() == 0)
+        fail(w, ": direction 'normal' but node ", n, " is not on the surface");
+      a.directions.row(Eigen::Index(k)) = m.rest_normals.row(n);
+    } else {
+      a.directions.row(Eigen::Index(k)) = dir.transpose();
+    }
+  }
+  return a;
+}
+
+State make_state(const Model& m) {
+  State s;
+  const int n = m.mesh.num_nodes();
+  s.displacement = Eigen::MatrixX3d::Zero(n, 3);
+  s.forces = Eigen::MatrixX3d::Zero(n, 3);
+  for (const auto& l : m.spec.loads) s.loads.push_back(resolve_load(m, l));
+  s.tool_specs = m.spec.tools;
+  s.tools.resize(s.tool_specs.size());
+  for (size_t k = 0; k < s.tools.size(); ++k) s.tools[k].tip = tools::evaluate(s.tool_specs[k].path, 0.0);
+  return s;
+}
+
+Eigen::MatrixX3d deformed_positions(const Model& m, const State& s) { return m.mesh.nodes + s.displacement; }
+
+std::vector<int> select_nodes(const Model& m, const NodeSelector& sel, const std::string& where) {
+  return select_nodes(sel, context(m), where);
+}
+
+Eigen::Vector3d mean_displacement(const State& s, const std::vector<int>& nodes) {
+  if (nodes.empty()) fail("mean_displacement: empty node set");
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (int n : nodes) {
+    if (n < 0 || n >= s.displacement.rows())
+      fail("mean_displacement: node ", n, " out of range (", s.displacement.rows(), " nodes)");
+    sum += s.displacement.row(n).transpose();
+  }
+  return sum / double(nodes.size());
+}
+
+}  // namespace softcut::sim

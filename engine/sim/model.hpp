@@ -1,0 +1,99 @@
+#pragma once
+// Model (fixed after compile) and State (changes every frame), MuJoCo style:
+// step(const Model&, State&) reads the one and writes the other.
+#include <Eigen/Core>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/error.hpp"
+#include "fem/material.hpp"
+#include "hybrid/partition.hpp"
+#include "mesh/surface.hpp"
+#include "mesh/tet_mesh.hpp"
+#include "sim/scenario_spec.hpp"
+#include "sim/solver.hpp"
+#include "tools/tool.hpp"
+
+namespace softcut::sim {
+
+struct Model {
+  ScenarioSpec spec;                                     // as compiled
+  mesh::TetMesh mesh;                                    // rest mesh
+  std::map<std::string, std::vector<int>> named_sets;    // e.g. "hole" from the generator
+  mesh::Surface surface;                                 // whole-body boundary
+  Eigen::MatrixX3d rest_normals;                         // (nnode x 3) unit outward, zero off-surface
+  std::vector<fem::Material> tet_material;               // (ntet)
+  hybrid::Partition partition;                           // node sets (fixed, 1, I, s, i), Table 2 counts
+  std::vector<int> log_nodes;                            // sorted ids written to displacements.csv
+  std::unique_ptr<Solver> solver;
+  std::vector<std::pair<std::string, double>> precompute_ms;  // Table 3 (+ mesh, selectors)
+  std::vector<std::string> warnings;                     // from compile
+  int num_frames = 1;                                    // see Timeline
+  double dt = 0.0;                                       // 1 / frame_rate, s
+
+  double frame_time(int frame) const { return frame * dt; }
+};
+
+// Reads / generates the mesh, evaluates selectors, assigns materials,
+// partitions, precomputes the solver. Throws softcut::Error naming the item.
+Model compile(const ScenarioSpec& spec);
+
+// A load resolved against the Model: the nodes and their unit directions.
+struct ActiveLoad {
+  LoadSpec spec;
+  std::vector<int> nodes;       // (k) sorted ids
+  Eigen::MatrixX3d directions;  // (k x 3) unit directions
+  bool enabled = true;
+  double scale = 1.0;           // multiplies the ramp (script knob)
+};
+// Throws naming the load when it selects no node, a fixed node, an interior
+// nonoperational node (condensed away), or normal directions off the surface.
+ActiveLoad resolve_load(const Model& m, const LoadSpec& spec);
+
+// Per-frame stage timings, ms (the paper's Fig. 8 stages).
+struct FrameTimings {
+  double collision = 0, cutting = 0, poke_drag = 0, operational_solve = 0, nonoperational_update = 0;
+  double total = 0;  // whole step
+};
+
+struct StageStat {
+  double sum = 0, max = 0;
+  void add(double v) { sum += v; max = v > max ? v : max; }
+};
+
+struct RunStatistics {
+  int frames = 0;
+  StageStat collision, cutting, poke_drag, operational_solve, nonoperational_update, total;  // ms
+  long long cg_iterations_total = 0;
+  int cg_iterations_max = 0;
+  double max_relative_residual = 0;
+};
+
+struct State {
+  int frame = -1;                    // last completed frame, -1 before the first step
+  double time = 0.0;                 // s, of `frame`
+  Eigen::MatrixX3d displacement;     // (nnode x 3) m
+  Eigen::MatrixX3d forces;           // (nnode x 3) N, external nodal forces of this frame
+  std::vector<ActiveLoad> loads;
+  std::vector<tools::ToolSpec> tool_specs;  // copies; the script may change them between frames
+  std::vector<tools::ToolState> tools;      // (ntools) parallel to tool_specs
+  SolverWarmStart warm;
+  FrameTimings last;                 // of the last frame
+  int last_cg_iterations = 0;
+  RunStatistics stats;
+  std::vector<std::string> warnings;  // runtime, deduplicated by the writer
+  bool stop_requested = false;        // set by the script: finish after this frame
+};
+
+State make_state(const Model& m);
+
+// Deformed positions rest + displacement, (nnode x 3), m.
+Eigen::MatrixX3d deformed_positions(const Model& m, const State& s);
+// Nodes of a selector on the compiled model (e.g. for expectations).
+std::vector<int> select_nodes(const Model& m, const NodeSelector& sel, const std::string& where);
+// Mean displacement (3) of a node set, m; throws on an empty set.
+Eigen::Vector3d mean_displacement(const State& s, const std::vector<int>& nodes);
+
+}  // namespace softcut::sim

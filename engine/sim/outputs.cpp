@@ -1,0 +1,242 @@
+#include "sim/outputs.hpp"
+
+#include <Eigen/Core>
+#include <cmath>
+#include <cstdio>
+#include <set>
+#include <system_error>
+
+#include "core/atomic_file.hpp"
+#include "core/error.hpp"
+#include "render/renderer.hpp"
+#include "sim/frame_scene.hpp"
+
+namespace softcut::sim {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string num(double v, const char* fmt = "%.9e") {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, fmt, v);
+  return buf;
+}
+
+// JSON number: finite values with 15 significant digits, else null.
+std::string jnum(double v) { return std::isfinite(v) ? num(v, "%.15g") : "null"; }
+std::string jms(double v) { return std::isfinite(v) ? num(v, "%.6g") : "null"; }
+
+std::string jstr(const std::string& s) {
+  std::string o = "\"";
+  for (unsigned char c : s) {
+    switch (c) {
+      case '"': o += "\\\""; break;
+      case '\\': o += "\\\\"; break;
+      case '\n': o += "\\n"; break;
+      case '\r': o += "\\r"; break;
+      case '\t': o += "\\t"; break;
+      default:
+        if (c < 0x20) o += num(c, "\\u%04x");
+        else o += char(c);
+    }
+  }
+  return o + "\"";
+}
+
+std::string vtu_name(int frame) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "frame_%06d.vtu", frame);
+  return buf;
+}
+
+}  // namespace
+
+Recorder::Recorder(const Model& m, fs::path dir) : dir_(dir.empty() ? m.spec.outputs.dir : std::move(dir)) {
+  if (dir_.empty()) dir_ = fs::path("renders") / m.spec.name;
+  std::error_code ec;
+  fs::create_directories(dir_, ec);
+  if (ec || !fs::is_directory(dir_))
+    fail("outputs: cannot create the output folder ", dir_.string(), ": ", ec ? ec.message() : "not a folder");
+  if (m.spec.outputs.vtu) {
+    fs::create_directories(dir_ / "vtu", ec);
+    if (ec) fail("outputs: cannot create ", (dir_ / "vtu").string(), ": ", ec.message());
+  }
+  if (m.spec.outputs.csv) {
+    csv_tmp_ = dir_ / "displacements.csv.partial";
+    csv_.open(csv_tmp_, std::ios::binary | std::ios::trunc);
+    if (!csv_) fail("outputs: cannot write ", csv_tmp_.string(), " (is the folder writable?)");
+    csv_ << "frame,time,node,ux,uy,uz\n";
+  }
+}
+
+Recorder::~Recorder() {
+  if (finished_ || csv_tmp_.empty()) return;
+  csv_.close();
+  std::error_code ec;
+  fs::remove(csv_tmp_, ec);
+}
+
+void Recorder::record(const Model& m, const State& s) {
+  if (finished_) fail("outputs: record() after finish()");
+  if (csv_.is_open()) {
+    char buf[160];
+    for (int n : m.log_nodes) {
+      const int len = std::snprintf(buf, sizeof buf, "%d,%.9e,%d,%.9e,%.9e,%.9e\n", s.frame, s.time, n,
+                                    s.displacement(n, 0), s.displacement(n, 1), s.displacement(n, 2));
+      csv_.write(buf, len);
+    }
+    if (!csv_) fail("outputs: writing ", csv_tmp_.string(), " failed (disk full?)");
+  }
+  if (m.spec.outputs.vtu && s.frame % m.spec.outputs.vtu_every == 0) {
+    write_vtu(dir_ / "vtu" / vtu_name(s.frame), m, s.displacement);
+    vtu_frames_.emplace_back(s.frame, s.time);
+  }
+  const RenderSettings& rs = m.spec.outputs.render;
+  if (renderer_ && rs.enabled && s.frame % rs.every == 0) {
+    if (rendered_ == 0) {
+      std::error_code ec;
+      fs::create_directories(dir_ / "frames", ec);
+      if (ec) fail("outputs: cannot create ", (dir_ / "frames").string(), ": ", ec.message());
+    }
+    const render::FrameTimings t = renderer_->render_png(m.mesh, deformed_positions(m, s), scene_content(m, s),
+                                                         render_settings(m, s), frame_png_path(dir_, s.frame));
+    render_ms_.add(t.total_ms());
+    rendered_++;
+  }
+  frames_++;
+}
+
+void Recorder::finish(const Model& m, const State& s, const RunResult& r) {
+  if (finished_) return;
+  finished_ = true;
+  if (csv_.is_open()) {
+    csv_.flush();
+    const bool ok = bool(csv_);
+    csv_.close();
+    std::error_code ec;
+    if (!ok) {
+      fs::remove(csv_tmp_, ec);
+      fail("outputs: writing ", csv_tmp_.string(), " failed (disk full?)");
+    }
+    fs::rename(csv_tmp_, dir_ / "displacements.csv", ec);
+    if (ec) fail("outputs: cannot rename ", csv_tmp_.string(), " to displacements.csv: ", ec.message());
+  }
+  if (m.spec.outputs.vtu) {
+    std::string pvd =
+        "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+        "  <Collection>\n";
+    for (const auto& [frame, time] : vtu_frames_)
+      pvd += "    <DataSet timestep=\"" + num(time, "%.9g") + "\" part=\"0\" file=\"vtu/" + vtu_name(frame) + "\"/>\n";
+    pvd += "  </Collection>\n</VTKFile>\n";
+    write_file_atomic(dir_ / "series.pvd", pvd);
+  }
+  write_file_atomic(dir_ / "summary.json", summary_json(m, s, r, this));
+}
+
+std::string summary_json(const Model& m, const State& s, const RunResult& r, const Recorder* rec) {
+  const ScenarioSpec& sp = m.spec;
+  const auto& c = m.partition.counts;
+  std::string j = "{\n";
+  j += "  \"schema\": \"softcut-summary/1\",\n";
+  j += "  \"scenario\": {\"name\": " + jstr(sp.name) + ", \"source\": " + jstr(sp.source.string()) + "},\n";
+  j += "  \"versions\": {\"softcut\": " + jstr(SOFTCUT_VERSION) + ", \"eigen\": " +
+       jstr(std::to_string(EIGEN_WORLD_VERSION) + "." + std::to_string(EIGEN_MAJOR_VERSION) + "." +
+            std::to_string(EIGEN_MINOR_VERSION));
+  for (const auto& [k, v] : sp.versions) j += ", " + jstr(k) + ": " + jstr(v);
+  j += "},\n";
+  j += "  \"mesh\": {\"nodes\": " + std::to_string(m.mesh.num_nodes()) + ", \"tets\": " +
+       std::to_string(m.mesh.num_tets()) + ", \"surface_faces\": " + std::to_string(m.surface.faces.rows()) +
+       ", \"surface_nodes\": " + std::to_string(m.surface.nodes.size()) + "},\n";
+  j += "  \"partition\": {\"operational_tets\": " + std::to_string(c.operational_tets) +
+       ", \"nonoperational_tets\": " + std::to_string(c.nonoperational_tets) +
+       ", \"operational_region_nodes\": " + std::to_string(c.operational_region_nodes) +
+       ", \"nonoperational_region_nodes\": " + std::to_string(c.nonoperational_region_nodes) +
+       ", \"nonoperational_surface_nodes\": " + std::to_string(c.nonoperational_surface_nodes) +
+       ", \"fixed\": " + std::to_string(c.fixed) + ", \"operational\": " + std::to_string(c.operational) +
+       ", \"interface\": " + std::to_string(c.interface) + ", \"surface\": " + std::to_string(c.surface) +
+       ", \"interior\": " + std::to_string(c.interior) + ", \"unused\": " + std::to_string(c.unused) + "},\n";
+  j += "  \"solver\": {\"backend\": " + jstr(m.solver ? m.solver->name() : "none") +
+       ", \"cg_tolerance\": " + jnum(sp.solver.cg_tolerance) + "},\n";
+  j += "  \"precompute_ms\": {";
+  for (size_t k = 0; k < m.precompute_ms.size(); ++k)
+    j += (k ? ", " : "") + jstr(m.precompute_ms[k].first) + ": " + jms(m.precompute_ms[k].second);
+  j += "},\n";
+  const RunStatistics& st = s.stats;
+  const double nf = st.frames > 0 ? double(st.frames) : 1.0;
+  auto stage = [&](const char* name, const StageStat& v, bool last) {
+    return std::string("    ") + jstr(name) + ": {\"mean\": " + jms(v.sum / nf) + ", \"max\": " + jms(v.max) + "}" +
+           (last ? "\n" : ",\n");
+  };
+  j += "  \"timeline\": {\"duration_s\": " + jnum(sp.timeline.duration) + ", \"frame_rate_hz\": " +
+       jnum(sp.timeline.frame_rate) + ", \"frames_planned\": " + std::to_string(m.num_frames) + "},\n";
+  j += "  \"run\": {\"frames\": " + std::to_string(st.frames) + ", \"last_frame\": " + std::to_string(s.frame) +
+       ", \"last_time_s\": " + jnum(s.time) + ", \"wall_s\": " + jms(r.wall_s) + ", \"exit_reason\": " +
+       jstr(to_string(r.reason)) + ", \"interrupted\": " + (r.reason == ExitReason::interrupted ? "true" : "false") +
+       ", \"message\": " + jstr(r.message) + "},\n";
+  j += "  \"stage_ms\": {\n";
+  j += stage("collision", st.collision, false);
+  j += stage("cutting", st.cutting, false);
+  j += stage("poke_drag", st.poke_drag, false);
+  j += stage("operational_solve", st.operational_solve, false);
+  j += stage("nonoperational_update", st.nonoperational_update, false);
+  j += stage("total", st.total, true);
+  j += "  },\n";
+  j += "  \"cg\": {\"iterations_mean\": " + jms(double(st.cg_iterations_total) / nf) + ", \"iterations_max\": " +
+       std::to_string(st.cg_iterations_max) + ", \"iterations_total\": " + std::to_string(st.cg_iterations_total) +
+       ", \"max_relative_residual\": " + jnum(st.max_relative_residual) + "},\n";
+  const int rendered = rec ? rec->frames_rendered() : 0;
+  j += "  \"outputs\": {\"log_nodes\": " + std::to_string(m.log_nodes.size()) + ", \"csv\": " +
+       (sp.outputs.csv ? "\"displacements.csv\"" : "null") + ", \"pvd\": " +
+       (sp.outputs.vtu ? "\"series.pvd\"" : "null") + ", \"frames_rendered\": " + std::to_string(rendered) +
+       ", \"render_ms\": {\"mean\": " + jms(rendered ? rec->render_ms().sum / rendered : 0.0) +
+       ", \"max\": " + jms(rec ? rec->render_ms().max : 0.0) + "}},\n";
+  std::set<std::string> seen;
+  std::vector<std::string> warnings;
+  for (const auto* list : {&m.warnings, &s.warnings})
+    for (const auto& w : *list)
+      if (seen.insert(w).second) warnings.push_back(w);
+  j += "  \"warnings\": [";
+  for (size_t k = 0; k < warnings.size(); ++k) j += (k ? ", " : "") + jstr(warnings[k]);
+  j += "]\n}\n";
+  return j;
+}
+
+void write_vtu(const fs::path& path, const Model& m, const Eigen::MatrixX3d& u) {
+  const mesh::TetMesh& mesh = m.mesh;
+  write_file_atomic(path, [&](std::ostream& os) {
+    char buf[128];
+    os << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+       << "  <UnstructuredGrid>\n    <Piece NumberOfPoints=\"" << mesh.num_nodes() << "\" NumberOfCells=\""
+       << mesh.num_tets() << "\">\n";
+    os << "      <Points>\n        <DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n";
+    for (int n = 0; n < mesh.num_nodes(); ++n) {
+      std::snprintf(buf, sizeof buf, "%.9e %.9e %.9e\n", mesh.nodes(n, 0), mesh.nodes(n, 1), mesh.nodes(n, 2));
+      os << buf;
+    }
+    os << "        </DataArray>\n      </Points>\n      <PointData Vectors=\"displacement\">\n"
+       << "        <DataArray type=\"Float64\" Name=\"displacement\" NumberOfComponents=\"3\" format=\"ascii\">\n";
+    for (int n = 0; n < mesh.num_nodes(); ++n) {
+      std::snprintf(buf, sizeof buf, "%.9e %.9e %.9e\n", u(n, 0), u(n, 1), u(n, 2));
+      os << buf;
+    }
+    os << "        </DataArray>\n        <DataArray type=\"Int32\" Name=\"node_set\" format=\"ascii\">\n";
+    for (int n = 0; n < mesh.num_nodes(); ++n) os << int(m.partition.node_set[n]) << '\n';
+    os << "        </DataArray>\n      </PointData>\n      <CellData Scalars=\"label\">\n"
+       << "        <DataArray type=\"Int32\" Name=\"label\" format=\"ascii\">\n";
+    for (int t = 0; t < mesh.num_tets(); ++t) os << mesh.labels(t) << '\n';
+    os << "        </DataArray>\n        <DataArray type=\"Int32\" Name=\"operational\" format=\"ascii\">\n";
+    for (int t = 0; t < mesh.num_tets(); ++t) os << int(m.partition.operational_tet[t]) << '\n';
+    os << "        </DataArray>\n      </CellData>\n      <Cells>\n"
+       << "        <DataArray type=\"Int32\" Name=\"connectivity\" format=\"ascii\">\n";
+    for (int t = 0; t < mesh.num_tets(); ++t)
+      os << mesh.tets(t, 0) << ' ' << mesh.tets(t, 1) << ' ' << mesh.tets(t, 2) << ' ' << mesh.tets(t, 3) << '\n';
+    os << "        </DataArray>\n        <DataArray type=\"Int32\" Name=\"offsets\" format=\"ascii\">\n";
+    for (int t = 0; t < mesh.num_tets(); ++t) os << 4 * (t + 1) << '\n';
+    os << "        </DataArray>\n        <DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n";
+    for (int t = 0; t < mesh.num_tets(); ++t) os << "10\n";
+    os << "        </DataArray>\n      </Cells>\n    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n";
+  });
+}
+
+}  // namespace softcut::sim

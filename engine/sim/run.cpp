@@ -1,0 +1,64 @@
+#include "sim/run.hpp"
+
+#include <algorithm>
+#include <exception>
+
+#include "core/timer.hpp"
+#include "sim/outputs.hpp"
+#include "sim/step.hpp"
+
+namespace softcut::sim {
+
+const char* to_string(ExitReason r) {
+  switch (r) {
+    case ExitReason::completed: return "completed";
+    case ExitReason::frame_limit: return "frame_limit";
+    case ExitReason::stopped: return "stopped";
+    case ExitReason::interrupted: return "interrupted";
+    case ExitReason::error: return "error";
+  }
+  return "?";
+}
+
+RunResult run(const Model& m, State& s, Recorder& rec, const RunHooks& hooks) {
+  Timer wall;
+  RunResult r;
+  int last = m.num_frames - 1;
+  if (hooks.max_frames >= 0 && s.frame + hooks.max_frames < last) {
+    last = s.frame + hooks.max_frames;
+    r.reason = ExitReason::frame_limit;
+  }
+  auto interrupted = [&] { return hooks.interrupt && hooks.interrupt->load(); };
+  try {
+    while (s.frame < last) {
+      if (interrupted()) {
+        r.reason = ExitReason::interrupted;
+        break;
+      }
+      step(m, s);
+      rec.record(m, s);
+      r.frames++;
+      const bool go_on = hooks.on_frame ? hooks.on_frame(m, s) : true;
+      if (hooks.progress) hooks.progress(s.frame, m.num_frames, wall.seconds());
+      if (interrupted()) {
+        r.reason = ExitReason::interrupted;
+        break;
+      }
+      if (!go_on || s.stop_requested) {
+        r.reason = ExitReason::stopped;
+        break;
+      }
+    }
+  } catch (const std::exception& e) {
+    r.reason = ExitReason::error;
+    r.message = e.what();
+    r.wall_s = wall.seconds();
+    rec.finish(m, s, r);
+    throw;
+  }
+  r.wall_s = wall.seconds();
+  rec.finish(m, s, r);
+  return r;
+}
+
+}  // namespace softcut::sim

@@ -1,0 +1,77 @@
+#include "sim/scenario_spec.hpp"
+
+#include <cmath>
+#include <set>
+
+#include "core/error.hpp"
+
+namespace softcut::sim {
+
+namespace {
+
+std::string prefixed(const std::string& where, const std::string& item) {
+  return where.empty() ? item : where + ": " + item;
+}
+
+}  // namespace
+
+void check_spec(const ScenarioSpec& s) {
+  if (s.name.empty()) fail("scenario: name must not be empty");
+  for (char c : s.name)
+    if (c == '/' || c == '\\' || c == '\0') fail("scenario '", s.name, "': name must not contain path separators");
+  const Timeline& tl = s.timeline;
+  if (!(tl.duration >= 0) || !std::isfinite(tl.duration))
+    fail("timeline: duration must be a finite number >= 0 s, got ", tl.duration);
+  if (!(tl.frame_rate > 0) || !std::isfinite(tl.frame_rate))
+    fail("timeline: frame_rate must be > 0 Hz, got ", tl.frame_rate);
+  if (tl.duration * tl.frame_rate > 1e7) fail("timeline: ", tl.duration * tl.frame_rate, " frames is too many");
+
+  for (const auto& m : s.materials) {
+    const std::string w = prefixed(m.where, "material '" + m.name + "'");
+    if (m.preset.empty()) {
+      fem::check_material({m.young, m.poisson}, w);
+    } else {
+      if (m.young != 0 && !(m.young > 0 && std::isfinite(m.young))) fail(w, ": young must be > 0 Pa, got ", m.young);
+    }
+  }
+  std::set<std::string> names;
+  for (const auto& l : s.loads) {
+    const std::string w = prefixed(l.where, "load '" + l.name + "'");
+    if (!names.insert("load " + l.name).second) fail(w, ": another load has the same name");
+    tools::check_ramp(l.magnitude, w + " magnitude");
+    if (l.direction_kind == LoadSpec::Direction::world && !(l.direction.norm() > 0 && l.direction.allFinite()))
+      fail(w, ": direction must be a nonzero finite vector, got (", l.direction.transpose(), ")");
+  }
+  for (const auto& t : s.tools) {
+    if (!names.insert("tool " + t.name).second)
+      fail(prefixed(t.where, "tool '" + t.name + "'"), ": another tool has the same name");
+    tools::check_tool(t, "");
+  }
+  const OutputSpec& o = s.outputs;
+  if (o.vtu_every < 1) fail("outputs: vtu_every must be >= 1, got ", o.vtu_every);
+  const RenderSettings& r = o.render;
+  if (r.width < 1 || r.height < 1 || r.width > 16384 || r.height > 16384)
+    fail("outputs.render: size must be 1..16384 pixels, got ", r.width, " x ", r.height);
+  if (!(r.fov_deg > 0 && r.fov_deg < 180)) fail("outputs.render: fov_deg must lie in (0, 180), got ", r.fov_deg);
+  if (r.every < 1) fail("outputs.render: every must be >= 1, got ", r.every);
+  if (!r.eye.allFinite() || !r.target.allFinite() || !(r.up.norm() > 0))
+    fail("outputs.render: eye and target must be finite and up nonzero");
+  if (!(r.elevation_deg > -90 && r.elevation_deg < 90))
+    fail("outputs.render: elevation_deg must lie in (-90, 90), got ", r.elevation_deg);
+  if (!std::isfinite(r.azimuth_deg) || !std::isfinite(r.orbit_deg_per_s))
+    fail("outputs.render: azimuth_deg and orbit_deg_per_s must be finite");
+  if (!r.background.allFinite() || r.background.minCoeff() < 0 || r.background.maxCoeff() > 1)
+    fail("outputs.render: background components must lie in [0, 1]");
+  if (r.msaa_samples < 0 || r.msaa_samples > 16) fail("outputs.render: msaa_samples must be 0..16");
+  if (!(s.solver.cg_tolerance > 0 && s.solver.cg_tolerance < 1))
+    fail("solver: cg_tolerance must lie in (0, 1), got ", s.solver.cg_tolerance);
+  if (s.solver.cg_max_iterations < 0) fail("solver: cg_max_iterations must be >= 0");
+  static const std::set<std::string> backends = {"auto", "cpu", "gpu", "direct", "monolithic"}, modes = {"auto", "dense", "factor"};
+  if (!backends.count(s.solver.backend))
+    fail("solver: unknown backend '", s.solver.backend, "' (use auto, cpu, gpu, direct or monolithic)");
+  if (!modes.count(s.solver.mode)) fail("solver: unknown mode '", s.solver.mode, "' (use auto, dense or factor)");
+}
+
+const char* to_string(LoadSpec::Direction d) { return d == LoadSpec::Direction::world ? "world" : "normal"; }
+
+}  // namespace softcut::sim

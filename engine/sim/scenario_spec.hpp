@@ -1,0 +1,132 @@
+#pragma once
+// ScenarioSpec: plain data describing one scenario. The Lua layer fills it
+// (adding file:line to its own messages); compile() turns it into a Model.
+// No Lua here. Every item carries a `name` used in error messages and outputs.
+#include <Eigen/Core>
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "fem/material.hpp"
+#include "sim/selector.hpp"
+#include "tools/ramp.hpp"
+#include "tools/tool.hpp"
+
+namespace softcut::sim {
+
+// Where the rest mesh comes from: a file, or a generator with options.
+struct MeshSource {
+  std::filesystem::path file;  // read with mesh::read_mesh when not empty
+  std::string generator;       // "box", later "cylinder", "tube", "band", "ligament", "upper_leg"
+  // Generator options by name (numbers only; vectors as name.x/.y/.z or
+  // name[0..2]), e.g. box: min.x .. max.z, nx, ny, nz, jitter, seed, label.
+  // Unknown names are an error naming the generator and the option.
+  std::map<std::string, double> options;
+  // Or a mesh the caller already has (used when it has tets), with its named
+  // node sets (e.g. "hole").
+  mesh::TetMesh given;
+  std::map<std::string, std::vector<int>> named_sets;
+  std::string where;
+};
+
+// Material of a set of tets; later entries override earlier ones. When
+// `preset` is not empty it supplies E and nu (unless set explicitly below).
+struct MaterialAssignment {
+  std::string name;
+  std::string where;              // "scenario.lua:12" (prefixes messages), may be empty
+  TetSelector tets = TetSelector::of(TetSelector::Kind::all);  // which tets (default: all)
+  std::string preset;             // tissue_preset() name, or empty
+  double young = 0.0;             // Pa; 0: from the preset
+  double poisson = -2.0;          // outside (-1, 0.5): from the preset
+};
+
+struct LoadSpec {
+  std::string name;
+  std::string where;  // "scenario.lua:12" (prefixes messages), may be empty
+  NodeSelector nodes;
+  // world: `direction` (normalized); normal: each node's rest outward surface
+  // normal (a positive magnitude pulls outward, negative pushes in; nodes off
+  // the surface are an error).
+  enum class Direction { world, normal };
+  Direction direction_kind = Direction::world;
+  Eigen::Vector3d direction = -Eigen::Vector3d::UnitZ();
+  tools::Ramp magnitude;  // N, at time t
+  // total: magnitude is the total force, split evenly over the nodes;
+  // per_node: every node gets the full magnitude.
+  bool per_node = false;
+};
+
+struct Timeline {
+  double duration = 1.0;     // s, >= 0
+  double frame_rate = 30.0;  // Hz, > 0
+  // Frames are i = 0 .. num_frames - 1 at t = i / frame_rate, with
+  // num_frames = floor(duration * frame_rate + 1e-9) + 1 (t = 0 included).
+};
+
+// Stored for the renderer (engine/render); sim/frame_scene.hpp maps it onto
+// render::RenderSettings. Frames go to <dir>/frames/frame_000123.png.
+struct RenderSettings {
+  bool enabled = false;
+  int width = 1280, height = 720;  // pixels
+  // auto_frame: look at the rest shape's centre from azimuth/elevation about
+  // `up`, just far enough to see all of it; else from `eye` at `target`.
+  bool auto_frame = true;
+  double azimuth_deg = -60.0, elevation_deg = 25.0;
+  double orbit_deg_per_s = 0.0;  // azimuth grows at this rate (turntable), auto_frame only
+  Eigen::Vector3d eye = Eigen::Vector3d(0.3, -0.4, 0.3);  // m
+  Eigen::Vector3d target = Eigen::Vector3d::Zero();       // m
+  Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
+  double fov_deg = 30.0;                                   // vertical
+  Eigen::Vector3d background = Eigen::Vector3d(0.20, 0.22, 0.26);  // RGB in [0, 1]
+  bool wireframe = false;
+  bool show_interface = true;  // interface nodes as points
+  bool show_forces = true;     // manipulated nodes and their force lines
+  int msaa_samples = 4;
+  int every = 1;               // render every n-th frame
+};
+
+struct OutputSpec {
+  std::filesystem::path dir;        // output folder (the CLI's --out, default renders/<scenario>)
+  bool log_all_surface = true;      // log every whole-body surface node ...
+  NodeSelector log_nodes;           // ... else these (kind all = every node)
+  bool csv = true;                  // displacements.csv
+  bool vtu = false;                 // vtu/frame_000123.vtu + series.pvd
+  int vtu_every = 1;                // every n-th frame
+  RenderSettings render;            // stored for the renderer
+};
+
+struct SolverSpec {
+  double cg_tolerance = 1e-10;  // relative residual of the operational CG
+  int cg_max_iterations = 0;    // 0: automatic
+  // Operational backend: "auto" (= "cpu" today), "cpu" (block-Jacobi CG),
+  // "gpu" (falls back to cpu until engine/gpu has a CG), "direct" (CHOLMOD
+  // on the operational system), "monolithic" (no hybrid: whole-mesh CHOLMOD
+  // reference, for checks).
+  std::string backend = "auto";
+  std::string mode = "auto";    // nonoperational data: "auto", "dense", "factor"
+};
+
+struct ScenarioSpec {
+  std::string name = "scenario";                 // used for renders/<name>/ and summary.json
+  std::filesystem::path source;                  // the .lua file, for messages and the summary
+  std::map<std::string, std::string> versions;   // extra versions for the summary (e.g. "lua")
+  MeshSource mesh;
+  std::vector<MaterialAssignment> materials;     // empty: fem::Material{} everywhere
+  TetSelector operational;                       // operational tets (default none)
+  NodeSelector fixed;                            // required: at least one node
+  std::vector<LoadSpec> loads;
+  std::vector<tools::ToolSpec> tools;
+  Timeline timeline;
+  OutputSpec outputs;
+  SolverSpec solver;
+};
+
+// Checks everything that can be checked without the mesh (numbers, ramps,
+// paths, names unique); throws softcut::Error naming the item, e.g.
+// "load 'push': ramp times must increase (t[2] = 0.5 after 0.7)".
+void check_spec(const ScenarioSpec& spec);
+
+const char* to_string(LoadSpec::Direction d);
+
+}  // namespace softcut::sim

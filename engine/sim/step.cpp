@@ -1,0 +1,75 @@
+#include "sim/step.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/timer.hpp"
+
+namespace softcut::sim {
+
+Eigen::MatrixX3d load_forces(const Model& m, const State& s, double t) {
+  Eigen::MatrixX3d f = Eigen::MatrixX3d::Zero(m.mesh.num_nodes(), 3);
+  for (const auto& l : s.loads) {
+    if (!l.enabled) continue;
+    const double mag = tools::evaluate(l.spec.magnitude, t) * l.scale;
+    if (!std::isfinite(mag))
+      fail(l.spec.where.empty() ? "" : l.spec.where + ": ", "load '", l.spec.name, "': magnitude is not finite at t = ",
+           t, " s");
+    const double per_node = l.spec.per_node ? mag : mag / double(l.nodes.size());
+    for (size_t k = 0; k < l.nodes.size(); ++k) f.row(l.nodes[k]) += per_node * l.directions.row(Eigen::Index(k));
+  }
+  return f;
+}
+
+void step(const Model& m, State& s) {
+  Timer total;
+  const int frame = s.frame + 1;
+  const double t = m.frame_time(frame);
+  FrameTimings ft;
+
+  // Tools on the current deformed surface (last frame's displacements).
+  Timer timer;
+  bool any_tool = false;
+  for (const auto& spec : s.tool_specs) any_tool |= spec.enabled;
+  if (s.tools.size() != s.tool_specs.size()) s.tools.resize(s.tool_specs.size());
+  if (any_tool || !s.tools.empty()) {
+    const Eigen::MatrixX3d x = deformed_positions(m, s);
+    const Eigen::MatrixX3d normals = any_tool ? mesh::vertex_normals(m.mesh, m.surface, x) : Eigen::MatrixX3d();
+    const tools::ContactSurface contact{x, m.surface, normals};
+    for (size_t k = 0; k < s.tools.size(); ++k) tools::update_tool(s.tool_specs[k], s.tools[k], t, contact);
+  }
+  ft.collision = timer.ms();
+
+  // Poke / drag: scripted loads plus tool forces (fixed nodes take none).
+  timer.reset();
+  s.forces = load_forces(m, s, t);
+  for (auto& ts : s.tools)
+    for (size_t k = 0; k < ts.nodes.size(); ++k)
+      if (m.partition.node_set[ts.nodes[k]] != hybrid::NodeSet::fixed) s.forces.row(ts.nodes[k]) += ts.forces[k].transpose();
+  const double poke_drag_ms = timer.ms();
+
+  ft.cutting = 0.0;  // engine/cut not wired yet
+
+  SolveStats st;
+  m.solver->solve(s.forces, s.displacement, s.warm, st);
+  if (!s.displacement.allFinite()) fail("frame ", frame, " (t = ", t, " s): the solve produced non-finite displacements");
+  ft.poke_drag = poke_drag_ms + st.loads_ms;
+  ft.operational_solve = st.operational_ms;
+  ft.nonoperational_update = st.nonoperational_ms;
+  ft.total = total.ms();
+
+  s.frame = frame;
+  s.time = t;
+  s.last = ft;
+  s.last_cg_iterations = st.cg_iterations;
+  RunStatistics& r = s.stats;
+  r.frames++;
+  r.collision.add(ft.collision), r.cutting.add(ft.cutting), r.poke_drag.add(ft.poke_drag);
+  r.operational_solve.add(ft.operational_solve), r.nonoperational_update.add(ft.nonoperational_update);
+  r.total.add(ft.total);
+  r.cg_iterations_total += st.cg_iterations;
+  r.cg_iterations_max = std::max(r.cg_iterations_max, st.cg_iterations);
+  r.max_relative_residual = std::max(r.max_relative_residual, st.relative_residual);
+}
+
+}  // namespace softcut::sim

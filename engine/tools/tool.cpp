@@ -1,0 +1,90 @@
+#include "tools/tool.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/error.hpp"
+
+namespace softcut::tools {
+
+namespace {
+
+std::string tool_label(const ToolSpec& t, const std::string& where) {
+  std::string s = where.empty() ? t.where : where;
+  return cat(s.empty() ? "" : s + ": ", "tool '", t.name, "'");
+}
+
+}  // namespace
+
+void check_tool(const ToolSpec& t, const std::string& where) {
+  const std::string w = tool_label(t, where);
+  if (!(t.radius > 0) || !std::isfinite(t.radius)) fail(w, ": radius must be > 0 m, got ", t.radius);
+  check_path(t.path, w + " path");
+  if (!t.direction.allFinite()) fail(w, ": direction must be finite");
+  if (!(t.active_until >= t.active_from) || std::isnan(t.active_from))
+    fail(w, ": active_until (", t.active_until, " s) must not be before active_from (", t.active_from, " s)");
+  if (t.drive == ToolSpec::Drive::force) {
+    check_ramp(t.force, w + " force");
+  } else if (!(t.stiffness > 0) || !std::isfinite(t.stiffness)) {
+    fail(w, ": a spring tool needs stiffness > 0 N/m, got ", t.stiffness);
+  }
+}
+
+void update_tool(const ToolSpec& spec, ToolState& st, double t, const ContactSurface& s) {
+  if (!st.override_tip) st.tip = evaluate(spec.path, t);
+  st.forces.clear();
+  st.total_force.setZero();
+  const bool active = spec.enabled && t >= spec.active_from && t <= spec.active_until;
+  if (!active) {
+    st.engaged = false;
+    st.nodes.clear();
+    st.offsets.clear();
+    return;
+  }
+  if (spec.kind == ToolSpec::Kind::probe || !st.engaged) {
+    // A probe re-detects contact every frame; a grasper closes on first contact.
+    st.nodes = nodes_in_sphere(s, st.tip, spec.radius);
+    st.engaged = !st.nodes.empty();
+    st.offsets.clear();
+    if (spec.kind == ToolSpec::Kind::grasper)
+      for (int n : st.nodes) st.offsets.push_back(s.positions.row(n).transpose() - st.tip);
+  }
+  const size_t k = st.nodes.size();
+  if (k == 0) return;
+  st.forces.assign(k, Eigen::Vector3d::Zero());
+  if (spec.drive == ToolSpec::Drive::force) {
+    Eigen::Vector3d dir = spec.direction;
+    if (dir.squaredNorm() == 0) {
+      if (spec.kind == ToolSpec::Kind::probe) {
+        for (int n : st.nodes) dir -= s.normals.row(n).transpose();
+      } else {
+        Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+        for (int n : st.nodes) centroid += s.positions.row(n).transpose();
+        dir = st.tip - centroid / double(k);
+      }
+    }
+    const double len = dir.norm();
+    if (!(len > 0)) return;  // no defined direction (e.g. tip at the grasped centroid): no force
+    const Eigen::Vector3d per_node = evaluate(spec.force, t) / double(k) * dir / len;
+    for (size_t i = 0; i < k; ++i) st.forces[i] = per_node;
+  } else {
+    const double kn = spec.stiffness / double(k);
+    for (size_t i = 0; i < k; ++i) {
+      const Eigen::Vector3d x = s.positions.row(st.nodes[i]).transpose();
+      if (spec.kind == ToolSpec::Kind::grasper) {
+        st.forces[i] = kn * (st.tip + st.offsets[i] - x);
+      } else {  // probe: penalty pushing the node out to the sphere surface
+        const Eigen::Vector3d d = x - st.tip;
+        const double dn = d.norm();
+        Eigen::Vector3d out = dn > 0 ? Eigen::Vector3d(d / dn) : Eigen::Vector3d(s.normals.row(st.nodes[i]).transpose());
+        st.forces[i] = kn * std::max(0.0, spec.radius - dn) * out;
+      }
+    }
+  }
+  for (const auto& f : st.forces) st.total_force += f;
+}
+
+const char* to_string(ToolSpec::Kind k) { return k == ToolSpec::Kind::probe ? "probe" : "grasper"; }
+const char* to_string(ToolSpec::Drive d) { return d == ToolSpec::Drive::force ? "force" : "spring"; }
+
+}  // namespace softcut::tools

@@ -1,0 +1,41 @@
+#pragma once
+// Small scenarios shared by the sim tests.
+#include <filesystem>
+
+#include "sim/scenario_spec.hpp"
+
+namespace softcut::test {
+
+// A 0.1 x 0.02 x 0.02 m bar (5 x 2 x 2 cells), fixed at x = 0, pulled down at
+// x = 0.1 by a force growing linearly to `tip_force` N over 1 s, with a slab of
+// operational tets in the middle; 10 Hz for `duration` s.
+inline sim::ScenarioSpec cantilever_spec(const std::filesystem::path& out, double duration = 0.2,
+                                         double tip_force = 0.01) {
+  using V = Eigen::Vector3d;
+  sim::ScenarioSpec s;
+  s.name = "cantilever";
+  s.mesh.generator = "box";
+  s.mesh.options = {{"max.x", 0.1}, {"max.y", 0.02}, {"max.z", 0.02}, {"nx", 5}, {"ny", 2}, {"nz", 2}};
+  sim::MaterialAssignment mat;
+  mat.name = "tissue";
+  mat.young = 5e3;
+  mat.poisson = 0.45;
+  s.materials.push_back(mat);
+  s.operational.kind = sim::TetSelector::Kind::box;
+  s.operational.lo = V(0.04, -1, -1);
+  s.operational.hi = V(0.06, 1, 1);
+  s.fixed = sim::NodeSelector::box(V(-1, -1, -1), V(0, 1, 1));
+  sim::LoadSpec tip;
+  tip.name = "tip";
+  tip.nodes = sim::NodeSelector::box(V(0.1, -1, -1), V(0.1, 1, 1));
+  tip.direction = V(0, 0, -1);
+  tip.magnitude = tools::Ramp::linear_ramp(0.0, tip_force, 0.0, 1.0);
+  s.loads.push_back(tip);
+  s.timeline.duration = duration;
+  s.timeline.frame_rate = 10.0;
+  s.outputs.dir = out;
+  s.solver.cg_tolerance = 1e-12;
+  return s;
+}
+
+}  // namespace softcut::test

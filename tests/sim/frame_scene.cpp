@@ -1,0 +1,48 @@
+#include "sim/frame_scene.hpp"
+
+#include <doctest/doctest.h>
+
+#include "fixtures.hpp"
+#include "sim/step.hpp"
+#include "test_support.hpp"
+
+using V = Eigen::Vector3d;
+namespace sim = softcut::sim;
+namespace tools = softcut::tools;
+
+TEST_SUITE("sim/frame_scene") {
+  TEST_CASE("scene inputs from a frame with a probe and a grasper are accepted by the scene extraction") {
+    auto spec = softcut::test::cantilever_spec(softcut::test::scratch_dir("sim_frame_scene"), 0.2);
+    tools::ToolSpec probe;
+    probe.name = "probe";
+    probe.path = tools::Path::fixed_at(V(0.1, 0.01, 0.02));
+    probe.radius = 0.0051;
+    probe.force = tools::Ramp::constant_value(0.001);
+    tools::ToolSpec grasper = probe;
+    grasper.name = "grasper";
+    grasper.kind = tools::ToolSpec::Kind::grasper;
+    grasper.path = tools::Path::fixed_at(V(0.06, 0.0, 0.02));
+    spec.tools = {probe, grasper};
+    spec.outputs.render.orbit_deg_per_s = 10.0;
+    spec.outputs.render.width = 64;
+    spec.outputs.render.height = 48;
+    const sim::Model m = sim::compile(spec);
+    sim::State s = sim::make_state(m);
+    sim::step(m, s);
+    sim::step(m, s);
+    const softcut::render::SceneContent c = sim::scene_content(m, s);
+    CHECK(c.operational == m.partition.operational_tet);
+    CHECK(c.interface_nodes == m.partition.interface);
+    CHECK(c.tools.size() == 2);
+    CHECK(c.manipulated.size() == s.tools[0].nodes.size() + s.tools[1].nodes.size());
+    REQUIRE(!c.manipulated.empty());
+    CHECK((c.manipulated[0].line_end - V(0.1, 0.01, 0.02)).norm() == 0);
+    const softcut::render::RenderSettings r = sim::render_settings(m, s);
+    CHECK(r.camera.azimuth_deg == doctest::Approx(-60.0 + 10.0 * 0.1));
+    CHECK(r.width == 64);
+    const softcut::render::Scene scene = softcut::render::extract_scene(m.mesh, sim::deformed_positions(m, s), c, r);
+    CHECK(scene.tissue_faces_operational > 0);
+    CHECK(scene.tissue_faces_nonoperational > 0);
+    CHECK(sim::frame_png_path("out", 12) == std::filesystem::path("out/frames/frame_000012.png"));
+  }
+}

@@ -1,0 +1,123 @@
+#include "sim/outputs.hpp"
+
+#include <doctest/doctest.h>
+
+#include <fstream>
+#include <sstream>
+
+#include "fixtures.hpp"
+#include "gpu/egl_context.hpp"
+#include "render/renderer.hpp"
+#include "mesh/io/mesh_io.hpp"
+#include "sim/step.hpp"
+#include "test_support.hpp"
+
+namespace fs = std::filesystem;
+namespace sim = softcut::sim;
+
+namespace {
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+}  // namespace
+
+TEST_SUITE("sim/outputs") {
+  TEST_CASE("CSV rows round-trip the displacements of the log nodes at %.9e") {
+    const fs::path dir = softcut::test::scratch_dir("sim_outputs_csv");
+    auto spec = softcut::test::cantilever_spec(dir, 0.1);
+    spec.outputs.log_all_surface = false;
+    spec.outputs.log_nodes = sim::NodeSelector::list({5, 17});
+    const sim::Model m = sim::compile(spec);
+    sim::State s = sim::make_state(m);
+    sim::Recorder rec(m, dir);
+    sim::step(m, s);
+    sim::step(m, s);
+    rec.record(m, s);
+    CHECK(fs::exists(dir / "displacements.csv.partial"));
+    CHECK(!fs::exists(dir / "displacements.csv"));
+    rec.finish(m, s, sim::RunResult{});
+    std::istringstream in(slurp(dir / "displacements.csv"));
+    std::string line;
+    std::getline(in, line);
+    for (int n : {5, 17}) {
+      REQUIRE(std::getline(in, line));
+      int frame = -1, node = -1;
+      double t, u[3];
+      REQUIRE(std::sscanf(line.c_str(), "%d,%lf,%d,%lf,%lf,%lf", &frame, &t, &node, &u[0], &u[1], &u[2]) == 6);
+      CHECK(frame == 1);
+      CHECK(node == n);
+      CHECK(t == doctest::Approx(0.1).epsilon(1e-9));
+      for (int a = 0; a < 3; ++a)
+        CHECK(std::abs(u[a] - s.displacement(n, a)) <= 1e-9 * std::abs(s.displacement(n, a)) + 1e-300);
+    }
+    CHECK(!std::getline(in, line));
+  }
+
+  TEST_CASE("VTU per frame and a PVD series: the VTU reads back with the same mesh") {
+    const fs::path dir = softcut::test::scratch_dir("sim_outputs_vtu");
+    auto spec = softcut::test::cantilever_spec(dir, 0.3);
+    spec.outputs.vtu = true;
+    spec.outputs.vtu_every = 2;
+    const sim::Model m = sim::compile(spec);
+    sim::State s = sim::make_state(m);
+    sim::Recorder rec(m, dir);
+    sim::RunHooks hooks;
+    const sim::RunResult r = sim::run(m, s, rec, hooks);
+    CHECK(r.frames == 4);
+    CHECK(fs::exists(dir / "vtu" / "frame_000000.vtu"));
+    CHECK(!fs::exists(dir / "vtu" / "frame_000001.vtu"));
+    CHECK(fs::exists(dir / "vtu" / "frame_000002.vtu"));
+    const std::string pvd = slurp(dir / "series.pvd");
+    CHECK(pvd.find("file=\"vtu/frame_000002.vtu\"") != std::string::npos);
+    CHECK(pvd.find("timestep=\"0.2\"") != std::string::npos);
+    const std::string vtu = slurp(dir / "vtu" / "frame_000002.vtu");
+    CHECK(vtu.find("Name=\"displacement\"") != std::string::npos);
+    softcut::Diagnostics diag;
+    const softcut::mesh::TetMesh back = softcut::mesh::read_mesh(dir / "vtu" / "frame_000002.vtu", diag);
+    CHECK(back.num_nodes() == m.mesh.num_nodes());
+    CHECK(back.num_tets() == m.mesh.num_tets());
+    CHECK((back.nodes - m.mesh.nodes).norm() < 1e-9);
+  }
+
+  TEST_CASE("an attached renderer writes every n-th frame as PNG and the summary counts them") {
+    const fs::path dir = softcut::test::scratch_dir("sim_outputs_render");
+    auto spec = softcut::test::cantilever_spec(dir, 0.3);
+    spec.outputs.render.enabled = true;
+    spec.outputs.render.width = 48;
+    spec.outputs.render.height = 32;
+    spec.outputs.render.msaa_samples = 0;
+    spec.outputs.render.every = 2;
+    const sim::Model m = sim::compile(spec);
+    softcut::gpu::EglContext ctx;
+    softcut::render::Renderer renderer(ctx);
+    sim::State s = sim::make_state(m);
+    sim::Recorder rec(m, dir);
+    rec.set_renderer(&renderer);
+    sim::run(m, s, rec, {});
+    CHECK(fs::exists(dir / "frames" / "frame_000000.png"));
+    CHECK(!fs::exists(dir / "frames" / "frame_000001.png"));
+    CHECK(fs::exists(dir / "frames" / "frame_000002.png"));
+    CHECK(rec.frames_rendered() == 2);
+    CHECK(slurp(dir / "summary.json").find("\"frames_rendered\": 2") != std::string::npos);
+  }
+
+  TEST_CASE("summary.json carries the schema fields") {
+    const fs::path dir = softcut::test::scratch_dir("sim_outputs_summary");
+    auto spec = softcut::test::cantilever_spec(dir, 0.1);
+    spec.versions["lua"] = "Lua 5.4";
+    spec.name = "bar \"quoted\"";
+    const sim::Model m = sim::compile(spec);
+    sim::State s = sim::make_state(m);
+    sim::step(m, s);
+    const std::string j = sim::summary_json(m, s, sim::RunResult{});
+    for (const char* key : {"\"schema\": \"softcut-summary/1\"", "\"name\": \"bar \\\"quoted\\\"\"", "\"lua\": \"Lua 5.4\"",
+                            "\"partition\": {\"operational_tets\": 24", "\"precompute_ms\"", "\"stage_ms\"",
+                            "\"operational_solve\": {\"mean\"", "\"cg\"", "\"interrupted\": false", "\"warnings\": ["})
+      CHECK_MESSAGE(j.find(key) != std::string::npos, key);
+  }
+}

@@ -1,0 +1,66 @@
+#include "tools/collision.hpp"
+
+#include <doctest/doctest.h>
+
+#include <random>
+
+#include "mesh/generate/box.hpp"
+
+using V = Eigen::Vector3d;
+namespace mesh = softcut::mesh;
+namespace tools = softcut::tools;
+
+TEST_SUITE("tools/collision") {
+  TEST_CASE("closest point on a triangle matches dense sampling") {
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<double> u(-1, 1);
+    for (int trial = 0; trial < 50; ++trial) {
+      const V a(u(rng), u(rng), u(rng)), b(u(rng), u(rng), u(rng)), c(u(rng), u(rng), u(rng)), p(2 * u(rng), 2 * u(rng), 2 * u(rng));
+      const double d = (tools::closest_point_on_triangle(p, a, b, c) - p).norm();
+      double best = 1e300;
+      const int n = 200;
+      for (int i = 0; i <= n; ++i)
+        for (int j = 0; i + j <= n; ++j) {
+          const V q = a + (b - a) * (double(i) / n) + (c - a) * (double(j) / n);
+          best = std::min(best, (q - p).norm());
+        }
+      CHECK(d <= best + 1e-12);
+      CHECK(d >= best - 0.02);  // sampling resolution
+    }
+  }
+
+  TEST_CASE("contact uses the deformed surface, not the rest one") {
+    mesh::BoxOptions o;
+    o.nx = o.ny = o.nz = 4;
+    const mesh::TetMesh m = mesh::generate_box(o);
+    const mesh::Surface s = mesh::extract_surface(m);
+    // Deformation: the top face (z = 1) is lifted by 0.3 m.
+    Eigen::MatrixX3d x = m.nodes;
+    for (int n = 0; n < m.num_nodes(); ++n)
+      if (m.nodes(n, 2) > 1 - 1e-12) x(n, 2) += 0.3;
+    const Eigen::MatrixX3d normals = mesh::vertex_normals(m, s, x);
+    const tools::ContactSurface deformed{x, s, normals};
+    const tools::ContactSurface rest{m.nodes, s, normals};
+    // Tip at the lifted centre of the top face, radius just over one cell.
+    const V tip(0.5, 0.5, 1.3);
+    const std::vector<int> hit = tools::nodes_in_sphere(deformed, tip, 0.26);
+    // Within 0.26 of the centre on the 5 x 5 top grid (spacing 0.25): the centre and its 4 neighbours.
+    REQUIRE(hit.size() == 5);
+    for (int n : hit) CHECK(m.nodes(n, 2) == doctest::Approx(1.0));
+    CHECK(std::is_sorted(hit.begin(), hit.end()));
+    CHECK(tools::nodes_in_sphere(rest, tip, 0.26).empty());
+  }
+
+  TEST_CASE("a tip smaller than the faces touching a face picks that face's nodes") {
+    mesh::BoxOptions o;
+    o.nx = o.ny = o.nz = 1;
+    const mesh::TetMesh m = mesh::generate_box(o);
+    const mesh::Surface s = mesh::extract_surface(m);
+    const Eigen::MatrixX3d normals = mesh::vertex_normals(m, s);
+    const tools::ContactSurface rest{m.nodes, s, normals};
+    const std::vector<int> hit = tools::nodes_in_sphere(rest, V(0.3, 0.6, 1.01), 0.02);
+    REQUIRE(hit.size() == 3);
+    for (int n : hit) CHECK(m.nodes(n, 2) == 1.0);
+    CHECK(tools::nodes_in_sphere(rest, V(0.3, 0.6, 1.05), 0.02).empty());
+  }
+}

@@ -1,0 +1,109 @@
+#include "tools/tool.hpp"
+
+#include <doctest/doctest.h>
+
+#include "core/error.hpp"
+#include "mesh/generate/box.hpp"
+
+using V = Eigen::Vector3d;
+namespace mesh = softcut::mesh;
+namespace tools = softcut::tools;
+
+namespace {
+
+struct BoxContact {
+  mesh::TetMesh m;
+  mesh::Surface s;
+  Eigen::MatrixX3d x, normals;
+  BoxContact() {
+    mesh::BoxOptions o;
+    o.nx = o.ny = o.nz = 4;
+    m = mesh::generate_box(o);
+    s = mesh::extract_surface(m);
+    x = m.nodes;
+    normals = mesh::vertex_normals(m, s, x);
+  }
+  tools::ContactSurface contact() const { return {x, s, normals}; }
+};
+
+}  // namespace
+
+TEST_SUITE("tools/tool") {
+  TEST_CASE("force-driven probe splits its ramp over the contact nodes, pushing against the normal") {
+    BoxContact b;
+    tools::ToolSpec spec;
+    spec.name = "probe";
+    spec.path = tools::Path::fixed_at(V(0.5, 0.5, 1.0));
+    spec.radius = 0.26;
+    spec.force = tools::Ramp::linear_ramp(0.0, 2.0, 0.0, 1.0);
+    tools::ToolState st;
+    tools::update_tool(spec, st, 0.5, b.contact());
+    REQUIRE(st.nodes.size() == 5);
+    CHECK(st.engaged);
+    CHECK((st.total_force - V(0, 0, -1.0)).norm() < 1e-12);
+    for (const auto& f : st.forces) CHECK((f - V(0, 0, -0.2)).norm() < 1e-12);
+    // Explicit direction wins.
+    spec.direction = V(1, 0, 0);
+    tools::update_tool(spec, st, 1.0, b.contact());
+    CHECK((st.total_force - V(2.0, 0, 0)).norm() < 1e-12);
+    // Outside the active window: nothing.
+    spec.active_until = 0.9;
+    tools::update_tool(spec, st, 1.0, b.contact());
+    CHECK(st.nodes.empty());
+    CHECK(st.total_force.norm() == 0);
+  }
+
+  TEST_CASE("grasper keeps the nodes grabbed at first contact and springs them toward the moving tip") {
+    BoxContact b;
+    tools::ToolSpec spec;
+    spec.name = "grasper";
+    spec.kind = tools::ToolSpec::Kind::grasper;
+    spec.drive = tools::ToolSpec::Drive::spring;
+    spec.stiffness = 40.0;
+    spec.radius = 0.01;
+    spec.path = tools::Path::polyline({0.0, 1.0}, {V(1, 1, 1), V(1, 1, 1.5)});
+    tools::ToolState st;
+    tools::update_tool(spec, st, 0.0, b.contact());
+    REQUIRE(st.nodes.size() == 1);
+    const int node = st.nodes[0];
+    CHECK(st.total_force.norm() < 1e-12);
+    // Tip moved 0.25 up; the node did not move: force = k * 0.25 up, same node kept
+    // although the tip no longer touches it.
+    tools::update_tool(spec, st, 0.5, b.contact());
+    REQUIRE(st.nodes.size() == 1);
+    CHECK(st.nodes[0] == node);
+    CHECK((st.total_force - V(0, 0, 10.0)).norm() < 1e-12);
+    // Released after active_until.
+    spec.active_until = 0.75;
+    tools::update_tool(spec, st, 0.8, b.contact());
+    CHECK(st.nodes.empty());
+    CHECK(!st.engaged);
+  }
+
+  TEST_CASE("script override of the tip ignores the path") {
+    BoxContact b;
+    tools::ToolSpec spec;
+    spec.path = tools::Path::fixed_at(V(5, 5, 5));
+    spec.radius = 0.01;
+    spec.force = tools::Ramp::constant_value(1.0);
+    tools::ToolState st;
+    st.tip = V(0, 0, 0);
+    st.override_tip = true;
+    tools::update_tool(spec, st, 0.0, b.contact());
+    CHECK(st.nodes == std::vector<int>{0});
+  }
+
+  TEST_CASE("bad tools are refused naming the tool") {
+    tools::ToolSpec spec;
+    spec.name = "hook";
+    spec.path = tools::Path::fixed_at(V::Zero());
+    spec.radius = 0;
+    CHECK_THROWS_WITH_AS(tools::check_tool(spec, ""), doctest::Contains("tool 'hook'"), softcut::Error);
+    spec.radius = 0.01;
+    spec.drive = tools::ToolSpec::Drive::spring;
+    CHECK_THROWS_WITH_AS(tools::check_tool(spec, ""), doctest::Contains("stiffness"), softcut::Error);
+    spec.stiffness = 10;
+    spec.path = tools::Path::polyline({1.0, 0.5}, {V::Zero(), V::Ones()});
+    CHECK_THROWS_AS(tools::check_tool(spec, ""), softcut::Error);
+  }
+}
