@@ -1,35 +1,72 @@
 #include "fem/assembly.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
 #include <numeric>
+#include <thread>
 
 #include "core/error.hpp"
 #include "fem/element_stiffness.hpp"
 
 namespace softcut::fem {
 
-SparseMatrix assemble_stiffness(const mesh::TetMesh& m, const std::vector<Material>& tet_material,
-                                const std::vector<int>& tets_in) {
-  const int nn = m.num_nodes();
-  if (int(tet_material.size()) != m.num_tets())
-    fail("assemble_stiffness: ", tet_material.size(), " materials for ", m.num_tets(), " tetrahedra");
-  std::vector<int> all;
-  const std::vector<int>* tets = &tets_in;
-  if (tets_in.empty()) {
-    all.resize(size_t(m.num_tets()));
-    std::iota(all.begin(), all.end(), 0);
-    tets = &all;
+namespace {
+
+// The tet list an assembler works on: `tets_in`, or every tet when empty.
+std::vector<int> tet_set(const mesh::TetMesh& m, const std::vector<int>& tets_in) {
+  if (!tets_in.empty()) return tets_in;
+  std::vector<int> all(static_cast<size_t>(m.num_tets()));
+  std::iota(all.begin(), all.end(), 0);
+  return all;
+}
+
+// Everything that would make an element matrix wrong, named, before any
+// (possibly threaded) work starts.
+void check_tets(const mesh::TetMesh& m, const std::vector<Material>& tet_material, const std::vector<int>& tets,
+                const char* who) {
+  const int nn = m.num_nodes(), nt = m.num_tets();
+  if (int(tet_material.size()) != nt)
+    fail(who, ": ", tet_material.size(), " materials for ", nt, " tetrahedra; give one material per tet");
+  for (int t : tets) {
+    if (t < 0 || t >= nt) fail(who, ": tet id ", t, " in the tet list is out of range 0..", nt - 1);
+    for (int k = 0; k < 4; ++k)
+      if (m.tets(t, k) < 0 || m.tets(t, k) >= nn)
+        fail(who, ": tetrahedron ", t, " refers to node ", m.tets(t, k), ", but the mesh has nodes 0..", nn - 1);
+    const Material& mat = tet_material[size_t(t)];
+    if (!(std::isfinite(mat.young) && mat.young > 0 && mat.poisson > -1.0 && mat.poisson < 0.5))
+      check_material(mat, cat(who, ": material of tetrahedron ", t));
+    const TetCorners X = tet_corners(m, t);
+    double l = 0;
+    for (int i = 0; i < 4; ++i)
+      for (int j = i + 1; j < 4; ++j) l = std::max(l, (X.row(i) - X.row(j)).norm());
+    const double V = mesh::signed_volume(X.row(0).transpose(), X.row(1).transpose(), X.row(2).transpose(),
+                                         X.row(3).transpose());
+    if (!(V > mesh::kDegenerateVolume * l * l * l))
+      fail(who, ": tetrahedron ", t, " (nodes ", m.tets(t, 0), " ", m.tets(t, 1), " ", m.tets(t, 2), " ",
+           m.tets(t, 3), ") has volume ", V, " m^3 for longest edge ", l,
+           " m: it is inverted or degenerate; run mesh::validate (which reorients) or fix its nodes");
   }
+}
+
+}  // namespace
+
+SparseMatrix assemble_stiffness(const mesh::TetMesh& m, const std::vector<Material>& tet_material,
+                                const std::vector<int>& tets_in, int threads) {
+  const int nn = m.num_nodes();
+  const std::vector<int> tets = tet_set(m, tets_in);
+  check_tets(m, tet_material, tets, "assemble_stiffness");
 
   // Node adjacency per column node: sorted unique neighbours (incl. itself).
   std::vector<int> count(size_t(nn) + 1, 0);
-  for (int t : *tets)
+  for (int t : tets)
     for (int b = 0; b < 4; ++b) count[size_t(m.tets(t, b)) + 1] += 4;
   std::partial_sum(count.begin(), count.end(), count.begin());
   std::vector<int> nbr(size_t(count.back()));
   {
     std::vector<int> fill(count.begin(), count.end() - 1);
-    for (int t : *tets)
+    for (int t : tets)
       for (int b = 0; b < 4; ++b)
         for (int a = 0; a < 4; ++a) nbr[size_t(fill[size_t(m.tets(t, b))]++)] = m.tets(t, a);
   }
@@ -50,6 +87,8 @@ SparseMatrix assemble_stiffness(const mesh::TetMesh& m, const std::vector<Materi
   // CSC arrays: column 3j+c holds rows 3i+r for each neighbour i of j.
   SparseMatrix K(3 * nn, 3 * nn);
   const Eigen::Index nnz = Eigen::Index(9) * Eigen::Index(nbr.size());
+  if (nnz > Eigen::Index(std::numeric_limits<int>::max()))
+    fail("assemble_stiffness: ", nnz, " nonzeros exceed the 32-bit index range of the sparse matrix");
   K.resizeNonZeros(nnz);
   int* outer = K.outerIndexPtr();
   int* inner = K.innerIndexPtr();
@@ -67,10 +106,12 @@ SparseMatrix assemble_stiffness(const mesh::TetMesh& m, const std::vector<Materi
   outer[3 * nn] = int(nnz);
   std::fill(val, val + nnz, 0.0);
 
-  for (int t : *tets) {
+  // Adds the columns of tet t whose node lies in [lo, hi).
+  auto scatter = [&](int t, int lo, int hi) {
     const Mat12 Ke = element_stiffness(tet_corners(m, t), tet_material[size_t(t)]);
     for (int b = 0; b < 4; ++b) {
       const int j = m.tets(t, b);
+      if (j < lo || j >= hi) continue;
       const int deg = start[size_t(j) + 1] - start[size_t(j)];
       const int* first = nbr.data() + start[size_t(j)];
       for (int a = 0; a < 4; ++a) {
@@ -81,12 +122,74 @@ SparseMatrix assemble_stiffness(const mesh::TetMesh& m, const std::vector<Materi
         }
       }
     }
+  };
+
+  int nthreads = threads;
+  if (nthreads <= 0)
+    nthreads = tets.size() < 20000 ? 1 : int(std::clamp(std::thread::hardware_concurrency(), 1u, 8u));
+  if (nthreads == 1) {
+    for (int t : tets) scatter(t, 0, nn);
+    return K;
   }
+
+  // Owner computes: node ranges with equal incidence counts; each thread walks
+  // the tets touching its range in tet order (so every entry receives its
+  // contributions in the same order as the serial loop) and writes only its
+  // own columns. Tets straddling two ranges are computed by both owners.
+  std::vector<int> bound(size_t(nthreads) + 1, nn);
+  bound[0] = 0;
+  for (int p = 1; p < nthreads; ++p) {
+    const int target = int(int64_t(count.back()) * p / nthreads);
+    bound[size_t(p)] = int(std::lower_bound(count.begin(), count.end() - 1, target) - count.begin());
+  }
+  std::vector<int> owner(static_cast<size_t>(nn));
+  for (int p = 0; p < nthreads; ++p)
+    for (int j = bound[size_t(p)]; j < bound[size_t(p) + 1]; ++j) owner[size_t(j)] = p;
+  std::vector<std::vector<int>> work(static_cast<size_t>(nthreads));
+  for (int t : tets) {
+    int seen[4];
+    int n = 0;
+    for (int b = 0; b < 4; ++b) {
+      const int p = owner[size_t(m.tets(t, b))];
+      if (std::find(seen, seen + n, p) == seen + n) {
+        seen[n++] = p;
+        work[size_t(p)].push_back(t);
+      }
+    }
+  }
+  std::vector<std::thread> pool;
+  for (int p = 0; p < nthreads; ++p)
+    pool.emplace_back([&, p] {
+      for (int t : work[size_t(p)]) scatter(t, bound[size_t(p)], bound[size_t(p) + 1]);
+    });
+  for (auto& th : pool) th.join();
+  return K;
+}
+
+SparseMatrix assemble_stiffness_triplets(const mesh::TetMesh& m, const std::vector<Material>& tet_material,
+                                         const std::vector<int>& tets_in) {
+  const int nn = m.num_nodes();
+  const std::vector<int> tets = tet_set(m, tets_in);
+  check_tets(m, tet_material, tets, "assemble_stiffness_triplets");
+  std::vector<Eigen::Triplet<double>> trip;
+  trip.reserve(144 * tets.size());
+  for (int t : tets) {
+    const Mat12 Ke = element_stiffness(tet_corners(m, t), tet_material[size_t(t)]);
+    for (int b = 0; b < 4; ++b)
+      for (int c = 0; c < 3; ++c)
+        for (int a = 0; a < 4; ++a)
+          for (int r = 0; r < 3; ++r)
+            trip.emplace_back(3 * m.tets(t, a) + r, 3 * m.tets(t, b) + c, Ke(3 * a + r, 3 * b + c));
+  }
+  SparseMatrix K(3 * nn, 3 * nn);
+  K.setFromTriplets(trip.begin(), trip.end());
   return K;
 }
 
 double strain_energy(const mesh::TetMesh& m, const std::vector<Material>& tet_material,
                      const Eigen::MatrixX3d& u) {
+  if (u.rows() != m.num_nodes())
+    fail("strain_energy: displacement field has ", u.rows(), " rows for ", m.num_nodes(), " nodes");
   double e = 0;
   for (int t = 0; t < m.num_tets(); ++t) {
     Eigen::Matrix<double, 12, 1> ue;

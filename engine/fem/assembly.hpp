@@ -12,13 +12,23 @@ namespace softcut::fem {
 
 using SparseMatrix = Eigen::SparseMatrix<double>;  // column-major, int indices
 
-// K (3 nnode x 3 nnode), N/m, symmetric, from the tets listed in `tets` (all
-// tets when empty). `tet_material` has one entry per tet of the mesh.
-// The sparsity pattern is built per 3x3 node block, then element matrices are
-// scattered straight into it (no triplet list), so 100k tets take well under
-// a second.
+// K (3 nnode x 3 nnode), N/m, symmetric, both triangles stored, from the tets
+// listed in `tets` (all tets when empty). `tet_material` has one entry per tet
+// of the mesh. The sparsity pattern is built per 3x3 node block, then element
+// matrices are scattered straight into it (no triplet list). `threads` > 1
+// splits the columns into node ranges, each thread computing the elements that
+// touch its range ("owner computes": no atomics, no shared writes); 0 picks
+// the hardware concurrency for large sets and 1 thread below ~20k tets. The
+// result does not depend on the thread count (same additions, same order per
+// entry). Throws softcut::Error naming the tet for ids out of range, a
+// degenerate or inverted tet (run mesh::validate first), or a bad material.
 SparseMatrix assemble_stiffness(const mesh::TetMesh& m, const std::vector<Material>& tet_material,
-                                const std::vector<int>& tets = {});
+                                const std::vector<int>& tets = {}, int threads = 0);
+
+// The same matrix through Eigen's setFromTriplets (144 triplets per tet): the
+// baseline `softcut bench assembly` compares against, and a reference in tests.
+SparseMatrix assemble_stiffness_triplets(const mesh::TetMesh& m, const std::vector<Material>& tet_material,
+                                         const std::vector<int>& tets = {});
 
 // Elastic strain energy 1/2 u^T K u of a displacement field (nnode x 3), J,
 // summed element by element (independent of the assembler; used in tests).

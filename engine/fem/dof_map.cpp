@@ -1,5 +1,7 @@
 #include "fem/dof_map.hpp"
 
+#include "core/error.hpp"
+
 namespace softcut::fem {
 
 DofMap make_dof_map(const std::vector<char>& node_free) {
@@ -15,6 +17,9 @@ DofMap make_dof_map(const std::vector<char>& node_free) {
 }
 
 SparseMatrix restrict_matrix(const SparseMatrix& K, const DofMap& rows, const DofMap& cols) {
+  if (size_t(K.rows()) != rows.reduced.size() || size_t(K.cols()) != cols.reduced.size())
+    fail("restrict_matrix: a ", K.rows(), "x", K.cols(), " matrix with DOF maps over ", rows.reduced.size(), " and ",
+         cols.reduced.size(), " DOFs");
   SparseMatrix R(rows.size(), cols.size());
   // Columns come out in order and rows within a column stay sorted, because
   // both maps are monotone: fill the CSC arrays directly.
@@ -43,12 +48,17 @@ SparseMatrix restrict_matrix(const SparseMatrix& K, const DofMap& map) {
 }
 
 Eigen::VectorXd restrict_vector(const Eigen::VectorXd& full, const DofMap& map) {
+  if (size_t(full.size()) != map.reduced.size())
+    fail("restrict_vector: a vector of size ", full.size(), " with a DOF map over ", map.reduced.size(), " DOFs");
   Eigen::VectorXd r(map.size());
   for (int i = 0; i < map.size(); ++i) r(i) = full(map.global[size_t(i)]);
   return r;
 }
 
 Eigen::VectorXd expand_vector(const Eigen::VectorXd& reduced, const DofMap& map, int nnode) {
+  if (reduced.size() != map.size() || map.reduced.size() != 3 * size_t(nnode))
+    fail("expand_vector: a reduced vector of size ", reduced.size(), " for a DOF map of ", map.size(), " unknowns over ",
+         map.reduced.size(), " DOFs (", nnode, " nodes)");
   Eigen::VectorXd full = Eigen::VectorXd::Zero(3 * Eigen::Index(nnode));
   for (int i = 0; i < map.size(); ++i) full(map.global[size_t(i)]) = reduced(i);
   return full;
@@ -61,6 +71,7 @@ Eigen::VectorXd flatten(const Eigen::MatrixX3d& field) {
 }
 
 Eigen::MatrixX3d unflatten(const Eigen::VectorXd& dofs) {
+  if (dofs.size() % 3 != 0) fail("unflatten: ", dofs.size(), " DOFs is not a multiple of 3");
   Eigen::MatrixX3d f(dofs.size() / 3, 3);
   for (Eigen::Index i = 0; i < f.rows(); ++i) f.row(i) = dofs.segment<3>(3 * i).transpose();
   return f;

@@ -31,10 +31,32 @@ Mat6x12 strain_displacement(const TetCorners& X, double* volume) {
 }
 
 Mat12 element_stiffness(const TetCorners& X, const Material& mat) {
-  double V = 0;
-  const Mat6x12 B = strain_displacement(X, &V);
-  const Mat12 K = V * (B.transpose() * elasticity_matrix(mat) * B);
-  return 0.5 * (K + K.transpose());  // exact symmetry for the Cholesky factor
+  // Isotropic closed form of V B^T D B, block (a, b) (3 x 3):
+  //   V (lambda g_a g_b^T + mu g_b g_a^T + mu (g_a . g_b) I),
+  // g_a = gradient of shape function a. About 5x fewer flops than the dense
+  // product, and exactly symmetric by construction (block (b, a) is the
+  // transpose of block (a, b)), which the Cholesky factor relies on.
+  Eigen::Matrix3d J;  // columns: edges from node 0
+  for (int k = 0; k < 3; ++k) J.col(k) = (X.row(k + 1) - X.row(0)).transpose();
+  const double V = J.determinant() / 6.0;
+  const Eigen::Matrix3d Jinv = J.inverse();
+  Eigen::Matrix<double, 4, 3> G;  // row a = g_a^T, 1/m
+  G.bottomRows<3>() = Jinv;
+  G.row(0) = -Jinv.colwise().sum();
+  const double nu = mat.poisson, E = mat.young;
+  const double lambda = V * E * nu / ((1 + nu) * (1 - 2 * nu));
+  const double mu = V * E / (2 * (1 + nu));
+  Mat12 K;
+  for (int a = 0; a < 4; ++a)
+    for (int b = a; b < 4; ++b) {
+      const Eigen::Vector3d ga = G.row(a).transpose(), gb = G.row(b).transpose();
+      Eigen::Matrix3d blk = lambda * ga * gb.transpose() + mu * gb * ga.transpose();
+      blk.diagonal().array() += mu * ga.dot(gb);
+      if (a == b) blk = (0.5 * (blk + blk.transpose())).eval();  // (lambda g_i) g_j != (lambda g_j) g_i in the last bit
+      K.block<3, 3>(3 * a, 3 * b) = blk;
+      if (b != a) K.block<3, 3>(3 * b, 3 * a) = blk.transpose();
+    }
+  return K;
 }
 
 TetCorners tet_corners(const mesh::TetMesh& m, int t) {

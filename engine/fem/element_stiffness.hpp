@@ -15,11 +15,13 @@ using TetCorners = Eigen::Matrix<double, 4, 3>;  // row k = position of local no
 // volume (m^3) to *volume when given.
 Mat6x12 strain_displacement(const TetCorners& X, double* volume = nullptr);
 
-// Element stiffness (12 x 12), N/m, symmetric positive semidefinite with the
-// six rigid motions in its null space. X must be positively oriented.
+// Element stiffness (12 x 12), N/m: V B^T D B (computed in closed form for
+// the isotropic D), exactly symmetric, positive semidefinite with the six
+// rigid motions in its null space. X must be positively oriented (the
+// assembler checks this and names the tet).
 Mat12 element_stiffness(const TetCorners& X, const Material& mat);
 
-// Corners of tet t of a mesh, optionally displaced positions (nnode x 3).
+// Rest positions of the four corners of tet t of a mesh.
 TetCorners tet_corners(const mesh::TetMesh& m, int t);
 
 }  // namespace softcut::fem

@@ -13,6 +13,7 @@ CgResult pcg(const LinearOperator& apply_A, const LinearOperator& precondition, 
   if (x.size() != n) x = Eigen::VectorXd::Zero(n);
   CgResult res;
   if (!b.allFinite()) fail("conjugate gradient: the right-hand side has NaN or Inf entries");
+  if (!x.allFinite()) fail("conjugate gradient: the warm start has NaN or Inf entries; start from zero");
   const double bnorm = b.norm();
   if (bnorm == 0) {
     x.setZero();
@@ -55,6 +56,8 @@ CgResult pcg(const LinearOperator& apply_A, const LinearOperator& precondition, 
 }
 
 BlockJacobi::BlockJacobi(const Eigen::SparseMatrix<double>& A) {
+  if (A.rows() != A.cols() || A.rows() % 3 != 0)
+    fail("block-Jacobi preconditioner: needs a square matrix with 3 DOFs per node, got ", A.rows(), "x", A.cols());
   blocks_.assign(size_t(A.rows() / 3), Eigen::Matrix3d::Zero());
   for (int col = 0; col < A.outerSize(); ++col)
     for (Eigen::SparseMatrix<double>::InnerIterator it(A, col); it; ++it)
@@ -62,6 +65,10 @@ BlockJacobi::BlockJacobi(const Eigen::SparseMatrix<double>& A) {
 }
 
 void BlockJacobi::add_dense(const Eigen::MatrixXd& B, int offset) {
+  if (B.rows() != B.cols() || B.rows() % 3 != 0 || offset % 3 != 0 || offset < 0 ||
+      size_t(offset + B.rows()) > 3 * blocks_.size())
+    fail("block-Jacobi preconditioner: dense block ", B.rows(), "x", B.cols(), " at offset ", offset,
+         " does not fit node triples of a ", 3 * blocks_.size(), "-DOF system");
   for (Eigen::Index k = 0; k < B.rows() / 3; ++k)
     blocks_[size_t(offset / 3 + k)] += B.block<3, 3>(3 * k, 3 * k);
 }
@@ -74,6 +81,9 @@ void BlockJacobi::finalize() {
 }
 
 void BlockJacobi::apply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
+  if (x.size() != Eigen::Index(3 * blocks_.size()) || y.size() != x.size())
+    fail("block-Jacobi preconditioner: vectors of size ", x.size(), " and ", y.size(), " for ", 3 * blocks_.size(),
+         " DOFs");
   for (size_t k = 0; k < blocks_.size(); ++k) y.segment<3>(3 * Eigen::Index(k)) = blocks_[k] * x.segment<3>(3 * Eigen::Index(k));
 }
 

@@ -8,8 +8,16 @@ Cholesky::Cholesky(const Eigen::SparseMatrix<double>& A, const std::string& what
 
 void Cholesky::factor(const Eigen::SparseMatrix<double>& A, const std::string& what) {
   if (A.rows() != A.cols()) fail(what, ": Cholesky needs a square matrix, got ", A.rows(), "x", A.cols());
+  llt_.reset();  // a failed factor() leaves the object unfactored, not holding a stale factor
+  rows_ = 0;
   auto llt = std::make_unique<Eigen::CholmodDecomposition<Eigen::SparseMatrix<double>, Eigen::Lower>>();
   llt->cholmod().print = 0;  // CHOLMOD must not print; failures become softcut::Error
+  // Eigen's default (final_asis) keeps CHOLMOD's simplicial LDL' for small
+  // matrices, which factors indefinite matrices without complaint; asking for
+  // a final LL' makes every non-positive pivot an error, in both the
+  // simplicial and the supernodal path (tested).
+  llt->cholmod().final_asis = 0;
+  llt->cholmod().final_ll = 1;
   llt->compute(A);
   if (llt->info() != Eigen::Success)
     fail(what, ": the stiffness matrix is singular or not positive definite; every connected part of "
@@ -20,11 +28,13 @@ void Cholesky::factor(const Eigen::SparseMatrix<double>& A, const std::string& w
 
 Eigen::VectorXd Cholesky::solve(const Eigen::VectorXd& b) const {
   if (!llt_) fail("Cholesky::solve called before factor()");
+  if (b.size() != rows_) fail("Cholesky::solve: right-hand side of size ", b.size(), " for a ", rows_, "-row factor");
   return llt_->solve(b);
 }
 
 Eigen::MatrixXd Cholesky::solve(const Eigen::MatrixXd& B) const {
   if (!llt_) fail("Cholesky::solve called before factor()");
+  if (B.rows() != rows_) fail("Cholesky::solve: right-hand sides with ", B.rows(), " rows for a ", rows_, "-row factor");
   return llt_->solve(B);
 }
 

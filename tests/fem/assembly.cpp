@@ -1,0 +1,116 @@
+#include "fem/assembly.hpp"
+
+#include <doctest/doctest.h>
+
+#include <Eigen/Dense>
+
+#include "core/error.hpp"
+#include "fem/element_stiffness.hpp"
+#include "fem_fixtures.hpp"
+
+using namespace softcut;
+
+namespace {
+
+// Dense assembly straight from the definition, for small meshes.
+Eigen::MatrixXd dense_assembly(const mesh::TetMesh& m, const std::vector<fem::Material>& mats,
+                               const std::vector<int>& tets) {
+  Eigen::MatrixXd K = Eigen::MatrixXd::Zero(3 * m.num_nodes(), 3 * m.num_nodes());
+  for (int t : tets) {
+    const fem::Mat12 Ke = fem::element_stiffness(fem::tet_corners(m, t), mats[size_t(t)]);
+    for (int a = 0; a < 4; ++a)
+      for (int b = 0; b < 4; ++b) K.block<3, 3>(3 * m.tets(t, a), 3 * m.tets(t, b)) += Ke.block<3, 3>(3 * a, 3 * b);
+  }
+  return K;
+}
+
+bool same_bits(const fem::SparseMatrix& A, const fem::SparseMatrix& B) {
+  if (A.nonZeros() != B.nonZeros() || A.rows() != B.rows()) return false;
+  for (int j = 0; j <= A.cols(); ++j)
+    if (A.outerIndexPtr()[j] != B.outerIndexPtr()[j]) return false;
+  for (Eigen::Index k = 0; k < A.nonZeros(); ++k)
+    if (A.innerIndexPtr()[k] != B.innerIndexPtr()[k] || A.valuePtr()[k] != B.valuePtr()[k]) return false;
+  return true;
+}
+
+}  // namespace
+
+TEST_SUITE("fem/assembly") {
+  TEST_CASE("equals a naive dense assembly on random meshes and tet subsets, any thread count") {
+    for (unsigned seed = 1; seed <= 12; ++seed) {
+      const mesh::TetMesh m = test::jittered_box(1 + seed % 3, 2, 1 + seed % 2, 0.2, seed);
+      const auto mats = test::random_materials(m.num_tets(), seed);
+      const std::vector<int> tets = seed % 4 == 0 ? std::vector<int>{} : test::random_subset(m.num_tets(), 0.5, seed);
+      std::vector<int> all(size_t(m.num_tets()));
+      for (int t = 0; t < m.num_tets(); ++t) all[size_t(t)] = t;
+      const Eigen::MatrixXd ref = dense_assembly(m, mats, tets.empty() ? all : tets);
+      const fem::SparseMatrix K1 = fem::assemble_stiffness(m, mats, tets, 1);
+      CAPTURE(seed);
+      CHECK((Eigen::MatrixXd(K1) - ref).norm() <= 1e-14 * ref.norm());
+      CHECK((Eigen::MatrixXd(fem::assemble_stiffness_triplets(m, mats, tets)) - ref).norm() <= 1e-14 * ref.norm());
+      for (int threads : {2, 3, 5}) CHECK(same_bits(fem::assemble_stiffness(m, mats, tets, threads), K1));
+      // The pattern is exactly the nonzero 3x3 node blocks: none missing (the
+      // norm check) and none extra (nodes outside the subset stay empty).
+      int blocks = 0;
+      for (int i = 0; i < m.num_nodes(); ++i)
+        for (int j = 0; j < m.num_nodes(); ++j) blocks += ref.block<3, 3>(3 * i, 3 * j).norm() > 0;
+      CHECK(K1.nonZeros() == 9 * blocks);
+    }
+  }
+
+  TEST_CASE("threaded assembly of a larger mesh is bit-identical to the serial one") {
+    const mesh::TetMesh m = test::jittered_box(16, 12, 10, 0.2, 3);  // 11520 tets
+    const auto mats = test::random_materials(m.num_tets(), 3);
+    const fem::SparseMatrix K1 = fem::assemble_stiffness(m, mats, {}, 1);
+    CHECK(same_bits(fem::assemble_stiffness(m, mats, {}, 2), K1));
+    CHECK(same_bits(fem::assemble_stiffness(m, mats, {}, 4), K1));
+    const fem::SparseMatrix Kt = fem::assemble_stiffness_triplets(m, mats);
+    CHECK((K1 - Kt).norm() <= 1e-14 * Kt.norm());
+  }
+
+  TEST_CASE("an unconstrained body has exactly six zero eigenvalues (the rigid motions)") {
+    for (unsigned seed = 1; seed <= 3; ++seed) {
+      const mesh::TetMesh m = test::jittered_box(2, 2, 1 + int(seed) % 2, 0.2, seed);
+      const auto mats = test::random_materials(m.num_tets(), seed);
+      const Eigen::MatrixXd K(fem::assemble_stiffness(m, mats));
+      CHECK((K - K.transpose()).norm() == 0.0);
+      Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(K);
+      const Eigen::VectorXd ev = es.eigenvalues();
+      const double top = ev(ev.size() - 1);
+      CAPTURE(ev.head(8).transpose() / top);
+      for (int i = 0; i < 6; ++i) CHECK(std::abs(ev(i)) <= 1e-12 * top);
+      // Coarse jittered box, materials spanning 100x: the softest bending
+      // mode sits near 1e-3 of the top; round-off zeros near 1e-16.
+      CHECK(ev(6) >= 1e-5 * top);
+      const Eigen::MatrixXd R = test::rigid_motions(m.nodes);
+      CHECK((K * R).norm() <= 1e-12 * top * R.norm());
+    }
+  }
+
+  TEST_CASE("1/2 u^T K u equals the element-wise strain energy") {
+    const mesh::TetMesh m = test::jittered_box(3, 3, 2, 0.2, 8);
+    const auto mats = test::random_materials(m.num_tets(), 8);
+    const fem::SparseMatrix K = fem::assemble_stiffness(m, mats);
+    const Eigen::MatrixX3d u = 1e-3 * Eigen::MatrixX3d::Random(m.num_nodes(), 3);
+    Eigen::VectorXd v(3 * m.num_nodes());
+    for (int i = 0; i < m.num_nodes(); ++i) v.segment<3>(3 * i) = u.row(i).transpose();
+    CHECK(0.5 * v.dot(K * v) == doctest::Approx(fem::strain_energy(m, mats, u)).epsilon(1e-12));
+  }
+
+  TEST_CASE("bad input is refused with the tet named") {
+    mesh::TetMesh m = test::jittered_box(1, 1, 1, 0, 1);
+    auto mats = test::random_materials(m.num_tets(), 1);
+    CHECK_THROWS_WITH_AS(fem::assemble_stiffness(m, std::vector<fem::Material>(2)),
+                         doctest::Contains("2 materials for 6 tetrahedra"), Error);
+    CHECK_THROWS_WITH_AS(fem::assemble_stiffness(m, mats, {0, 6}), doctest::Contains("tet id 6"), Error);
+    mats[3].poisson = 0.5;
+    CHECK_THROWS_WITH_AS(fem::assemble_stiffness(m, mats), doctest::Contains("tetrahedron 3"), Error);
+    mats[3].poisson = 0.3;
+    std::swap(m.tets(4, 2), m.tets(4, 3));  // inverted
+    CHECK_THROWS_WITH_AS(fem::assemble_stiffness(m, mats), doctest::Contains("tetrahedron 4"), Error);
+    CHECK_THROWS_WITH_AS(fem::assemble_stiffness_triplets(m, mats), doctest::Contains("inverted"), Error);
+    std::swap(m.tets(4, 2), m.tets(4, 3));
+    m.tets(1, 0) = 99;
+    CHECK_THROWS_WITH_AS(fem::assemble_stiffness(m, mats), doctest::Contains("node 99"), Error);
+  }
+}

@@ -1,0 +1,61 @@
+#pragma once
+// Meshes and helpers shared by the fem test suites (header only, no suite).
+#include <Eigen/Dense>
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "fem/material.hpp"
+#include "mesh/generate/box.hpp"
+
+namespace softcut::test {
+
+inline mesh::TetMesh jittered_box(int nx, int ny, int nz, double jitter, unsigned seed,
+                                  Eigen::Vector3d size = Eigen::Vector3d::Ones()) {
+  mesh::BoxOptions o;
+  o.nx = nx;
+  o.ny = ny;
+  o.nz = nz;
+  o.jitter = jitter;
+  o.seed = seed;
+  o.max_corner = size;
+  return mesh::generate_box(o);
+}
+
+// Random materials per tet (E in [1e3, 1e5] Pa, nu in [0, 0.45]).
+inline std::vector<fem::Material> random_materials(int ntet, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(0, 1);
+  std::vector<fem::Material> mats(static_cast<size_t>(ntet));
+  for (auto& m : mats) m = {1e3 * std::pow(100.0, u(rng)), 0.45 * u(rng)};
+  return mats;
+}
+
+// Random subset of tet ids (each kept with probability `keep`, at least one).
+inline std::vector<int> random_subset(int ntet, double keep, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(0, 1);
+  std::vector<int> s;
+  for (int t = 0; t < ntet; ++t)
+    if (u(rng) < keep) s.push_back(t);
+  if (s.empty()) s.push_back(0);
+  return s;
+}
+
+// Six rigid motions (3 nnode x 6) of nodes at `x` (nnode x 3): three
+// translations and three infinitesimal rotations about the centroid.
+inline Eigen::MatrixXd rigid_motions(const Eigen::MatrixX3d& x) {
+  const Eigen::RowVector3d c = x.colwise().mean();
+  Eigen::MatrixXd R = Eigen::MatrixXd::Zero(3 * x.rows(), 6);
+  for (Eigen::Index i = 0; i < x.rows(); ++i) {
+    const Eigen::Vector3d p = (x.row(i) - c).transpose();
+    for (int a = 0; a < 3; ++a) {
+      R(3 * i + a, a) = 1;
+      Eigen::Vector3d axis = Eigen::Vector3d::Unit(a);
+      R.block<3, 1>(3 * i, 3 + a) = axis.cross(p);
+    }
+  }
+  return R;
+}
+
+}  // namespace softcut::test

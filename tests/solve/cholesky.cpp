@@ -1,0 +1,56 @@
+#include "solve/cholesky.hpp"
+
+#include <doctest/doctest.h>
+
+#include <Eigen/Dense>
+
+#include "core/error.hpp"
+#include "spd_fixtures.hpp"
+
+using namespace softcut;
+
+TEST_SUITE("solve/cholesky") {
+  TEST_CASE("solves match a dense Cholesky for vectors, dense and sparse right-hand sides") {
+    for (unsigned seed = 1; seed <= 4; ++seed) {
+      const Eigen::SparseMatrix<double> A = test::grid_spd(3 + int(seed) % 2, seed);
+      const Eigen::MatrixXd Ad(A);
+      const Eigen::LLT<Eigen::MatrixXd> ref(Ad);
+      const solve::Cholesky chol(A, "test matrix");
+      CHECK(chol.factored());
+      CHECK(chol.rows() == A.rows());
+      const Eigen::VectorXd b = Eigen::VectorXd::Random(A.rows());
+      const Eigen::VectorXd x = ref.solve(b);
+      CHECK((chol.solve(b) - x).norm() <= 1e-10 * x.norm());
+      const Eigen::MatrixXd B = Eigen::MatrixXd::Random(A.rows(), 4);
+      const Eigen::MatrixXd X = ref.solve(B);
+      CHECK((chol.solve(B) - X).norm() <= 1e-10 * X.norm());
+      const Eigen::SparseMatrix<double> Bs = B.sparseView();
+      CHECK((chol.solve(Bs) - X).norm() <= 1e-10 * X.norm());
+    }
+  }
+
+  TEST_CASE("only the lower triangle is read") {
+    const Eigen::SparseMatrix<double> A = test::grid_spd(3, 5);
+    Eigen::SparseMatrix<double> L = A.triangularView<Eigen::Lower>();
+    const Eigen::VectorXd b = Eigen::VectorXd::Random(A.rows());
+    CHECK((solve::Cholesky(L).solve(b) - solve::Cholesky(A).solve(b)).norm() <= 1e-14 * solve::Cholesky(A).solve(b).norm());
+  }
+
+  TEST_CASE("indefinite, non-square and mismatched inputs are errors") {
+    Eigen::SparseMatrix<double> A = test::grid_spd(3, 2);
+    A.coeffRef(5, 5) = -1e3;
+    CHECK_THROWS_WITH_AS(solve::Cholesky(A, "K22"), doctest::Contains("K22: the stiffness matrix is singular"), Error);
+    // Larger matrices take CHOLMOD's supernodal path; the check holds there too.
+    Eigen::SparseMatrix<double> big = test::grid_spd(12, 3);
+    big.coeffRef(300, 300) = -1e3;
+    CHECK_THROWS_AS(solve::Cholesky(big, "big"), Error);
+    solve::Cholesky c(test::grid_spd(3, 2));
+    CHECK_THROWS_AS(c.factor(A, "K22"), Error);
+    CHECK_FALSE(c.factored());  // a failed refactor leaves no stale factor behind
+    CHECK_THROWS_AS(c.solve(Eigen::VectorXd(Eigen::VectorXd::Zero(A.rows()))), Error);
+    CHECK_THROWS_AS(solve::Cholesky(Eigen::SparseMatrix<double>(3, 6)), Error);
+    const solve::Cholesky ok(test::grid_spd(3, 2));
+    CHECK_THROWS_AS(ok.solve(Eigen::VectorXd(Eigen::VectorXd::Zero(7))), Error);
+    CHECK_THROWS_AS(ok.solve(Eigen::MatrixXd(Eigen::MatrixXd::Zero(7, 2))), Error);
+  }
+}
