@@ -31,7 +31,11 @@ fem::Material resolve_material(const MaterialAssignment& a) {
 
 }  // namespace
 
-Model compile(const ScenarioSpec& spec) {
+bool wants_gpu_context(const ScenarioSpec& spec) {
+  return spec.outputs.render.enabled || spec.solver.backend == "gpu" || spec.solver.backend == "auto";
+}
+
+Model compile(const ScenarioSpec& spec, const RunResources& resources) {
   check_spec(spec);
   Model m;
   m.spec = spec;
@@ -76,7 +80,7 @@ Model compile(const ScenarioSpec& spec) {
   // only when an output needs them.
   bool need_interior = spec.outputs.vtu;
   for (int n : m.log_nodes) need_interior |= m.partition.node_set[n] == hybrid::NodeSet::interior;
-  m.solver = make_solver(m.mesh, m.tet_material, m.partition, spec.solver, need_interior, diag);
+  m.solver = make_solver(m.mesh, m.tet_material, m.partition, spec.solver, need_interior, resources, diag);
   for (const auto& p : m.solver->precompute_ms()) m.precompute_ms.push_back(p);
 
   m.dt = 1.0 / spec.timeline.frame_rate;

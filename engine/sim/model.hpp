@@ -27,7 +27,7 @@ struct Model {
   std::vector<fem::Material> tet_material;               // (ntet)
   hybrid::Partition partition;                           // node sets (fixed, 1, I, s, i), Table 2 counts
   std::vector<int> log_nodes;                            // sorted ids written to displacements.csv
-  std::unique_ptr<Solver> solver;
+  std::unique_ptr<Solver> solver;                        // solver->backend(): what runs and why
   std::vector<std::pair<std::string, double>> precompute_ms;  // Table 3 (+ mesh, selectors)
   std::vector<std::string> warnings;                     // from compile
   int num_frames = 1;                                    // see Timeline
@@ -37,8 +37,15 @@ struct Model {
 };
 
 // Reads / generates the mesh, evaluates selectors, assigns materials,
-// partitions, precomputes the solver. Throws softcut::Error naming the item.
-Model compile(const ScenarioSpec& spec);
+// partitions, precomputes the solver (in resources.context for backend gpu;
+// the context must outlive the Model). Throws softcut::Error naming the item.
+Model compile(const ScenarioSpec& spec, const RunResources& resources = {});
+
+// Whether the application should create an EGL context for this spec:
+// rendering is on, or the backend is gpu or auto (auto needs it to see
+// whether there is a hardware GPU). For auto without rendering a failed
+// context is no error: pass none and the CPU backend is chosen.
+bool wants_gpu_context(const ScenarioSpec& spec);
 
 // A load resolved against the Model: the nodes and their unit directions.
 struct ActiveLoad {
@@ -63,9 +70,23 @@ struct StageStat {
   void add(double v) { sum += v; max = v > max ? v : max; }
 };
 
+// Implicit tool springs (sim/springs.hpp): the grasped nodes' compliance,
+// kept while the grasped node set and the solver's system stay the same.
+struct SpringCache {
+  std::vector<int> nodes;     // (m) grasped node ids the data belongs to, sorted
+  long generation = -1;       // Solver::system_generation() it was built for
+  Eigen::MatrixXd response;   // (3 nnode x 3m) m/N, displacement field of 1 N on each grasped DOF
+  Eigen::MatrixXd compliance; // (3m x 3m) m/N, C_gg: the grasped rows of `response`
+  bool enabled = true;        // false: rebuild every frame (for measuring the cache)
+  int builds = 0;             // times `response` was computed
+  double build_ms = 0;        // total time spent computing it
+};
+
 struct RunStatistics {
   int frames = 0;
   StageStat collision, cutting, poke_drag, operational_solve, nonoperational_update, total;  // ms
+  StageStat springs;                 // implicit springs incl. compliance builds (part of poke_drag), ms
+  int springs_frames = 0;            // frames in which implicit springs acted
   long long cg_iterations_total = 0;
   int cg_iterations_max = 0;
   double max_relative_residual = 0;
@@ -80,6 +101,7 @@ struct State {
   std::vector<tools::ToolSpec> tool_specs;  // copies; the script may change them between frames
   std::vector<tools::ToolState> tools;      // (ntools) parallel to tool_specs
   SolverWarmStart warm;
+  SpringCache springs;               // implicit spring compliance (per run)
   FrameTimings last;                 // of the last frame
   int last_cg_iterations = 0;
   RunStatistics stats;

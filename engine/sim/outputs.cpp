@@ -156,8 +156,15 @@ std::string summary_json(const Model& m, const State& s, const RunResult& r, con
        ", \"fixed\": " + std::to_string(c.fixed) + ", \"operational\": " + std::to_string(c.operational) +
        ", \"interface\": " + std::to_string(c.interface) + ", \"surface\": " + std::to_string(c.surface) +
        ", \"interior\": " + std::to_string(c.interior) + ", \"unused\": " + std::to_string(c.unused) + "},\n";
-  j += "  \"solver\": {\"backend\": " + jstr(m.solver ? m.solver->name() : "none") +
-       ", \"cg_tolerance\": " + jnum(sp.solver.cg_tolerance) + "},\n";
+  if (m.solver) {
+    const BackendChoice& bc = m.solver->backend();
+    j += "  \"solver\": {\"backend\": " + jstr(bc.backend) + ", \"requested\": " + jstr(bc.requested) +
+         ", \"reason\": " + jstr(bc.reason) + ", \"device\": " + jstr(bc.device) +
+         ", \"gpu_fp64\": " + (bc.gpu_fp64 ? "true" : "false") + ", \"description\": " + jstr(m.solver->name()) +
+         ", \"cg_tolerance\": " + jnum(sp.solver.cg_tolerance) + "},\n";
+  } else {
+    j += "  \"solver\": null,\n";
+  }
   j += "  \"precompute_ms\": {";
   for (size_t k = 0; k < m.precompute_ms.size(); ++k)
     j += (k ? ", " : "") + jstr(m.precompute_ms[k].first) + ": " + jms(m.precompute_ms[k].second);
@@ -182,6 +189,13 @@ std::string summary_json(const Model& m, const State& s, const RunResult& r, con
   j += stage("nonoperational_update", st.nonoperational_update, false);
   j += stage("total", st.total, true);
   j += "  },\n";
+  int implicit_tools = 0;
+  for (const auto& t : s.tool_specs) implicit_tools += tools::is_implicit_spring(t);
+  j += "  \"springs\": {\"implicit_tools\": " + std::to_string(implicit_tools) + ", \"frames\": " +
+       std::to_string(st.springs_frames) + ", \"ms\": {\"mean\": " +
+       jms(st.springs_frames ? st.springs.sum / st.springs_frames : 0.0) + ", \"max\": " + jms(st.springs.max) +
+       "}, \"compliance_builds\": " + std::to_string(s.springs.builds) + ", \"compliance_ms_total\": " +
+       jms(s.springs.build_ms) + ", \"grasped_nodes\": " + std::to_string(s.springs.nodes.size()) + "},\n";
   j += "  \"cg\": {\"iterations_mean\": " + jms(double(st.cg_iterations_total) / nf) + ", \"iterations_max\": " +
        std::to_string(st.cg_iterations_max) + ", \"iterations_total\": " + std::to_string(st.cg_iterations_total) +
        ", \"max_relative_residual\": " + jnum(st.max_relative_residual) + "},\n";

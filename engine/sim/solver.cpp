@@ -5,6 +5,8 @@
 #include "core/timer.hpp"
 #include "fem/assembly.hpp"
 #include "fem/dof_map.hpp"
+#include "gpu/egl_context.hpp"
+#include "gpu/operational_gpu_solver.hpp"
 #include "hybrid/loads.hpp"
 #include "hybrid/precompute.hpp"
 #include "hybrid/update.hpp"
@@ -20,7 +22,8 @@ namespace {
 class MonolithicSolver final : public Solver {
  public:
   MonolithicSolver(const mesh::TetMesh& m, const std::vector<fem::Material>& tet_material,
-                   const hybrid::Partition& p) {
+                   const hybrid::Partition& p, BackendChoice choice)
+      : choice_(std::move(choice)) {
     nnode_ = m.num_nodes();
     Timer t;
     const fem::SparseMatrix K = fem::assemble_stiffness(m, tet_material);
@@ -38,6 +41,21 @@ class MonolithicSolver final : public Solver {
   std::string name() const override { return "monolithic (whole-mesh CHOLMOD)"; }
   bool interior_valid() const override { return true; }
   std::vector<std::pair<std::string, double>> precompute_ms() const override { return timings_; }
+  const BackendChoice& backend() const override { return choice_; }
+  long system_generation(const SolverWarmStart&) const override { return 0; }
+
+  void unit_responses(const std::vector<int>& nodes, SolverWarmStart&, Eigen::MatrixXd& out) const override {
+    Eigen::MatrixXd E = Eigen::MatrixXd::Zero(map_.size(), Eigen::Index(3 * nodes.size()));
+    for (size_t j = 0; j < nodes.size(); ++j)
+      for (int a = 0; a < 3; ++a) {
+        const int dof = map_.reduced[size_t(3 * nodes[j] + a)];
+        if (dof < 0) fail("unit_responses: node ", nodes[j], " is fixed");
+        E(dof, Eigen::Index(3 * j + a)) = 1.0;
+      }
+    const Eigen::MatrixXd X = factor_.solve(E);
+    out.setZero(3 * Eigen::Index(nnode_), E.cols());
+    for (Eigen::Index c = 0; c < E.cols(); ++c) out.col(c) = fem::expand_vector(X.col(c), map_, nnode_);
+  }
 
   void solve(const Eigen::MatrixX3d& forces, Eigen::MatrixX3d& u, SolverWarmStart&, SolveStats& stats) const override {
     Timer t;
@@ -49,6 +67,7 @@ class MonolithicSolver final : public Solver {
   }
 
  private:
+  BackendChoice choice_;
   int nnode_ = 0;
   fem::DofMap map_;
   solve::Cholesky factor_;
@@ -58,26 +77,38 @@ class MonolithicSolver final : public Solver {
 struct HybridRunState final : SolverRunState {
   hybrid::State state;
   std::vector<hybrid::Load> loads;  // scratch
+  std::unique_ptr<hybrid::State> unit;  // scratch state for unit_responses(), created on first use
 };
 
 // Wu & Heng's hybrid condensed model: precompute once, update per frame.
 class HybridSolver final : public Solver {
  public:
   HybridSolver(const mesh::TetMesh& m, const std::vector<fem::Material>& tet_material, const hybrid::Partition& p,
-               const SolverSpec& spec, bool need_interior, Diagnostics& diag)
-      : spec_(spec), need_interior_(need_interior) {
+               const SolverSpec& spec, bool need_interior, BackendChoice choice, gpu::EglContext* context)
+      : spec_(spec), need_interior_(need_interior), choice_(std::move(choice)) {
     hybrid::PrecomputeOptions opt;
     opt.storage = spec.mode == "dense"    ? hybrid::Storage::dense
                   : spec.mode == "factor" ? hybrid::Storage::factor
                                           : hybrid::Storage::automatic;
     model_ = hybrid::precompute(m, tet_material, p, opt);
-    if (spec.backend == "gpu") diag.warn("solver: the GPU operational backend is not available yet; using the CPU CG");
+    if (choice_.backend == "gpu") {
+      // One device solver for every run of this Model: kernels compile once,
+      // here, so a context without what they need fails at compile time.
+      gpu::ComputeCgOptions g;
+      g.fp64 = spec.gpu_fp64;
+      g.tolerance = spec.cg_tolerance;
+      g.max_inner_iterations = spec.cg_max_iterations;
+      Timer tg;
+      gpu_ = std::make_unique<gpu::OperationalGpuSolver>(*context, g);
+      gpu_ms_ = tg.ms();
+    }
     const hybrid::PrecomputeTimings& t = model_.timings;
     timings_ = {{"assemble", t.assemble_ms},           {"factor", t.factor_ms},
                 {"K_prime", t.K_prime_ms},             {"KI2_K22inv", t.KI2_K22inv_ms},
                 {"Kstar_inv", t.Kstar_inv_ms},         {"Kstar_inv_Pstar", t.Kstar_inv_Pstar_ms},
                 {"Kstar_inv_Ps0", t.Kstar_inv_Ps0_ms}, {"operational_system", t.operational_ms},
                 {"hybrid_total", t.total_ms}};
+    if (gpu_) timings_.emplace_back("gpu_kernels", gpu_ms_);
   }
 
   std::string name() const override {
@@ -85,23 +116,48 @@ class HybridSolver final : public Solver {
   }
   bool interior_valid() const override { return need_interior_; }
   std::vector<std::pair<std::string, double>> precompute_ms() const override { return timings_; }
+  const BackendChoice& backend() const override { return choice_; }
+
+  long system_generation(const SolverWarmStart& warm) const override {
+    const auto* rs = dynamic_cast<const HybridRunState*>(warm.backend.get());
+    return rs ? rs->state.operational->generation : model_.operational->generation;
+  }
+
+  void unit_responses(const std::vector<int>& nodes, SolverWarmStart& warm, Eigen::MatrixXd& out) const override {
+    HybridRunState& rs = run_state(warm);
+    if (!rs.unit) rs.unit = std::make_unique<hybrid::State>(hybrid::make_state(model_));
+    hybrid::State& scratch = *rs.unit;
+    if (scratch.operational != rs.state.operational) hybrid::set_operational_system(scratch, rs.state.operational);
+    hybrid::UpdateOptions opt;
+    opt.recover_interior = need_interior_;
+    // Responses are measured against the zero-load state, so initial model
+    // loads (none in sim, but allowed by hybrid) cancel.
+    std::vector<hybrid::Load> none;
+    hybrid::update(model_, scratch, none, operational_solver(rs), opt);
+    const Eigen::VectorXd u_zero = fem::flatten(scratch.u);
+    out.resize(u_zero.size(), 3 * Eigen::Index(nodes.size()));
+    for (size_t j = 0; j < nodes.size(); ++j)
+      for (int a = 0; a < 3; ++a) {
+        const hybrid::NodeSet set = model_.partition.node_set[nodes[j]];
+        if (set == hybrid::NodeSet::fixed || set == hybrid::NodeSet::interior)
+          fail("unit_responses: node ", nodes[j], " is ", set == hybrid::NodeSet::fixed ? "fixed" : "interior");
+        hybrid::Load unit{nodes[j], Eigen::Vector3d::Unit(a)};
+        scratch.x_operational.setZero();  // each column from zero: no dependence on column order
+        hybrid::update(model_, scratch, std::span<const hybrid::Load>(&unit, 1), operational_solver(rs), opt);
+        out.col(Eigen::Index(3 * j + a)) = fem::flatten(scratch.u) - u_zero;
+      }
+  }
 
   void solve(const Eigen::MatrixX3d& forces, Eigen::MatrixX3d& u, SolverWarmStart& warm,
              SolveStats& stats) const override {
-    auto* rs = dynamic_cast<HybridRunState*>(warm.backend.get());
-    if (!rs) {
-      auto fresh = std::make_shared<HybridRunState>();
-      fresh->state = hybrid::make_state(model_, make_operational_solver());
-      warm.backend = fresh;
-      rs = fresh.get();
-    }
+    HybridRunState* rs = &run_state(warm);
     rs->loads.clear();
     for (int n = 0; n < forces.rows(); ++n)
       if (forces.row(n).squaredNorm() > 0 && model_.partition.node_set[n] != hybrid::NodeSet::fixed)
         rs->loads.push_back({n, forces.row(n).transpose()});
     hybrid::UpdateOptions opt;
     opt.recover_interior = need_interior_;
-    const hybrid::FrameReport& rep = hybrid::update(model_, rs->state, rs->loads, opt);
+    const hybrid::FrameReport& rep = hybrid::update(model_, rs->state, rs->loads, operational_solver(*rs), opt);
     u = rs->state.u;
     stats = SolveStats{};
     stats.cg_iterations = rep.solve.iterations;
@@ -112,10 +168,30 @@ class HybridSolver final : public Solver {
   }
 
  private:
-  const char* backend_name() const { return spec_.backend == "direct" ? "cholmod" : "cg"; }
+  std::string backend_name() const {
+    if (gpu_) return cat("gpu cg, ", spec_.gpu_fp64 ? "fp64" : "fp32 + fp64 refinement");
+    return choice_.backend == "direct" ? "cholmod" : "cg";
+  }
+
+  HybridRunState& run_state(SolverWarmStart& warm) const {
+    auto* rs = dynamic_cast<HybridRunState*>(warm.backend.get());
+    if (!rs) {
+      auto fresh = std::make_shared<HybridRunState>();
+      fresh->state = hybrid::make_state(model_, make_operational_solver());
+      warm.backend = fresh;
+      rs = fresh.get();
+    }
+    return *rs;
+  }
+
+  // The device solver is shared by every run of the Model (it re-uploads
+  // only when the system's generation changes); CPU solvers live per run.
+  hybrid::OperationalSolver& operational_solver(HybridRunState& rs) const {
+    return gpu_ ? static_cast<hybrid::OperationalSolver&>(*gpu_) : *rs.state.solver;
+  }
 
   std::unique_ptr<hybrid::OperationalSolver> make_operational_solver() const {
-    if (spec_.backend == "direct") return std::make_unique<hybrid::CholmodSolver>();
+    if (choice_.backend == "direct") return std::make_unique<hybrid::CholmodSolver>();
     solve::CgOptions cg;
     cg.tolerance = spec_.cg_tolerance;
     cg.max_iterations = spec_.cg_max_iterations;
@@ -124,17 +200,65 @@ class HybridSolver final : public Solver {
 
   SolverSpec spec_;
   bool need_interior_ = false;
+  BackendChoice choice_;
+  std::unique_ptr<gpu::OperationalGpuSolver> gpu_;  // backend gpu only
+  double gpu_ms_ = 0;                               // kernel compile time
   hybrid::Model model_;
   std::vector<std::pair<std::string, double>> timings_;
 };
 
 }  // namespace
 
+BackendChoice choose_backend(const SolverSpec& spec, const gpu::EglContext* context) {
+  BackendChoice c;
+  c.requested = spec.backend;
+  if (context) {
+    const gpu::ContextInfo& info = context->info();
+    c.device = info.renderer + (info.software ? ", software" : "");
+  }
+  const std::string& b = spec.backend;
+  if (b == "cpu" || b == "direct" || b == "monolithic") {
+    c.backend = b;
+    c.reason = "requested";
+  } else if (b == "gpu") {
+    if (!context)
+      fail("solver: backend 'gpu' needs an OpenGL context, and none was created (the CLI makes one for --backend gpu; "
+           "check the EGL error above, or use --backend cpu)");
+    if (!context->info().compute)
+      fail("solver: backend 'gpu': the OpenGL context (", context->info().summary(),
+           ") has no compute shaders (OpenGL 4.3 needed); use --backend cpu");
+    c.backend = "gpu";
+    c.reason = context->info().software ? "requested (on a software rasteriser: correct but slower than cpu)"
+                                        : "requested";
+  } else if (b == "auto") {
+    c.backend = "cpu";
+    if (!context)
+      c.reason = "auto: no OpenGL context, so the CPU CG";
+    else if (context->info().software)
+      c.reason = "auto: the only OpenGL device is a software rasteriser, so the CPU CG";
+    else if (!context->info().compute)
+      c.reason = "auto: the GPU has no compute shaders (OpenGL 4.3), so the CPU CG";
+    else {
+      c.backend = "gpu";
+      c.reason = "auto: a hardware GPU with compute shaders";
+    }
+  } else {
+    fail("solver: unknown backend '", b, "' (use auto, cpu, gpu, direct or monolithic)");
+  }
+  c.gpu_fp64 = c.backend == "gpu" && spec.gpu_fp64;
+  return c;
+}
+
 std::unique_ptr<Solver> make_solver(const mesh::TetMesh& m, const std::vector<fem::Material>& tet_material,
                                     const hybrid::Partition& partition, const SolverSpec& spec, bool need_interior,
-                                    Diagnostics& diag) {
-  if (spec.backend == "monolithic") return std::make_unique<MonolithicSolver>(m, tet_material, partition);
-  return std::make_unique<HybridSolver>(m, tet_material, partition, spec, need_interior, diag);
+                                    const RunResources& resources, Diagnostics& diag) {
+  BackendChoice choice = choose_backend(spec, resources.context);
+  if (spec.gpu_fp64 && choice.backend != "gpu")
+    diag.warn("solver: gpu_fp64 ignored: the operational backend is ", choice.backend, " (", choice.reason, ")");
+  if (choice.backend == "monolithic")
+    return std::make_unique<MonolithicSolver>(m, tet_material, partition, std::move(choice));
+  return std::make_unique<HybridSolver>(m, tet_material, partition, spec, need_interior, std::move(choice),
+                                        resources.context);
 }
 
 }  // namespace softcut::sim

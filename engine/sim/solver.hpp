@@ -1,8 +1,9 @@
 #pragma once
 // The ONE place where the elastic solve is chosen: make_solver() returns the
 // hybrid backend (hybrid::precompute once, hybrid::update per frame) with the
-// operational backend named by SolverSpec::backend, or the whole-mesh CHOLMOD
-// reference ("monolithic"). Nothing else in engine/sim knows which.
+// operational backend named by SolverSpec::backend (cpu CG, gpu compute-shader
+// CG, direct CHOLMOD), or the whole-mesh CHOLMOD reference ("monolithic").
+// Nothing else in engine/sim knows which.
 #include <Eigen/Core>
 #include <map>
 #include <memory>
@@ -14,9 +15,36 @@
 #include "hybrid/partition.hpp"
 #include "mesh/tet_mesh.hpp"
 
+namespace softcut::gpu {
+class EglContext;
+}
+
 namespace softcut::sim {
 
 struct SolverSpec;
+
+// What the application lends a run. The library never creates an OpenGL
+// context: the CLI makes one (for rendering or the GPU backend) and passes it
+// here; it must outlive the Model (the GPU solver keeps it) and be current on
+// the stepping thread.
+struct RunResources {
+  gpu::EglContext* context = nullptr;
+};
+
+// The operational backend actually used and why (written to summary.json).
+struct BackendChoice {
+  std::string requested;  // SolverSpec::backend as given: auto|cpu|gpu|direct|monolithic
+  std::string backend;    // chosen: cpu|gpu|direct|monolithic
+  std::string reason;     // one sentence, e.g. "auto: llvmpipe (...) is a software rasteriser; CPU CG"
+  std::string device;     // the context's GL renderer (+ ", software"), empty without a context
+  bool gpu_fp64 = false;  // backend gpu: fp64 kernels (else fp32 + fp64 refinement)
+};
+
+// Resolves SolverSpec::backend against the context: auto -> gpu only on a
+// hardware device with compute shaders, else cpu; gpu -> the device even when
+// it is software (llvmpipe), an Error when there is no context or no compute
+// shaders. Throws naming the accepted values for an unknown backend.
+BackendChoice choose_backend(const SolverSpec& spec, const gpu::EglContext* context);
 
 // Backend-owned per-run data (e.g. hybrid::State: warm start, running sums).
 struct SolverRunState {
@@ -48,13 +76,26 @@ class Solver {
   virtual bool interior_valid() const = 0;
   // Precompute timings, ms, by stage name (Table 3), in a stable order.
   virtual std::vector<std::pair<std::string, double>> precompute_ms() const = 0;
+  virtual const BackendChoice& backend() const = 0;
+
+  // Displacement fields of unit loads: column 3j + a of `out` (3 nnode x 3m,
+  // m/N, rows 3 node + axis) is u for 1 N on nodes[j] along axis a and no
+  // other load, through the same solve as solve() (for the hybrid model one
+  // update per column on a scratch state: the paper's selective columns).
+  // nodes: free (not fixed), not interior-nonoperational. Leaves `warm`'s
+  // frame state unchanged (it may keep scratch data there).
+  virtual void unit_responses(const std::vector<int>& nodes, SolverWarmStart& warm, Eigen::MatrixXd& out) const = 0;
+  // Identifies the system solve() uses now (changes when cutting rebuilds
+  // the operational system); caches of unit_responses() are keyed by it.
+  virtual long system_generation(const SolverWarmStart& warm) const = 0;
 };
 
 // tet_material (ntet). need_interior: interior nonoperational rows of u are
 // wanted every frame (logged or exported), at one extra factor solve a frame.
-// Notes (backend fallbacks) go to diag.
+// Notes go to diag. The GPU backend compiles its kernels here, in
+// resources.context (see choose_backend for which backend is used).
 std::unique_ptr<Solver> make_solver(const mesh::TetMesh& m, const std::vector<fem::Material>& tet_material,
                                     const hybrid::Partition& partition, const SolverSpec& spec, bool need_interior,
-                                    Diagnostics& diag);
+                                    const RunResources& resources, Diagnostics& diag);
 
 }  // namespace softcut::sim

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "core/timer.hpp"
+#include "sim/springs.hpp"
 
 namespace softcut::sim {
 
@@ -40,18 +41,26 @@ void step(const Model& m, State& s) {
   }
   ft.collision = timer.ms();
 
-  // Poke / drag: scripted loads plus tool forces (fixed nodes take none).
+  // Poke / drag: scripted loads plus explicit tool forces (fixed nodes take
+  // none); implicit springs are solved after the elastic solve.
   timer.reset();
   s.forces = load_forces(m, s, t);
-  for (auto& ts : s.tools)
+  for (size_t i = 0; i < s.tools.size(); ++i) {
+    if (i < s.tool_specs.size() && tools::is_implicit_spring(s.tool_specs[i])) continue;
+    const tools::ToolState& ts = s.tools[i];
     for (size_t k = 0; k < ts.nodes.size(); ++k)
       if (m.partition.node_set[ts.nodes[k]] != hybrid::NodeSet::fixed) s.forces.row(ts.nodes[k]) += ts.forces[k].transpose();
-  const double poke_drag_ms = timer.ms();
+  }
+  double poke_drag_ms = timer.ms();
 
   ft.cutting = 0.0;  // engine/cut not wired yet
 
   SolveStats st;
   m.solver->solve(s.forces, s.displacement, s.warm, st);
+  timer.reset();
+  const bool springs = solve_implicit_springs(m, s) > 0;
+  const double springs_ms = timer.ms();
+  poke_drag_ms += springs_ms;
   if (!s.displacement.allFinite()) fail("frame ", frame, " (t = ", t, " s): the solve produced non-finite displacements");
   ft.poke_drag = poke_drag_ms + st.loads_ms;
   ft.operational_solve = st.operational_ms;
@@ -67,6 +76,7 @@ void step(const Model& m, State& s) {
   r.collision.add(ft.collision), r.cutting.add(ft.cutting), r.poke_drag.add(ft.poke_drag);
   r.operational_solve.add(ft.operational_solve), r.nonoperational_update.add(ft.nonoperational_update);
   r.total.add(ft.total);
+  if (springs) r.springs.add(springs_ms), r.springs_frames++;
   r.cg_iterations_total += st.cg_iterations;
   r.cg_iterations_max = std::max(r.cg_iterations_max, st.cg_iterations);
   r.max_relative_residual = std::max(r.max_relative_residual, st.relative_residual);

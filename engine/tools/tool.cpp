@@ -84,6 +84,10 @@ void update_tool(const ToolSpec& spec, ToolState& st, double t, const ContactSur
   for (const auto& f : st.forces) st.total_force += f;
 }
 
+bool is_implicit_spring(const ToolSpec& spec) {
+  return spec.kind == ToolSpec::Kind::grasper && spec.drive == ToolSpec::Drive::spring && spec.implicit;
+}
+
 const char* to_string(ToolSpec::Kind k) { return k == ToolSpec::Kind::probe ? "probe" : "grasper"; }
 const char* to_string(ToolSpec::Drive d) { return d == ToolSpec::Drive::force ? "force" : "spring"; }
 

@@ -20,9 +20,12 @@ struct ToolSpec {
   // spring: total stiffness `stiffness` (N/m) split evenly over the
   //        manipulated nodes; each node is pulled toward its target
   //        (grasper: grasp-time offset from the tip; probe: pushed out to the
-  //        tip sphere's surface). Evaluated on last frame's positions, so a
-  //        stationary tool converges over frames when stiffness is below the
-  //        tissue's stiffness at the contact (see docs/outputs.md).
+  //        tip sphere's surface). update_tool() evaluates it on last frame's
+  //        positions (explicit). A grasper with `implicit` (the default) is
+  //        instead solved exactly within each frame by sim::step (see
+  //        sim/springs.hpp), so any stiffness works; explicit springs only
+  //        settle over frames when stiffness x compliance at the contact is
+  //        below about 1 (see docs/outputs.md).
   enum class Drive { force, spring };
 
   std::string name;   // used in messages and outputs
@@ -38,6 +41,7 @@ struct ToolSpec {
   // the tip from the centroid of the grasped nodes.
   Eigen::Vector3d direction = Eigen::Vector3d::Zero();
   double stiffness = 0.0;  // N/m, total (drive spring), > 0
+  bool implicit = true;    // grasper spring: exact within the frame (false: explicit, lags a frame)
   // probe: in contact only in [active_from, active_until];
   // grasper: closes at the first frame with t >= active_from that touches the
   // surface, keeps the grasped nodes, opens at active_until.
@@ -61,6 +65,10 @@ struct ToolState {
 // One frame of a tool at time t: moves the tip (unless overridden), finds
 // contact on `s`, sets nodes and forces. Deterministic.
 void update_tool(const ToolSpec& spec, ToolState& st, double t, const ContactSurface& s);
+
+// A grasper spring solved within the frame by the simulation (its forces from
+// update_tool() are only last frame's explicit estimate).
+bool is_implicit_spring(const ToolSpec& spec);
 
 const char* to_string(ToolSpec::Kind k);
 const char* to_string(ToolSpec::Drive d);

@@ -106,4 +106,19 @@ TEST_SUITE("tools/tool") {
     spec.path = tools::Path::polyline({1.0, 0.5}, {V::Zero(), V::Ones()});
     CHECK_THROWS_AS(tools::check_tool(spec, ""), softcut::Error);
   }
+
+  TEST_CASE("only spring graspers with implicit set are solved by the simulation") {
+    tools::ToolSpec spec;
+    CHECK(spec.implicit);  // the default
+    spec.kind = tools::ToolSpec::Kind::grasper;
+    spec.drive = tools::ToolSpec::Drive::force;
+    CHECK(!tools::is_implicit_spring(spec));
+    spec.drive = tools::ToolSpec::Drive::spring;
+    CHECK(tools::is_implicit_spring(spec));
+    spec.implicit = false;
+    CHECK(!tools::is_implicit_spring(spec));
+    spec.implicit = true;
+    spec.kind = tools::ToolSpec::Kind::probe;  // contact set changes every frame: stays explicit
+    CHECK(!tools::is_implicit_spring(spec));
+  }
 }

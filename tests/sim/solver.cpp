@@ -1,0 +1,147 @@
+#include "sim/solver.hpp"
+
+#include <doctest/doctest.h>
+
+#include "core/error.hpp"
+#include "core/timer.hpp"
+#include "fixtures.hpp"
+#include "gpu/egl_context.hpp"
+#include "sim/springs.hpp"
+#include "sim/step.hpp"
+#include "test_support.hpp"
+
+using V = Eigen::Vector3d;
+namespace sim = softcut::sim;
+namespace tools = softcut::tools;
+using softcut::Error;
+
+namespace {
+
+// One context for the suite (llvmpipe on CI machines); outlives every Model.
+softcut::gpu::EglContext& context() {
+  static softcut::gpu::EglContext ctx;
+  return ctx;
+}
+
+// The cantilever with a grasper pulling its top middle up over the frames.
+sim::ScenarioSpec gpu_spec(const std::string& backend) {
+  auto spec = softcut::test::cantilever_spec(softcut::test::scratch_dir("sim_solver_" + backend), 0.4, 0.02);
+  spec.solver.backend = backend;
+  spec.solver.cg_tolerance = 1e-10;
+  tools::ToolSpec g;
+  g.name = "jaw";
+  g.kind = tools::ToolSpec::Kind::grasper;
+  g.drive = tools::ToolSpec::Drive::spring;
+  g.radius = 0.011;
+  g.stiffness = 20.0;
+  const V p(0.07, 0.01, 0.02);
+  g.path = tools::Path::polyline({0.0, 0.4}, {p, p + V(0, 0.002, 0.004)});
+  spec.tools.push_back(g);
+  return spec;
+}
+
+}  // namespace
+
+TEST_SUITE("sim/solver") {
+  TEST_CASE("backend choice without a context: auto gives cpu and gpu is an error naming the fix") {
+    sim::SolverSpec s;
+    s.backend = "auto";
+    const sim::BackendChoice a = sim::choose_backend(s, nullptr);
+    CHECK(a.backend == "cpu");
+    CHECK(a.requested == "auto");
+    CHECK(a.reason.find("no OpenGL context") != std::string::npos);
+    s.backend = "gpu";
+    CHECK_THROWS_WITH_AS(sim::choose_backend(s, nullptr), doctest::Contains("--backend cpu"), Error);
+    for (const char* b : {"cpu", "direct", "monolithic"}) {
+      s.backend = b;
+      CHECK(sim::choose_backend(s, nullptr).backend == b);
+    }
+    s.backend = "cuda";
+    CHECK_THROWS_WITH_AS(sim::choose_backend(s, nullptr), doctest::Contains("unknown backend 'cuda'"), Error);
+    auto spec = gpu_spec("gpu");
+    CHECK_THROWS_WITH_AS(sim::compile(spec), doctest::Contains("backend 'gpu' needs an OpenGL context"), Error);
+  }
+
+  TEST_CASE("auto picks the GPU only on a hardware device and says why") {
+    const softcut::gpu::ContextInfo& info = context().info();
+    sim::SolverSpec s;
+    s.backend = "auto";
+    const sim::BackendChoice c = sim::choose_backend(s, &context());
+    CHECK(c.backend == (info.software || !info.compute ? "cpu" : "gpu"));
+    CHECK(c.device.find(info.renderer) == 0);
+    if (info.software) CHECK(c.reason.find("software rasteriser") != std::string::npos);
+    const sim::Model m = sim::compile(gpu_spec("auto"), sim::RunResources{&context()});
+    CHECK(m.solver->backend().backend == c.backend);
+  }
+
+  // llvmpipe runs a CG iteration in milliseconds (dispatch overhead), so
+  // these use few frames and one grasped node.
+  TEST_CASE("backend gpu (fp32 kernels + fp64 refinement) steps like backend cpu") {
+    if (!context().info().compute) {
+      MESSAGE("no compute shaders in this context: GPU backend not testable here");
+      return;
+    }
+    auto spec = gpu_spec("cpu");
+    spec.tools.clear();
+    spec.loads[0].magnitude = tools::Ramp::linear_ramp(0.01, 0.02, 0.0, 1.0);  // nonzero from frame 0
+    spec.timeline.duration = 0.1;                                              // 2 frames
+    const sim::Model cpu = sim::compile(spec);
+    spec.solver.backend = "gpu";
+    const sim::Model gpu = sim::compile(spec, sim::RunResources{&context()});
+    CHECK(gpu.solver->backend().backend == "gpu");
+    CHECK(!gpu.solver->backend().gpu_fp64);
+    CHECK(gpu.solver->name().find("gpu cg, fp32") != std::string::npos);
+    sim::State a = sim::make_state(cpu), b = sim::make_state(gpu);
+    for (int f = 0; f < gpu.num_frames; ++f) {
+      CAPTURE(f);
+      sim::step(cpu, a);
+      sim::step(gpu, b);
+      // Both meet the relative residual 1e-10 of the same operational system.
+      const double scale = a.displacement.cwiseAbs().maxCoeff();
+      REQUIRE(scale > 0);
+      CHECK((a.displacement - b.displacement).cwiseAbs().maxCoeff() <= 1e-8 * scale);
+      CHECK(b.last_cg_iterations > 0);
+    }
+    CHECK(b.stats.max_relative_residual <= 1e-10);
+  }
+
+  TEST_CASE("backend gpu with fp64 kernels: implicit grasper springs through the device equal cpu") {
+    if (!context().info().compute) {
+      MESSAGE("no compute shaders in this context: GPU backend not testable here");
+      return;
+    }
+    auto spec = gpu_spec("cpu");
+    spec.tools[0].radius = 0.005;  // one node: 3 unit-load solves on the device
+    spec.tools[0].path = tools::Path::polyline({0.0, 0.1}, {V(0.08, 0.01, 0.02), V(0.08, 0.012, 0.024)});
+    spec.timeline.duration = 0.1;  // 2 frames
+    spec.loads[0].magnitude = tools::Ramp::linear_ramp(0.01, 0.02, 0.0, 1.0);  // the spring resists from frame 0
+    const sim::Model cpu = sim::compile(spec);
+    spec.solver.backend = "gpu";
+    spec.solver.gpu_fp64 = true;
+    sim::Model gpu = [&] {
+      try {
+        return sim::compile(spec, sim::RunResources{&context()});
+      } catch (const Error& e) {
+        return sim::Model{};  // a device without fp64 kernels: said below
+      }
+    }();
+    if (!gpu.solver) {
+      MESSAGE("fp64 compute kernels not available in this context");
+      return;
+    }
+    CHECK(gpu.solver->backend().gpu_fp64);
+    sim::State a = sim::make_state(cpu), b = sim::make_state(gpu);
+    for (int f = 0; f < gpu.num_frames; ++f) {
+      CAPTURE(f);
+      sim::step(cpu, a);
+      sim::step(gpu, b);
+      REQUIRE(b.tools[0].nodes.size() == 1);
+      const double scale = a.displacement.cwiseAbs().maxCoeff();
+      REQUIRE(scale > 0);
+      CHECK((a.displacement - b.displacement).cwiseAbs().maxCoeff() <= 1e-8 * scale);
+      CHECK((a.tools[0].total_force - b.tools[0].total_force).norm() <= 1e-8 * a.tools[0].total_force.norm());
+    }
+    CHECK(b.springs.builds == 1);
+    CHECK((a.springs.compliance - b.springs.compliance).norm() <= 1e-8 * a.springs.compliance.norm());
+  }
+}

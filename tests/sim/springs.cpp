@@ -1,0 +1,252 @@
+#include "sim/springs.hpp"
+
+#include <doctest/doctest.h>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+
+#include "fem/assembly.hpp"
+#include "fem/dof_map.hpp"
+#include "fixtures.hpp"
+#include "sim/step.hpp"
+#include "test_support.hpp"
+
+using V = Eigen::Vector3d;
+namespace sim = softcut::sim;
+namespace tools = softcut::tools;
+namespace fem = softcut::fem;
+
+namespace {
+
+// Independent reference: the whole mesh's stiffness with the fixed DOFs
+// eliminated, inverted densely (no CHOLMOD, no hybrid model).
+struct Monolithic {
+  fem::DofMap map;
+  Eigen::MatrixXd Kinv;  // (nfree x nfree) m/N
+  int nnode = 0;
+
+  explicit Monolithic(const sim::Model& m) {
+    nnode = m.mesh.num_nodes();
+    std::vector<char> free(size_t(nnode), 0);
+    for (int n = 0; n < nnode; ++n) free[size_t(n)] = m.partition.node_set[size_t(n)] != softcut::hybrid::NodeSet::fixed;
+    map = fem::make_dof_map(free);
+    const Eigen::MatrixXd K = Eigen::MatrixXd(fem::restrict_matrix(fem::assemble_stiffness(m.mesh, m.tet_material), map));
+    Kinv = K.llt().solve(Eigen::MatrixXd::Identity(K.rows(), K.cols()));
+  }
+  // u (nnode x 3) for forces (nnode x 3)
+  Eigen::MatrixX3d solve(const Eigen::MatrixX3d& f) const {
+    return fem::unflatten(fem::expand_vector(Kinv * fem::restrict_vector(fem::flatten(f), map), map, nnode));
+  }
+  // (3m x 3m) compliance of the nodes' DOFs
+  Eigen::MatrixXd compliance(const std::vector<int>& nodes) const {
+    const Eigen::Index ng = Eigen::Index(3 * nodes.size());
+    Eigen::MatrixXd C(ng, ng);
+    for (Eigen::Index i = 0; i < ng; ++i)
+      for (Eigen::Index j = 0; j < ng; ++j)
+        C(i, j) = Kinv(map.reduced[size_t(3 * nodes[size_t(i / 3)] + i % 3)],
+                       map.reduced[size_t(3 * nodes[size_t(j / 3)] + j % 3)]);
+    return C;
+  }
+};
+
+// Cantilever (fixtures.hpp) with a constant 0.01 N tip load and a grasper
+// closing at t = 0 on the two top nodes (0.06, 0.01, 0.02) (interface) and
+// (0.08, 0.01, 0.02) (nonoperational surface), its tip lifted 3 mm by t = 0.1.
+sim::ScenarioSpec grasp_spec(const std::string& scratch, const std::string& backend) {
+  auto spec = softcut::test::cantilever_spec(softcut::test::scratch_dir(scratch), 0.3);
+  spec.loads[0].magnitude = tools::Ramp::constant_value(0.01);
+  spec.solver.backend = backend;
+  tools::ToolSpec g;
+  g.name = "jaw";
+  g.kind = tools::ToolSpec::Kind::grasper;
+  g.drive = tools::ToolSpec::Drive::spring;
+  g.radius = 0.011;
+  const V p(0.07, 0.01, 0.02);
+  g.path = tools::Path::polyline({0.0, 0.1}, {p, p + V(0, 0, 3e-3)});
+  g.stiffness = 1.0;  // set per test
+  spec.tools.push_back(g);
+  return spec;
+}
+
+// Closed form of the springs of tool 0 in the state's frame: per node
+// f = (I/kn + C)^-1 (tip + offset - X - u0), u0 the response to the loads.
+Eigen::VectorXd closed_form(const sim::Model& m, const sim::State& s, const Monolithic& ref, double k) {
+  const tools::ToolState& ts = s.tools[0];
+  const double kn = k / double(ts.nodes.size());
+  const Eigen::MatrixX3d u0 = ref.solve(sim::load_forces(m, s, s.time));
+  const Eigen::MatrixXd C = ref.compliance(ts.nodes);
+  Eigen::VectorXd d(C.rows());
+  for (size_t j = 0; j < ts.nodes.size(); ++j)
+    d.segment<3>(Eigen::Index(3 * j)) = ts.tip + ts.offsets[j] - m.mesh.node(ts.nodes[j]) - u0.row(ts.nodes[j]).transpose();
+  return (Eigen::MatrixXd::Identity(C.rows(), C.cols()) / kn + C).llt().solve(d);
+}
+
+Eigen::VectorXd tool_forces(const sim::State& s) {
+  Eigen::VectorXd f(Eigen::Index(3 * s.tools[0].forces.size()));
+  for (size_t j = 0; j < s.tools[0].forces.size(); ++j) f.segment<3>(Eigen::Index(3 * j)) = s.tools[0].forces[j];
+  return f;
+}
+
+// Max relative difference of u and the reference over the non-interior rows.
+double displacement_error(const sim::Model& m, const sim::State& s, const Monolithic& ref) {
+  const Eigen::MatrixX3d u = ref.solve(s.forces);
+  double err = 0;
+  for (int n = 0; n < m.mesh.num_nodes(); ++n)
+    if (m.partition.node_set[size_t(n)] != softcut::hybrid::NodeSet::interior)
+      err = std::max(err, (s.displacement.row(n) - u.row(n)).norm());
+  return err / u.rowwise().norm().maxCoeff();
+}
+
+// Delegates to a real solver but reports a system generation the test sets,
+// standing in for cutting (which rebuilds the operational system).
+class GenerationProbe final : public sim::Solver {
+ public:
+  explicit GenerationProbe(std::unique_ptr<sim::Solver> inner) : inner_(std::move(inner)) {}
+  long generation = 0;
+  std::string name() const override { return inner_->name(); }
+  void solve(const Eigen::MatrixX3d& f, Eigen::MatrixX3d& u, sim::SolverWarmStart& w, sim::SolveStats& st) const override {
+    inner_->solve(f, u, w, st);
+  }
+  bool interior_valid() const override { return inner_->interior_valid(); }
+  std::vector<std::pair<std::string, double>> precompute_ms() const override { return inner_->precompute_ms(); }
+  const sim::BackendChoice& backend() const override { return inner_->backend(); }
+  void unit_responses(const std::vector<int>& nodes, sim::SolverWarmStart& w, Eigen::MatrixXd& out) const override {
+    inner_->unit_responses(nodes, w, out);
+  }
+  long system_generation(const sim::SolverWarmStart&) const override { return generation; }
+
+ private:
+  std::unique_ptr<sim::Solver> inner_;
+};
+
+}  // namespace
+
+TEST_SUITE("sim/springs") {
+  TEST_CASE("a stiff implicit grasper matches the closed form (I + kC)^-1 k d in the first frames") {
+    for (const std::string backend : {"cpu", "direct", "monolithic"}) {
+      CAPTURE(backend);
+      auto spec = grasp_spec("sim_springs_stiff", backend);
+      sim::Model m = sim::compile(spec);
+      const Monolithic ref(m);
+      const std::vector<int> grasped = {45, 46};
+      REQUIRE((m.mesh.node(45) - V(0.06, 0.01, 0.02)).norm() < 1e-12);
+      REQUIRE((m.mesh.node(46) - V(0.08, 0.01, 0.02)).norm() < 1e-12);
+      REQUIRE(m.partition.node_set[45] == softcut::hybrid::NodeSet::interface);
+      REQUIRE(m.partition.node_set[46] == softcut::hybrid::NodeSet::surface);
+      // Per-node stiffness kn with kn ||C_gg|| = 100: far beyond what an
+      // explicit spring survives (it needs kn ||C|| < ~1).
+      const double normC = ref.compliance(grasped).selfadjointView<Eigen::Lower>().eigenvalues().maxCoeff();
+      const double k = 2 * 100.0 / normC;
+      m = sim::compile([&] { spec.tools[0].stiffness = k; return spec; }());
+      sim::State s = sim::make_state(m);
+      for (int frame = 0; frame < 3; ++frame) {
+        CAPTURE(frame);
+        sim::step(m, s);
+        REQUIRE(s.tools[0].nodes == grasped);
+        const Eigen::VectorXd expected = closed_form(m, s, ref, k);
+        CHECK(expected.norm() > 1e-4);  // the spring does work in every frame
+        CHECK((tool_forces(s) - expected).norm() <= 1e-8 * expected.norm());
+        // The displacement is the response to all forces, the springs' included.
+        CHECK(displacement_error(m, s, ref) <= 1e-8);
+      }
+      CHECK(s.springs.builds == 1);
+      CHECK(s.stats.springs_frames == 3);
+    }
+  }
+
+  TEST_CASE("explicit springs are still available: force from last frame's positions") {
+    auto spec = grasp_spec("sim_springs_explicit", "direct");
+    spec.tools[0].implicit = false;
+    spec.tools[0].stiffness = 0.5;
+    const sim::Model m = sim::compile(spec);
+    sim::State s = sim::make_state(m);
+    sim::step(m, s);  // grasp on the rest positions: no stretch yet
+    CHECK(tool_forces(s).norm() == 0.0);
+    const Eigen::MatrixX3d u_prev = s.displacement;
+    sim::step(m, s);
+    const tools::ToolState& ts = s.tools[0];
+    for (size_t j = 0; j < ts.nodes.size(); ++j) {
+      const int n = ts.nodes[j];
+      const V expected = 0.25 * (ts.tip + ts.offsets[j] - m.mesh.node(n) - u_prev.row(n).transpose());
+      CHECK((ts.forces[j] - expected).norm() <= 1e-14 * expected.norm());
+    }
+    CHECK(s.springs.builds == 0);
+  }
+
+  TEST_CASE("the compliance cache is rebuilt when the grasped set changes and only then") {
+    auto spec = grasp_spec("sim_springs_cache", "cpu");
+    spec.tools[0].stiffness = 50.0;
+    const sim::Model m = sim::compile(spec);
+    const Monolithic ref(m);
+    sim::State s = sim::make_state(m), nocache = sim::make_state(m);
+    nocache.springs.enabled = false;
+    for (int frame = 0; frame < 3; ++frame) sim::step(m, s), sim::step(m, nocache);
+    CHECK(s.springs.builds == 1);
+    CHECK(nocache.springs.builds == 3);
+    CHECK((s.displacement - nocache.displacement).norm() <= 1e-9 * s.displacement.norm());
+    CHECK(s.springs.nodes == std::vector<int>{45, 46});
+
+    // Let go for a frame, then grasp only (0.08, 0.01, 0.02).
+    s.tool_specs[0].enabled = false;
+    sim::step(m, s);
+    CHECK(s.tools[0].nodes.empty());
+    CHECK(s.springs.builds == 1);  // nothing grasped: nothing to build
+    s.tool_specs[0].enabled = true;
+    s.tool_specs[0].radius = 0.005;
+    s.tools[0].override_tip = true;
+    s.tools[0].tip = m.mesh.node(46) + s.displacement.row(46).transpose();
+    sim::step(m, s);
+    REQUIRE(s.tools[0].nodes == std::vector<int>{46});
+    CHECK(s.springs.builds == 2);
+    CHECK(s.springs.nodes == std::vector<int>{46});
+    CHECK((s.springs.compliance - ref.compliance({46})).norm() <= 1e-8 * ref.compliance({46}).norm());
+    s.tools[0].tip += V(0, 0, 2e-3);  // pull: the same set, the cached columns serve
+    sim::step(m, s);
+    CHECK(s.springs.builds == 2);
+    const Eigen::VectorXd expected = closed_form(m, s, ref, 50.0);
+    CHECK(expected.norm() > 1e-3);
+    CHECK((tool_forces(s) - expected).norm() <= 1e-8 * expected.norm());
+  }
+
+  TEST_CASE("a fixed grasped node takes no spring force") {
+    auto spec = grasp_spec("sim_springs_fixed", "direct");
+    spec.tools[0].path = tools::Path::fixed_at(V(0.0, 0.01, 0.02));  // on the clamped face, next to x = 0.02
+    spec.tools[0].radius = 0.021;
+    spec.tools[0].stiffness = 10.0;
+    const sim::Model m = sim::compile(spec);
+    sim::State s = sim::make_state(m);
+    sim::step(m, s);
+    sim::step(m, s);
+    const tools::ToolState& ts = s.tools[0];
+    REQUIRE(!ts.nodes.empty());
+    bool any_fixed = false, any_free = false;
+    for (size_t j = 0; j < ts.nodes.size(); ++j) {
+      const bool fixed = m.partition.node_set[size_t(ts.nodes[j])] == softcut::hybrid::NodeSet::fixed;
+      any_fixed |= fixed, any_free |= !fixed;
+      if (fixed) CHECK(ts.forces[j].norm() == 0.0);
+    }
+    CHECK(any_fixed);
+    CHECK(any_free);
+    const Monolithic ref(m);
+    CHECK(displacement_error(m, s, ref) <= 1e-8);
+  }
+
+  TEST_CASE("the compliance cache is rebuilt when the solver's system changes (cutting)") {
+    auto spec = grasp_spec("sim_springs_generation", "cpu");
+    spec.tools[0].stiffness = 50.0;
+    sim::Model m = sim::compile(spec);
+    auto probe = std::make_unique<GenerationProbe>(std::move(m.solver));
+    GenerationProbe& gen = *probe;
+    m.solver = std::move(probe);
+    sim::State s = sim::make_state(m);
+    sim::step(m, s);
+    sim::step(m, s);
+    CHECK(s.springs.builds == 1);
+    gen.generation = 7;
+    sim::step(m, s);
+    CHECK(s.springs.builds == 2);
+    CHECK(s.springs.generation == 7);
+    sim::step(m, s);
+    CHECK(s.springs.builds == 2);
+  }
+}
