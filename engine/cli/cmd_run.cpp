@@ -1,8 +1,85 @@
+// softcut run SCENARIO.lua [--out DIR] [--set key=value ...] [--frames N] [--quiet] [--trust]
+#include <unistd.h>
+
+#include <csignal>
+#include <cstdio>
+
 #include "cli/commands.hpp"
+#include "cli/run_support.hpp"
 #include "core/error.hpp"
+#include "scenario_runner.hpp"
 
 namespace softcut::cli {
 
-int cmd_run(const Args&) { fail("softcut run: not implemented yet"); }
+namespace {
+
+const char* kRunUsage =
+    "usage: softcut run SCENARIO.lua [--out DIR] [--set key=value ...] [--frames N] [--backend B]\n"
+    "                   [--quiet] [--trust]\n"
+    "\n"
+    "Runs a Lua scenario headless and writes DIR/displacements.csv and DIR/summary.json\n"
+    "(default DIR: renders/<scenario name>/).\n"
+    "  --out DIR        output folder\n"
+    "  --set key=value  override a parameter the scenario declares with softcut.params{...}\n"
+    "  --frames N       stop after N frames\n"
+    "  --backend B      operational solver: auto, cpu, gpu, direct or monolithic (overrides the scenario)\n"
+    "  --quiet          no progress output\n"
+    "  --trust          no sandbox: full Lua standard library, no instruction or memory budget\n"
+    "Ctrl-C (SIGINT) or SIGTERM finishes the current frame, writes the outputs and marks the\n"
+    "summary interrupted.\n";
+
+}  // namespace
+
+int cmd_run(const Args& args) {
+  if (args.empty() || args[0] == "--help" || args[0] == "-h") {
+    std::fputs(kRunUsage, args.empty() ? stderr : stdout);
+    return args.empty() ? 2 : 0;
+  }
+  lua::RunRequest req;
+  bool quiet = false;
+  std::vector<std::string> files;
+  for (size_t i = 0; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    auto value = [&](const char* opt) -> const std::string& {
+      if (i + 1 >= args.size()) fail("softcut run: ", opt, " needs a value (see softcut run --help)");
+      return args[++i];
+    };
+    if (a == "--out") req.out_dir = value("--out");
+    else if (a == "--set") add_override(req.overrides, value("--set"));
+    else if (a.rfind("--set=", 0) == 0) add_override(req.overrides, a.substr(6));
+    else if (a == "--frames") req.max_frames = parse_count(value("--frames"), "--frames");
+    else if (a == "--backend") req.backend = parse_backend(value("--backend"));
+    else if (a == "--quiet" || a == "-q") quiet = true;
+    else if (a == "--trust") req.trusted = true;
+    else if (a.rfind("-", 0) == 0) fail("softcut run: unknown option '", a, "' (see softcut run --help)");
+    else files.push_back(a);
+  }
+  if (files.size() != 1) fail("softcut run: give exactly one scenario file (got ", files.size(), ")");
+  req.scenario = files[0];
+
+  Progress progress(quiet ? Progress::Mode::quiet : ::isatty(STDERR_FILENO) ? Progress::Mode::bar : Progress::Mode::lines);
+  req.progress = [&](int frame, int n, double elapsed) { progress.update(frame, n, elapsed); };
+  const SignalGuard signals;
+  req.interrupt = &SignalGuard::flag();
+
+  const lua::RunOutcome out = lua::run_scenario(req);
+  progress.done();
+  int failed = 0;
+  for (const auto& w : out.warnings)
+    if (!quiet) std::fprintf(stderr, "warning: %s\n", w.c_str());
+  for (const auto& e : out.expectations)
+    if (!e.ok) {
+      ++failed;
+      std::fprintf(stderr, "%s: expect '%s' failed: %s\n", e.where.c_str(), e.name.c_str(), e.message.c_str());
+    }
+  if (!quiet) {
+    std::fprintf(stderr, "%s: %d frames, %s in %.2f s -> %s\n", out.name.c_str(), out.result.frames,
+                 sim::to_string(out.result.reason), out.result.wall_s, out.out_dir.c_str());
+    if (!out.expectations.empty())
+      std::fprintf(stderr, "expectations: %d passed, %d failed\n", int(out.expectations.size()) - failed, failed);
+  }
+  if (out.result.reason == sim::ExitReason::interrupted) return 130;
+  return 0;
+}
 
 }  // namespace softcut::cli

@@ -1,0 +1,445 @@
+---@meta softcut
+-- Generated from lua/api.lua by lua/docs.lua; do not edit.
+-- Editor annotations (lua-language-server) for softcut scenarios.
+
+---@class Scenario
+local Scenario = {}
+
+---@class Selection
+local Selection = {}
+
+---@class Ramp
+local Ramp = {}
+
+---@class Path
+local Path = {}
+
+---@class Frame
+local Frame = {}
+
+---@class Mesh
+---@field num_nodes integer
+---@field num_tets integer
+---@field labels integer[]
+---@field min number[]
+---@field max number[]
+---@field center number[]
+---@field size number[]
+---@field sets string[]
+---@field surface_nodes integer[]
+
+---@class Frame
+---@field frame integer frame index
+---@field time number time (s)
+
+---@class Sphere A ball.
+---@field center number[] center (m)
+---@field radius number radius (m)
+
+---@class Box An axis-aligned box, bounds inclusive.
+---@field min number[] lower corner (m)
+---@field max number[] upper corner (m)
+
+---@class HalfSpace Points x with (x - point) . normal >= 0.
+---@field point number[] a point on the plane (m)
+---@field normal number[] points into the half-space (any length > 0)
+
+---@class Render Off-screen frames written as PNG under DIR/frames/. Without eye/target the camera looks at the mesh's centre from azimuth/elevation, just far enough to see all of it.
+---@field width? integer image width (px)
+---@field height? integer image height (px)
+---@field azimuth? number automatic camera: angle about `up` (deg)
+---@field elevation? number automatic camera: angle above the horizontal (deg)
+---@field orbit? number automatic camera: azimuth rate (turntable; 0: still) (deg/s)
+---@field eye? number[] camera position (with target: a fixed camera) (m)
+---@field target? number[] point looked at (m)
+---@field up? number[] camera up direction
+---@field fov? number vertical field of view (deg)
+---@field every? integer render every n-th frame
+---@field wireframe? boolean draw tet edges
+---@field show_interface? boolean draw the interface nodes
+---@field show_forces? boolean draw manipulated nodes and their force lines
+---@field background? number[] RGB in [0, 1]
+
+softcut = {}
+softcut.select = {}
+softcut.ramp = {}
+softcut.path = {}
+softcut.vec = {}
+---@type table<string, {young: number, poisson: number, source: string}>
+softcut.tissues = {}
+---@type string
+softcut.version = ""
+
+---Declares the scenario's parameters with their defaults; `softcut run --set key=value` overrides them (the value is converted to the default's type). Returns the table of effective values.
+---@param args table
+---@return table
+function softcut.params(args) end
+
+---@class softcut_scenario_args
+---@field name? string output folder name renders/<name>/ (default: the file name without .lua)
+---@field duration number simulated time; frames at t = 0, 1/fps, ..., duration (s)
+---@field fps? number frame rate (Hz)
+---@field tolerance? number `softcut check`: max |u - u_ref| allowed, relative to max |u_ref| of the reference log
+---@field description? string one line for the summary and `softcut check`
+---Starts a scenario: its name, timeline and reference tolerance. The script returns the Scenario (or the last one created is used).
+---@param args softcut_scenario_args
+---@return Scenario
+function softcut.scenario(args) end
+
+---@class Scenario_mesh_args
+---@field file? string mesh file relative to the scenario (.msh, .node/.ele, .mesh, .vtk, .vtu)
+---@field generate? string generator name
+---@field options? table generator options by name: numbers, or 3-vectors for corners/centers
+---Loads or generates the rest mesh (call first). Returns a Mesh table: num_nodes, num_tets, labels (sorted list), min, max, center, size (m), sets (names of the mesh's node sets), surface_nodes (sorted 0-based ids).
+---@param args Scenario_mesh_args
+---@return Mesh
+function Scenario:mesh(args) end
+
+---@class Scenario_material_args
+---@field label? integer tets with this mesh label
+---@field sphere? Sphere tets whose centroid lies in the sphere
+---@field box? Box tets whose centroid lies in the axis-aligned box
+---@field halfspace? HalfSpace tets whose centroid lies on the normal's side of the plane
+---@field tets? integer[] explicit 0-based tet ids
+---@field name? string for messages
+---@field tissue? string preset name from softcut.tissues
+---@field young? number Young's modulus E (Pa)
+---@field poisson? number Poisson's ratio nu
+---Assigns a material to a set of tets (all tets when no region field is given); later calls override earlier ones. Give a tissue preset, E and nu, or both (explicit values override the preset's).
+---@param args Scenario_material_args
+function Scenario:material(args) end
+
+---@class Scenario_operational_args
+---@field label? integer tets with this mesh label
+---@field sphere? Sphere tets whose centroid lies in the sphere
+---@field box? Box tets whose centroid lies in the axis-aligned box
+---@field halfspace? HalfSpace tets whose centroid lies on the normal's side of the plane
+---@field tets? integer[] explicit 0-based tet ids
+---Chooses the operational region (the part that can be cut and is solved every frame by CG; the rest is condensed). Default: none (everything condensed).
+---@param args Scenario_operational_args
+function Scenario:operational(args) end
+
+---@class Scenario_fix_args
+---@field nodes Selection nodes to fix
+---Fixes nodes (zero displacement). Several calls add up.
+---@param args Scenario_fix_args
+function Scenario:fix(args) end
+
+---@class Scenario_load_args
+---@field name? string for messages, outputs and Frame:set_load (default load1, load2, ...)
+---@field nodes Selection loaded nodes (surface or operational; not interior nonoperational)
+---@field force? number[] total force vector (N)
+---@field normal? number total force along the outward normal (N)
+---@field ramp? Ramp|number dimensionless time profile multiplying the force
+---@field per_node? boolean every node gets the full force
+---A nodal force: `force` is a world vector (its length is the magnitude), or `normal` a magnitude along each node's outward surface normal (negative pushes in); both multiplied by `ramp(t)`. The total is split evenly over the nodes unless per_node is true.
+---@param args Scenario_load_args
+function Scenario:load(args) end
+
+---@class Scenario_probe_args
+---@field name string for messages, outputs and Frame methods
+---@field path Path|number[] tip center over time
+---@field radius? number tip radius (m)
+---@field force? Ramp|number force magnitude over time (drive force) (N)
+---@field direction? number[] force direction (default: into the surface)
+---@field stiffness? number total spring stiffness (drive spring) (N/m)
+---@field start? number in contact from this time (s)
+---@field stop? number until this time (default: the end) (s)
+---A probe: a sphere tip on a path that pokes the surface it touches, with a ramp-driven force (`force`) or a spring of total `stiffness` pushing the contact nodes to the tip's surface.
+---@param args Scenario_probe_args
+function Scenario:probe(args) end
+
+---@class Scenario_grasper_args
+---@field name string for messages, outputs and Frame methods
+---@field path Path|number[] tip center over time
+---@field radius? number jaw radius: nodes within it are grasped (m)
+---@field force? Ramp|number pull magnitude over time (drive force) (N)
+---@field direction? number[] pull direction (default: toward the tip)
+---@field stiffness? number total spring stiffness (drive spring) (N/m)
+---@field start? number closes at the first frame from this time that touches (s)
+---@field stop? number opens at this time (default: never) (s)
+---@field implicit? boolean spring solved exactly within each frame (false: explicit, lags a frame and needs stiffness x compliance < 1)
+---A grasper: closes on the nodes its tip touches at `start`, drags them along its path with a spring of total `stiffness` (or a force toward the tip), opens at `stop`.
+---@param args Scenario_grasper_args
+function Scenario:grasper(args) end
+
+---@class Scenario_output_args
+---@field log? Selection nodes written to displacements.csv (default: the whole surface)
+---@field csv? boolean write displacements.csv
+---@field vtu? boolean write vtu/frame_NNNNNN.vtu and series.pvd
+---@field vtu_every? integer VTU every n-th frame
+---@field render? Render render frames off-screen (camera, size)
+---What the run writes besides summary.json: logged nodes in displacements.csv, ParaView VTU/PVD, rendered frames.
+---@param args Scenario_output_args
+function Scenario:output(args) end
+
+---@class Scenario_solver_args
+---@field tolerance? number relative CG residual
+---@field max_iterations? integer CG iteration cap (0: automatic)
+---@field backend? string operational solver: auto (gpu on a hardware GPU, else cpu), cpu (CG), gpu (compute shaders, also on llvmpipe), direct (CHOLMOD), monolithic (whole mesh, no condensation: a reference)
+---@field gpu_fp64? boolean gpu: fp64 kernels instead of fp32 with fp64 refinement
+---@field mode? string nonoperational data
+---Solver knobs (rarely needed).
+---@param args Scenario_solver_args
+function Scenario:solver(args) end
+
+---@class Scenario_expect_args
+---@field name? string for messages
+---@field at number time of the check (s)
+---@field nodes? Selection node set measured
+---@field measure? string mean: of the mean displacement vector; max: over the nodes, the largest magnitude, or for x/y/z the component largest in absolute value (signed)
+---@field component? string which part of the displacement
+---@field min? number lower bound (m)
+---@field max? number upper bound (m)
+---@field check? function function(frame) -> ok [, message]
+---@field message? string shown when `check` fails
+---A check for `softcut check` (also reported by `softcut run`): bounds on the displacement of a node set at time `at` (the first frame at or after it), or a function(frame) returning true, or false and a message. Failures point at this line.
+---@param args Scenario_expect_args
+function Scenario:expect(args) end
+
+---Calls fn(frame) after every frame: read displacements, move tools, change loads, stop the run. Errors end the run (outputs are kept, summary marks the error).
+---@param fn function function(frame)
+function Scenario:on_frame(fn) end
+
+---Evaluates a selection on the mesh now: sorted 0-based node ids (an error at this line when empty).
+---@param sel Selection selection
+---@return integer[]
+function Scenario:select(sel) end
+
+---Every node used by a tet.
+---@return Selection
+function softcut.select.all() end
+
+---Nodes of the tets with a label.
+---@param label integer mesh label
+---@return Selection
+function softcut.select.label(label) end
+
+---Boundary nodes of the whole body, or of the tets with `label`.
+---@param label integer? mesh label (default: whole body)
+---@return Selection
+function softcut.select.surface(label) end
+
+---@class softcut_select_sphere_args
+---@field center number[] center (m)
+---@field radius number radius (m)
+---Nodes within a ball.
+---@param args softcut_select_sphere_args
+---@return Selection
+function softcut.select.sphere(args) end
+
+---@class softcut_select_box_args
+---@field min number[] lower corner (m)
+---@field max number[] upper corner (m)
+---Nodes in an axis-aligned box (inclusive).
+---@param args softcut_select_box_args
+---@return Selection
+function softcut.select.box(args) end
+
+---@class softcut_select_halfspace_args
+---@field point number[] a point on the plane (m)
+---@field normal number[] points into the half-space (any length > 0)
+---Nodes with (x - point) . normal >= 0.
+---@param args softcut_select_halfspace_args
+---@return Selection
+function softcut.select.halfspace(args) end
+
+---Explicit 0-based node ids (as in the mesh file and the CSV).
+---@param ids integer[] node ids
+---@return Selection
+function softcut.select.nodes(ids) end
+
+---A node set the mesh provides (e.g. "hole" of the tube / upper_leg generator).
+---@param name string set name
+---@return Selection
+function softcut.select.named(name) end
+
+---Nodes in either (also `a + b`).
+---@param other Selection other set
+---@return Selection
+function Selection:union(other) end
+
+---Nodes in both (also `a * b`).
+---@param other Selection other set
+---@return Selection
+function Selection:intersection(other) end
+
+---Nodes in this set and not the other (also `a - b`).
+---@param other Selection other set
+---@return Selection
+function Selection:difference(other) end
+
+---The same value at every time.
+---@param value number value
+---@return Ramp|number
+function softcut.ramp.constant(value) end
+
+---@class softcut_ramp_linear_args
+---@field t0? number start (s)
+---@field t1 number end (> t0) (s)
+---@field from? number value before t0
+---@field to? number value from t1 on
+---`from` until t0, straight line to `to` at t1, then `to`.
+---@param args softcut_ramp_linear_args
+---@return Ramp|number
+function softcut.ramp.linear(args) end
+
+---@class softcut_ramp_smoothstep_args
+---@field t0? number start (s)
+---@field t1 number end (> t0) (s)
+---@field from? number value before t0
+---@field to? number value from t1 on
+---Like linear, with zero slope at both ends (3s^2 - 2s^3).
+---@param args softcut_ramp_smoothstep_args
+---@return Ramp|number
+function softcut.ramp.smoothstep(args) end
+
+---@class softcut_ramp_keyframes_args
+---@field times number[] key times, strictly increasing (s)
+---@field values number[] key values, as many as times
+---Piecewise linear through (times[k], values[k]); held before the first and after the last key.
+---@param args softcut_ramp_keyframes_args
+---@return Ramp|number
+function softcut.ramp.keyframes(args) end
+
+---@class softcut_ramp_sine_args
+---@field amplitude number amplitude
+---@field frequency number frequency (Hz)
+---@field phase? number phase (rad)
+---@field offset? number mean value
+---@field t0? number start (s)
+---offset + amplitude * sin(2 pi frequency (t - t0) + phase) from t0; offset before.
+---@param args softcut_ramp_sine_args
+---@return Ramp|number
+function softcut.ramp.sine(args) end
+
+---Value at time t (the engine's evaluation).
+---@param t number time (s)
+---@return number
+function Ramp:at(t) end
+
+---A tool that stays at one point.
+---@param point number[] position (m)
+---@return Path|number[]
+function softcut.path.fixed(point) end
+
+---@class softcut_path_polyline_args
+---@field times number[] key times, strictly increasing (s)
+---@field points number[][] key points, as many as times (m)
+---Straight segments between keyed points, constant speed on each; held before the first and after the last key.
+---@param args softcut_path_polyline_args
+---@return Path|number[]
+function softcut.path.polyline(args) end
+
+---@class softcut_path_catmull_rom_args
+---@field times number[] key times, strictly increasing (s)
+---@field points number[][] key points, as many as times (m)
+---A C1 curve through every keyed point at its time.
+---@param args softcut_path_catmull_rom_args
+---@return Path|number[]
+function softcut.path.catmull_rom(args) end
+
+---@class softcut_path_arc_args
+---@field center number[] a point on the rotation axis (m)
+---@field axis? number[] rotation axis (right-hand rule; any length > 0)
+---@field start number[] position at t0 (m)
+---@field sweep number total angle (rad)
+---@field t0? number start time (s)
+---@field t1 number end time (> t0) (s)
+---`start` rotated about the axis through `center` by an angle growing linearly from 0 at t0 to `sweep` at t1.
+---@param args softcut_path_arc_args
+---@return Path|number[]
+function softcut.path.arc(args) end
+
+---Position at time t (the engine's evaluation).
+---@param t number time (s)
+---@return number[]
+function Path:at(t) end
+
+---a + b.
+---@param a number[] 
+---@param b number[] 
+---@return number[]
+function softcut.vec.add(a, b) end
+
+---a - b.
+---@param a number[] 
+---@param b number[] 
+---@return number[]
+function softcut.vec.sub(a, b) end
+
+---k a.
+---@param a number[] 
+---@param k number 
+---@return number[]
+function softcut.vec.scale(a, k) end
+
+---a . b.
+---@param a number[] 
+---@param b number[] 
+---@return number
+function softcut.vec.dot(a, b) end
+
+---a x b.
+---@param a number[] 
+---@param b number[] 
+---@return number[]
+function softcut.vec.cross(a, b) end
+
+---|a|.
+---@param a number[] 
+---@return number
+function softcut.vec.length(a) end
+
+---a + s (b - a).
+---@param a number[] 
+---@param b number[] 
+---@param s number 
+---@return number[]
+function softcut.vec.lerp(a, b, s) end
+
+---Displacement of a node (0-based id) this frame.
+---@param node integer node id
+---@return number[]
+function Frame:displacement(node) end
+
+---Deformed position of a node this frame.
+---@param node integer node id
+---@return number[]
+function Frame:position(node) end
+
+---Mean displacement vector of a node set.
+---@param nodes Selection node set
+---@return number[]
+function Frame:mean_displacement(nodes) end
+
+---Largest displacement magnitude over a node set.
+---@param nodes Selection node set
+---@return number
+function Frame:max_displacement(nodes) end
+
+---A tool's state: tip (m), engaged, num_nodes, force (N, total).
+---@param name string tool name
+---@return table
+function Frame:tool(name) end
+
+---Places a tool's tip for the next frames (overrides its path); nil returns it to the path.
+---@param name string tool name
+---@param point number[]? tip position (m)
+function Frame:move_tool(name, point) end
+
+---Switches a tool on or off (a grasper lets go when off).
+---@param name string tool name
+---@param on boolean on
+function Frame:enable_tool(name, on) end
+
+---@class Frame_set_load_args
+---@field scale? number multiplies the load's force
+---@field enabled? boolean on or off
+---Changes a load from the next frame: scale multiplies its ramp, enabled switches it.
+---@param name string load name
+---@param args Frame_set_load_args
+function Frame:set_load(name, args) end
+
+---Ends the run after this frame (summary: stopped).
+function Frame:stop() end

@@ -1,0 +1,94 @@
+#include "cli/run_support.hpp"
+
+#include <csignal>
+#include <cstdio>
+
+#include "core/error.hpp"
+
+namespace softcut::cli {
+
+void add_override(std::map<std::string, std::string>& overrides, const std::string& pair) {
+  const auto eq = pair.find('=');
+  if (eq == std::string::npos || eq == 0)
+    fail("--set ", pair, ": expected key=value (e.g. --set force=0.5)");
+  overrides[pair.substr(0, eq)] = pair.substr(eq + 1);
+}
+
+std::string parse_backend(const std::string& text) {
+  for (const char* b : {"auto", "cpu", "gpu", "direct", "monolithic"})
+    if (text == b) return text;
+  fail("--backend ", text, ": expected auto, cpu, gpu, direct or monolithic");
+}
+
+int parse_count(const std::string& text, const char* option) {
+  size_t used = 0;
+  long v = -1;
+  try {
+    v = std::stol(text, &used);
+  } catch (...) {
+    used = 0;
+  }
+  if (used != text.size() || v < 0 || v > 100000000) fail(option, " ", text, ": expected a whole number >= 0");
+  return int(v);
+}
+
+void Progress::update(int frame, int num_frames, double elapsed_s) {
+  if (mode_ == Mode::quiet || num_frames <= 0) return;
+  const int done = frame + 1;
+  const double eta = done > 0 ? elapsed_s * (num_frames - done) / done : 0.0;
+  if (mode_ == Mode::bar) {
+    if (done < num_frames && last_draw_s_ >= 0 && elapsed_s - last_draw_s_ < 0.1) return;
+    last_draw_s_ = elapsed_s;
+    constexpr int kWidth = 30;
+    const int fill = int(double(kWidth) * done / num_frames);
+    std::fprintf(stderr, "\r[%.*s%*s] %d/%d frames  %.1f s  ETA %.1f s ", fill,
+                 "##############################", kWidth - fill, "", done, num_frames, elapsed_s, eta);
+    std::fflush(stderr);
+    drawn_ = true;
+  } else {
+    const int decile = 10 * done / num_frames;
+    if (decile != last_decile_) {
+      last_decile_ = decile;
+      std::fprintf(stderr, "frame %d/%d (%d%%), %.1f s elapsed, ETA %.1f s\n", done, num_frames,
+                   100 * done / num_frames, elapsed_s, eta);
+    }
+  }
+}
+
+void Progress::done() {
+  if (drawn_) std::fputc('\n', stderr);
+  drawn_ = false;
+}
+
+namespace {
+struct sigaction g_old_int, g_old_term;
+// First signal: finish the frame and stop cleanly. Second: the default action
+// (e.g. a script stuck in Lua under --trust).
+extern "C" void on_signal(int sig) {
+  if (SignalGuard::flag().exchange(true)) {
+    std::signal(sig, SIG_DFL);
+    std::raise(sig);
+  }
+}
+}  // namespace
+
+std::atomic<bool>& SignalGuard::flag() {
+  static std::atomic<bool> f{false};
+  return f;
+}
+
+SignalGuard::SignalGuard() {
+  flag().store(false);
+  struct sigaction sa {};
+  sa.sa_handler = on_signal;
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGINT, &sa, &g_old_int);
+  sigaction(SIGTERM, &sa, &g_old_term);
+}
+
+SignalGuard::~SignalGuard() {
+  sigaction(SIGINT, &g_old_int, nullptr);
+  sigaction(SIGTERM, &g_old_term, nullptr);
+}
+
+}  // namespace softcut::cli

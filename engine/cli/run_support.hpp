@@ -1,0 +1,44 @@
+#pragma once
+// Pieces shared by `softcut run` and `softcut check`: --set parsing, the
+// progress display, and the SIGINT/SIGTERM flag the frame loop polls.
+#include <atomic>
+#include <map>
+#include <string>
+
+namespace softcut::cli {
+
+// "key=value" -> overrides[key] = value; throws on a malformed pair.
+void add_override(std::map<std::string, std::string>& overrides, const std::string& pair);
+// --backend value: auto|cpu|gpu|direct|monolithic, else throws listing them.
+std::string parse_backend(const std::string& text);
+// A non-negative integer option value; throws naming the option.
+int parse_count(const std::string& text, const char* option);
+
+// Progress of a run on stderr: a bar with ETA on a terminal, a plain line
+// about every 10% otherwise, nothing when quiet.
+class Progress {
+ public:
+  enum class Mode { quiet, bar, lines };
+  explicit Progress(Mode m) : mode_(m) {}
+  void update(int frame, int num_frames, double elapsed_s);
+  void done();  // ends the bar's line
+
+ private:
+  Mode mode_;
+  int last_decile_ = -1;
+  double last_draw_s_ = -1.0;  // bar: redrawn at most every 0.1 s (and at the end)
+  bool drawn_ = false;
+};
+
+// Installs SIGINT/SIGTERM handlers that set flag() while it lives; restores
+// the previous handlers on destruction.
+class SignalGuard {
+ public:
+  SignalGuard();
+  ~SignalGuard();
+  SignalGuard(const SignalGuard&) = delete;
+  SignalGuard& operator=(const SignalGuard&) = delete;
+  static std::atomic<bool>& flag();
+};
+
+}  // namespace softcut::cli

@@ -1,0 +1,325 @@
+-- The scenario API as data: every public function with its fields, types,
+-- units, ranges, docs and an example. check.lua checks arguments against it;
+-- docs.lua renders docs/lua-api.md and docs/softcut.d.lua from it (tests
+-- compare both files with the rendering). Units are SI: m, s, N, Pa, Hz, rad.
+local function F(name, type, doc, opt)
+  local f = { name = name, type = type, doc = doc }
+  for k, v in pairs(opt or {}) do f[k] = v end
+  return f
+end
+
+local region_fields = {
+  F("label", "integer", "tets with this mesh label"),
+  F("sphere", "Sphere", "tets whose centroid lies in the sphere"),
+  F("box", "Box", "tets whose centroid lies in the axis-aligned box"),
+  F("halfspace", "HalfSpace", "tets whose centroid lies on the normal's side of the plane"),
+  F("tets", "integer[]", "explicit 0-based tet ids", { ge = 0 }),
+}
+
+local function with(list, ...)
+  local out = {}
+  for _, f in ipairs(list) do out[#out + 1] = f end
+  for _, f in ipairs({ ... }) do out[#out + 1] = f end
+  return out
+end
+
+local api = {}
+
+-- Plain tables used as field values (checked recursively).
+api.structs = {
+  { name = "Sphere", summary = "A ball.", fields = {
+      F("center", "vec3", "center", { unit = "m", required = true }),
+      F("radius", "number", "radius", { unit = "m", gt = 0, required = true }) } },
+  { name = "Box", summary = "An axis-aligned box, bounds inclusive.", fields = {
+      F("min", "vec3", "lower corner", { unit = "m", required = true }),
+      F("max", "vec3", "upper corner", { unit = "m", required = true }) } },
+  { name = "HalfSpace", summary = "Points x with (x - point) . normal >= 0.", fields = {
+      F("point", "vec3", "a point on the plane", { unit = "m", required = true }),
+      F("normal", "vec3", "points into the half-space (any length > 0)", { required = true }) } },
+  { name = "Render", summary = "Off-screen frames written as PNG under DIR/frames/. Without eye/target the camera "
+      .. "looks at the mesh's centre from azimuth/elevation, just far enough to see all of it.", fields = {
+      F("width", "integer", "image width", { unit = "px", ge = 16, le = 8192, default = 1280 }),
+      F("height", "integer", "image height", { unit = "px", ge = 16, le = 8192, default = 720 }),
+      F("azimuth", "number", "automatic camera: angle about `up`", { unit = "deg", default = -60 }),
+      F("elevation", "number", "automatic camera: angle above the horizontal", { unit = "deg", ge = -90, le = 90, default = 25 }),
+      F("orbit", "number", "automatic camera: azimuth rate (turntable; 0: still)", { unit = "deg/s", default = 0 }),
+      F("eye", "vec3", "camera position (with target: a fixed camera)", { unit = "m" }),
+      F("target", "vec3", "point looked at", { unit = "m" }),
+      F("up", "vec3", "camera up direction", { default = { 0, 0, 1 } }),
+      F("fov", "number", "vertical field of view", { unit = "deg", gt = 1, lt = 179, default = 30 }),
+      F("every", "integer", "render every n-th frame", { ge = 1, default = 1 }),
+      F("wireframe", "boolean", "draw tet edges", { default = false }),
+      F("show_interface", "boolean", "draw the interface nodes", { default = true }),
+      F("show_forces", "boolean", "draw manipulated nodes and their force lines", { default = true }),
+      F("background", "vec3", "RGB in [0, 1]", { default = { 0.2, 0.22, 0.26 } }) } },
+}
+
+api.functions = {
+  { name = "softcut.params", summary = "Declares the scenario's parameters with their defaults; "
+      .. "`softcut run --set key=value` overrides them (the value is converted to the default's type). "
+      .. "Returns the table of effective values.", free_fields = "number, boolean or string defaults",
+    returns = "table", fields = {},
+    example = 'local P = softcut.params{ force = 0.8, depth = 0.004, label = "poke" }' },
+  { name = "softcut.scenario", summary = "Starts a scenario: its name, timeline and reference tolerance. "
+      .. "The script returns the Scenario (or the last one created is used).", returns = "Scenario", fields = {
+      F("name", "string", "output folder name renders/<name>/ (default: the file name without .lua)"),
+      F("duration", "number", "simulated time; frames at t = 0, 1/fps, ..., duration", { unit = "s", ge = 0, required = true }),
+      F("fps", "number", "frame rate", { unit = "Hz", gt = 0, le = 10000, default = 30 }),
+      F("tolerance", "number", "`softcut check`: max |u - u_ref| allowed, relative to max |u_ref| of the reference log",
+        { gt = 0, lt = 1, default = 1e-6 }),
+      F("description", "string", "one line for the summary and `softcut check`") },
+    example = 'local s = softcut.scenario{ name = "liver_retraction", duration = 2.0, fps = 30 }' },
+
+  { name = "Scenario:mesh", summary = "Loads or generates the rest mesh (call first). Returns a Mesh "
+      .. "table: num_nodes, num_tets, labels (sorted list), min, max, center, size (m), sets (names of the "
+      .. "mesh's node sets), surface_nodes (sorted 0-based ids).",
+    returns = "Mesh", one_of = { { "file", "generate" } }, fields = {
+      F("file", "string", "mesh file relative to the scenario (.msh, .node/.ele, .mesh, .vtk, .vtu)"),
+      F("generate", "string", "generator name", { values = { "box", "cylinder", "tube", "band", "ligament", "upper_leg" } }),
+      F("options", "table", "generator options by name: numbers, or 3-vectors for corners/centers") },
+    example = 's:mesh{ generate = "box", options = { min = {0, 0, 0}, max = {0.1, 0.04, 0.04}, nx = 10, ny = 4, nz = 4 } }' },
+  { name = "Scenario:material", summary = "Assigns a material to a set of tets (all tets when no region "
+      .. "field is given); later calls override earlier ones. Give a tissue preset, E and nu, or both "
+      .. "(explicit values override the preset's).", at_most_one_of = { { "label", "sphere", "box", "halfspace", "tets" } },
+    fields = with(region_fields,
+      F("name", "string", "for messages"),
+      F("tissue", "string", "preset name from softcut.tissues"),
+      F("young", "number", "Young's modulus E", { unit = "Pa", gt = 0, why = "E must be positive" }),
+      F("poisson", "number", "Poisson's ratio nu", { gt = -1, lt = 0.5,
+        why = "nu -> 0.5 is incompressible, which linear tets cannot represent" })),
+    example = 's:material{ label = 2, tissue = "liver" }\ns:material{ sphere = { center = {0, 0, 0}, radius = 0.01 }, young = 2e4, poisson = 0.45 }' },
+  { name = "Scenario:operational", summary = "Chooses the operational region (the part that can be cut and "
+      .. "is solved every frame by CG; the rest is condensed). Default: none (everything condensed).",
+    one_of = { { "label", "sphere", "box", "halfspace", "tets" } }, fields = region_fields,
+    example = 's:operational{ sphere = { center = {0.05, 0.02, 0.04}, radius = 0.015 } }' },
+  { name = "Scenario:fix", summary = "Fixes nodes (zero displacement). Several calls add up.",
+    fields = { F("nodes", "Selection", "nodes to fix", { required = true }) },
+    example = 's:fix{ nodes = softcut.select.halfspace{ point = {0, 0, 0}, normal = {-1, 0, 0} } }' },
+  { name = "Scenario:load", summary = "A nodal force: `force` is a world vector (its length is the "
+      .. "magnitude), or `normal` a magnitude along each node's outward surface normal (negative pushes in); "
+      .. "both multiplied by `ramp(t)`. The total is split evenly over the nodes unless per_node is true.",
+    one_of = { { "force", "normal" } }, fields = {
+      F("name", "string", "for messages, outputs and Frame:set_load (default load1, load2, ...)"),
+      F("nodes", "Selection", "loaded nodes (surface or operational; not interior nonoperational)", { required = true }),
+      F("force", "vec3", "total force vector", { unit = "N" }),
+      F("normal", "number", "total force along the outward normal", { unit = "N" }),
+      F("ramp", "Ramp", "dimensionless time profile multiplying the force", { default = 1 }),
+      F("per_node", "boolean", "every node gets the full force", { default = false }) },
+    example = 's:load{ name = "press", nodes = softcut.select.sphere{ center = {0.05, 0.02, 0.04}, radius = 0.006 },\n        normal = -0.5, ramp = softcut.ramp.smoothstep{ t0 = 0, t1 = 1 } }' },
+  { name = "Scenario:probe", summary = "A probe: a sphere tip on a path that pokes the surface it touches, "
+      .. "with a ramp-driven force (`force`) or a spring of total `stiffness` pushing the contact nodes "
+      .. "to the tip's surface.", one_of = { { "force", "stiffness" } }, fields = {
+      F("name", "string", "for messages, outputs and Frame methods", { required = true }),
+      F("path", "Path", "tip center over time", { required = true }),
+      F("radius", "number", "tip radius", { unit = "m", gt = 0, default = 0.005 }),
+      F("force", "Ramp", "force magnitude over time (drive force)", { unit = "N" }),
+      F("direction", "vec3", "force direction (default: into the surface)"),
+      F("stiffness", "number", "total spring stiffness (drive spring)", { unit = "N/m", gt = 0 }),
+      F("start", "number", "in contact from this time", { unit = "s", ge = 0, default = 0 }),
+      F("stop", "number", "until this time (default: the end)", { unit = "s", ge = 0 }) },
+    example = 's:probe{ name = "tip", path = softcut.path.polyline{ times = {0, 1}, points = {{0.05, 0.02, 0.05}, {0.05, 0.02, 0.04}} },\n         radius = 0.004, stiffness = 200 }' },
+  { name = "Scenario:grasper", summary = "A grasper: closes on the nodes its tip touches at `start`, drags "
+      .. "them along its path with a spring of total `stiffness` (or a force toward the tip), opens at `stop`.",
+    one_of = { { "force", "stiffness" } }, fields = {
+      F("name", "string", "for messages, outputs and Frame methods", { required = true }),
+      F("path", "Path", "tip center over time", { required = true }),
+      F("radius", "number", "jaw radius: nodes within it are grasped", { unit = "m", gt = 0, default = 0.005 }),
+      F("force", "Ramp", "pull magnitude over time (drive force)", { unit = "N" }),
+      F("direction", "vec3", "pull direction (default: toward the tip)"),
+      F("stiffness", "number", "total spring stiffness (drive spring)", { unit = "N/m", gt = 0 }),
+      F("start", "number", "closes at the first frame from this time that touches", { unit = "s", ge = 0, default = 0 }),
+      F("stop", "number", "opens at this time (default: never)", { unit = "s", ge = 0 }),
+      F("implicit", "boolean", "spring solved exactly within each frame (false: explicit, lags a frame and "
+        .. "needs stiffness x compliance < 1)", { default = true }) },
+    example = 's:grasper{ name = "jaw", path = softcut.path.catmull_rom{ times = {0, 1, 2}, points = {{0, 0, 0.03}, {0, 0, 0.045}, {0.01, 0, 0.05}} },\n           stiffness = 400 }' },
+  { name = "Scenario:output", summary = "What the run writes besides summary.json: logged nodes in "
+      .. "displacements.csv, ParaView VTU/PVD, rendered frames.", fields = {
+      F("log", "Selection", "nodes written to displacements.csv (default: the whole surface)"),
+      F("csv", "boolean", "write displacements.csv", { default = true }),
+      F("vtu", "boolean", "write vtu/frame_NNNNNN.vtu and series.pvd", { default = false }),
+      F("vtu_every", "integer", "VTU every n-th frame", { ge = 1, default = 1 }),
+      F("render", "Render", "render frames off-screen (camera, size)") },
+    example = 's:output{ log = softcut.select.surface(), vtu = true, render = { width = 640, height = 480 } }' },
+  { name = "Scenario:solver", summary = "Solver knobs (rarely needed).", fields = {
+      F("tolerance", "number", "relative CG residual", { gt = 0, lt = 1, default = 1e-10 }),
+      F("max_iterations", "integer", "CG iteration cap (0: automatic)", { ge = 0, default = 0 }),
+      F("backend", "string", "operational solver: auto (gpu on a hardware GPU, else cpu), cpu (CG), gpu (compute "
+        .. "shaders, also on llvmpipe), direct (CHOLMOD), monolithic (whole mesh, no condensation: a reference)",
+        { values = { "auto", "cpu", "gpu", "direct", "monolithic" }, default = "auto" }),
+      F("gpu_fp64", "boolean", "gpu: fp64 kernels instead of fp32 with fp64 refinement", { default = false }),
+      F("mode", "string", "nonoperational data", { values = { "auto", "dense", "factor" }, default = "auto" }) },
+    example = 's:solver{ backend = "cpu" }' },
+  { name = "Scenario:expect", summary = "A check for `softcut check` (also reported by `softcut run`): "
+      .. "bounds on the displacement of a node set at time `at` (the first frame at or after it), or a "
+      .. "function(frame) returning true, or false and a message. Failures point at this line.",
+    one_of = { { "nodes", "check" } }, fields = {
+      F("name", "string", "for messages"),
+      F("at", "number", "time of the check", { unit = "s", ge = 0, required = true }),
+      F("nodes", "Selection", "node set measured"),
+      F("measure", "string", "mean: of the mean displacement vector; max: over the nodes, the largest magnitude, or for x/y/z the component largest in absolute value (signed)",
+        { values = { "mean", "max" }, default = "mean" }),
+      F("component", "string", "which part of the displacement", { values = { "magnitude", "x", "y", "z" }, default = "magnitude" }),
+      F("min", "number", "lower bound", { unit = "m" }),
+      F("max", "number", "upper bound", { unit = "m" }),
+      F("check", "function", "function(frame) -> ok [, message]"),
+      F("message", "string", "shown when `check` fails") },
+    example = 's:expect{ at = 1.0, nodes = tip_nodes, component = "z", min = -0.006, max = -0.002 }\ns:expect{ at = 2.0, check = function(f) return f:tool("jaw").engaged end, message = "grasper let go" }' },
+  { name = "Scenario:on_frame", summary = "Calls fn(frame) after every frame: read displacements, move "
+      .. "tools, change loads, stop the run. Errors end the run (outputs are kept, summary marks the error).",
+    positional = { F("fn", "function", "function(frame)", { required = true }) }, fields = {},
+    example = 's:on_frame(function(f)\n  if f:max_displacement(tip) > 0.01 then f:stop() end\nend)' },
+  { name = "Scenario:select", summary = "Evaluates a selection on the mesh now: sorted 0-based node ids "
+      .. "(an error at this line when empty).", positional = { F("sel", "Selection", "selection", { required = true }) },
+    fields = {}, returns = "integer[]", example = 'local ids = s:select(softcut.select.label(2))' },
+
+  { name = "softcut.select.all", summary = "Every node used by a tet.", positional = {}, fields = {}, returns = "Selection",
+    example = "softcut.select.all()" },
+  { name = "softcut.select.label", summary = "Nodes of the tets with a label.",
+    positional = { F("label", "integer", "mesh label", { required = true }) }, fields = {}, returns = "Selection",
+    example = "softcut.select.label(2)" },
+  { name = "softcut.select.surface", summary = "Boundary nodes of the whole body, or of the tets with `label`.",
+    positional = { F("label", "integer", "mesh label (default: whole body)") }, fields = {}, returns = "Selection",
+    example = "softcut.select.surface()" },
+  { name = "softcut.select.sphere", summary = "Nodes within a ball.", fields = api.structs[1].fields,
+    returns = "Selection", example = "softcut.select.sphere{ center = {0, 0, 0.03}, radius = 0.005 }" },
+  { name = "softcut.select.box", summary = "Nodes in an axis-aligned box (inclusive).", fields = api.structs[2].fields,
+    returns = "Selection", example = "softcut.select.box{ min = {0, 0, 0}, max = {0.001, 0.04, 0.04} }" },
+  { name = "softcut.select.halfspace", summary = "Nodes with (x - point) . normal >= 0.", fields = api.structs[3].fields,
+    returns = "Selection", example = "softcut.select.halfspace{ point = {0, 0, 0}, normal = {-1, 0, 0} }" },
+  { name = "softcut.select.nodes", summary = "Explicit 0-based node ids (as in the mesh file and the CSV).",
+    positional = { F("ids", "integer[]", "node ids", { required = true, ge = 0 }) }, fields = {}, returns = "Selection",
+    example = "softcut.select.nodes{ 0, 5, 17 }" },
+  { name = "softcut.select.named", summary = "A node set the mesh provides (e.g. \"hole\" of the tube / upper_leg generator).",
+    positional = { F("name", "string", "set name", { required = true }) }, fields = {}, returns = "Selection",
+    example = 'softcut.select.named("hole")' },
+  { name = "Selection:union", summary = "Nodes in either (also `a + b`).",
+    positional = { F("other", "Selection", "other set", { required = true }) }, fields = {}, returns = "Selection",
+    example = "a + b" },
+  { name = "Selection:intersection", summary = "Nodes in both (also `a * b`).",
+    positional = { F("other", "Selection", "other set", { required = true }) }, fields = {}, returns = "Selection",
+    example = "softcut.select.surface() * softcut.select.label(2)" },
+  { name = "Selection:difference", summary = "Nodes in this set and not the other (also `a - b`).",
+    positional = { F("other", "Selection", "other set", { required = true }) }, fields = {}, returns = "Selection",
+    example = "softcut.select.all() - softcut.select.named(\"hole\")" },
+
+  { name = "softcut.ramp.constant", summary = "The same value at every time.",
+    positional = { F("value", "number", "value", { required = true }) }, fields = {}, returns = "Ramp",
+    example = "softcut.ramp.constant(0.5)" },
+  { name = "softcut.ramp.linear", summary = "`from` until t0, straight line to `to` at t1, then `to`.", fields = {
+      F("t0", "number", "start", { unit = "s", default = 0 }),
+      F("t1", "number", "end (> t0)", { unit = "s", required = true }),
+      F("from", "number", "value before t0", { default = 0 }),
+      F("to", "number", "value from t1 on", { default = 1 }) }, returns = "Ramp",
+    example = "softcut.ramp.linear{ t0 = 0, t1 = 1 }" },
+  { name = "softcut.ramp.smoothstep", summary = "Like linear, with zero slope at both ends (3s^2 - 2s^3).", fields = {
+      F("t0", "number", "start", { unit = "s", default = 0 }),
+      F("t1", "number", "end (> t0)", { unit = "s", required = true }),
+      F("from", "number", "value before t0", { default = 0 }),
+      F("to", "number", "value from t1 on", { default = 1 }) }, returns = "Ramp",
+    example = "softcut.ramp.smoothstep{ t0 = 0.2, t1 = 1.2, to = 1 }" },
+  { name = "softcut.ramp.keyframes", summary = "Piecewise linear through (times[k], values[k]); held before the first and after the last key.",
+    fields = {
+      F("times", "number[]", "key times, strictly increasing", { unit = "s", required = true }),
+      F("values", "number[]", "key values, as many as times", { required = true }) }, returns = "Ramp",
+    example = "softcut.ramp.keyframes{ times = {0, 0.5, 1.5, 2}, values = {0, 1, 1, 0} }" },
+  { name = "softcut.ramp.sine", summary = "offset + amplitude * sin(2 pi frequency (t - t0) + phase) from t0; offset before.", fields = {
+      F("amplitude", "number", "amplitude", { required = true }),
+      F("frequency", "number", "frequency", { unit = "Hz", ge = 0, required = true }),
+      F("phase", "number", "phase", { unit = "rad", default = 0 }),
+      F("offset", "number", "mean value", { default = 0 }),
+      F("t0", "number", "start", { unit = "s", default = 0 }) }, returns = "Ramp",
+    example = "softcut.ramp.sine{ amplitude = 0.5, offset = 0.5, frequency = 2 }" },
+  { name = "Ramp:at", summary = "Value at time t (the engine's evaluation).",
+    positional = { F("t", "number", "time", { unit = "s", required = true }) }, fields = {}, returns = "number",
+    example = "softcut.ramp.linear{ t1 = 2 }:at(1) --> 0.5" },
+
+  { name = "softcut.path.fixed", summary = "A tool that stays at one point.",
+    positional = { F("point", "vec3", "position", { unit = "m", required = true }) }, fields = {}, returns = "Path",
+    example = "softcut.path.fixed{ 0, 0, 0.05 }" },
+  { name = "softcut.path.polyline", summary = "Straight segments between keyed points, constant speed on each; held before the first and after the last key.",
+    fields = {
+      F("times", "number[]", "key times, strictly increasing", { unit = "s", required = true }),
+      F("points", "vec3[]", "key points, as many as times", { unit = "m", required = true }) }, returns = "Path",
+    example = "softcut.path.polyline{ times = {0, 1, 2}, points = {{0, 0, 0.05}, {0, 0, 0.04}, {0.01, 0, 0.04}} }" },
+  { name = "softcut.path.catmull_rom", summary = "A C1 curve through every keyed point at its time.", fields = {
+      F("times", "number[]", "key times, strictly increasing", { unit = "s", required = true }),
+      F("points", "vec3[]", "key points, as many as times", { unit = "m", required = true }) }, returns = "Path",
+    example = "softcut.path.catmull_rom{ times = {0, 1, 2}, points = {{0, 0, 0.05}, {0.01, 0, 0.045}, {0.02, 0, 0.05}} }" },
+  { name = "softcut.path.arc", summary = "`start` rotated about the axis through `center` by an angle growing linearly from 0 at t0 to `sweep` at t1.",
+    fields = {
+      F("center", "vec3", "a point on the rotation axis", { unit = "m", required = true }),
+      F("axis", "vec3", "rotation axis (right-hand rule; any length > 0)", { default = { 0, 0, 1 } }),
+      F("start", "vec3", "position at t0", { unit = "m", required = true }),
+      F("sweep", "number", "total angle", { unit = "rad", required = true }),
+      F("t0", "number", "start time", { unit = "s", default = 0 }),
+      F("t1", "number", "end time (> t0)", { unit = "s", required = true }) }, returns = "Path",
+    example = "softcut.path.arc{ center = {0, 0, 0}, start = {0.03, 0, 0.02}, sweep = math.pi / 2, t1 = 2 }" },
+  { name = "Path:at", summary = "Position at time t (the engine's evaluation).",
+    positional = { F("t", "number", "time", { unit = "s", required = true }) }, fields = {}, returns = "vec3",
+    example = "local p = path:at(0.5)" },
+
+  { name = "softcut.vec.add", summary = "a + b.", positional = { F("a", "vec3", "", { required = true }), F("b", "vec3", "", { required = true }) },
+    fields = {}, returns = "vec3", example = "softcut.vec.add({1, 0, 0}, {0, 1, 0})" },
+  { name = "softcut.vec.sub", summary = "a - b.", positional = { F("a", "vec3", "", { required = true }), F("b", "vec3", "", { required = true }) },
+    fields = {}, returns = "vec3", example = "softcut.vec.sub(m.max, m.min)" },
+  { name = "softcut.vec.scale", summary = "k a.", positional = { F("a", "vec3", "", { required = true }), F("k", "number", "", { required = true }) },
+    fields = {}, returns = "vec3", example = "softcut.vec.scale({1, 2, 3}, 0.5)" },
+  { name = "softcut.vec.dot", summary = "a . b.", positional = { F("a", "vec3", "", { required = true }), F("b", "vec3", "", { required = true }) },
+    fields = {}, returns = "number", example = "softcut.vec.dot(u, {0, 0, 1})" },
+  { name = "softcut.vec.cross", summary = "a x b.", positional = { F("a", "vec3", "", { required = true }), F("b", "vec3", "", { required = true }) },
+    fields = {}, returns = "vec3", example = "softcut.vec.cross({1, 0, 0}, {0, 1, 0})" },
+  { name = "softcut.vec.length", summary = "|a|.", positional = { F("a", "vec3", "", { required = true }) },
+    fields = {}, returns = "number", example = "softcut.vec.length(f:displacement(12))" },
+  { name = "softcut.vec.lerp", summary = "a + s (b - a).", positional = { F("a", "vec3", "", { required = true }),
+      F("b", "vec3", "", { required = true }), F("s", "number", "", { required = true }) },
+    fields = {}, returns = "vec3", example = "softcut.vec.lerp(m.min, m.max, 0.5)" },
+
+  { name = "Frame:displacement", summary = "Displacement of a node (0-based id) this frame.",
+    positional = { F("node", "integer", "node id", { required = true, ge = 0 }) }, fields = {}, returns = "vec3",
+    example = "local u = f:displacement(42)" },
+  { name = "Frame:position", summary = "Deformed position of a node this frame.",
+    positional = { F("node", "integer", "node id", { required = true, ge = 0 }) }, fields = {}, returns = "vec3",
+    example = "local x = f:position(42)" },
+  { name = "Frame:mean_displacement", summary = "Mean displacement vector of a node set.",
+    positional = { F("nodes", "Selection", "node set", { required = true }) }, fields = {}, returns = "vec3",
+    example = "local u = f:mean_displacement(tip)" },
+  { name = "Frame:max_displacement", summary = "Largest displacement magnitude over a node set.",
+    positional = { F("nodes", "Selection", "node set", { required = true }) }, fields = {}, returns = "number",
+    example = "if f:max_displacement(softcut.select.all()) > 0.02 then f:stop() end" },
+  { name = "Frame:tool", summary = "A tool's state: tip (m), engaged, num_nodes, force (N, total).",
+    positional = { F("name", "string", "tool name", { required = true }) }, fields = {}, returns = "table",
+    example = "local jaw = f:tool(\"jaw\")" },
+  { name = "Frame:move_tool", summary = "Places a tool's tip for the next frames (overrides its path); nil returns it to the path.",
+    positional = { F("name", "string", "tool name", { required = true }), F("point", "vec3", "tip position", { unit = "m" }) },
+    fields = {}, example = "f:move_tool(\"tip\", { 0.05, 0.02, 0.045 })" },
+  { name = "Frame:enable_tool", summary = "Switches a tool on or off (a grasper lets go when off).",
+    positional = { F("name", "string", "tool name", { required = true }), F("on", "boolean", "on", { required = true }) },
+    fields = {}, example = "f:enable_tool(\"jaw\", false)" },
+  { name = "Frame:set_load", summary = "Changes a load from the next frame: scale multiplies its ramp, enabled switches it.",
+    positional = { F("name", "string", "load name", { required = true }) }, fields = {
+      F("scale", "number", "multiplies the load's force"),
+      F("enabled", "boolean", "on or off") },
+    example = "f:set_load(\"press\", { scale = 2 })" },
+  { name = "Frame:stop", summary = "Ends the run after this frame (summary: stopped).", positional = {}, fields = {},
+    example = "f:stop()" },
+}
+
+-- Lookup by qualified name, with the short name used in messages
+-- ("Scenario:material" -> "material", "softcut.select.box" -> "select.box").
+api.by_name = {}
+for i, list in ipairs({ api.functions, api.structs }) do
+  for _, f in ipairs(list) do
+    f.is_struct = (i == 2)
+    f.short = f.name:gsub("^softcut%.", ""):gsub("^%u%w*:", "")
+    api.by_name[f.name] = f
+  end
+end
+
+-- Values (not functions) of the library, documented too.
+api.values = {
+  { name = "softcut.tissues", summary = "Tissue presets: name -> { young = Pa, poisson, source }. "
+      .. "Plausible linear stand-ins; values vary 2-10x between studies." },
+  { name = "softcut.version", summary = "Engine version string." },
+}
+
+return api

@@ -1,0 +1,269 @@
+#include "convert.hpp"
+
+#include <lua.hpp>
+
+#include <cmath>
+
+#include "core/error.hpp"
+
+namespace softcut::lua {
+
+namespace {
+
+// Pushes t[key] (raw: the tables are plain data) and returns its type.
+int field(lua_State* L, int idx, const char* key) {
+  idx = lua_absindex(L, idx);
+  lua_pushstring(L, key);
+  return lua_rawget(L, idx);
+}
+
+struct Pop {
+  lua_State* L;
+  int n;
+  ~Pop() { lua_pop(L, n); }
+};
+
+}  // namespace
+
+bool has_field(lua_State* L, int idx, const char* key) {
+  const bool r = field(L, idx, key) != LUA_TNIL;
+  lua_pop(L, 1);
+  return r;
+}
+
+double get_number(lua_State* L, int idx, const char* key, double fallback) {
+  Pop p{L, 1};
+  const int t = field(L, idx, key);
+  if (t == LUA_TNIL) return fallback;
+  if (t != LUA_TNUMBER) fail("field '", key, "' must be a number, got ", lua_typename(L, t));
+  return lua_tonumber(L, -1);
+}
+
+int get_int(lua_State* L, int idx, const char* key, int fallback) {
+  const double d = get_number(L, idx, key, fallback);
+  if (d != std::floor(d) || std::abs(d) > 2e9) fail("field '", key, "' must be an integer, got ", d);
+  return int(d);
+}
+
+bool get_bool(lua_State* L, int idx, const char* key, bool fallback) {
+  Pop p{L, 1};
+  const int t = field(L, idx, key);
+  if (t == LUA_TNIL) return fallback;
+  if (t != LUA_TBOOLEAN) fail("field '", key, "' must be a boolean, got ", lua_typename(L, t));
+  return lua_toboolean(L, -1);
+}
+
+std::string get_string(lua_State* L, int idx, const char* key, const std::string& fallback) {
+  Pop p{L, 1};
+  const int t = field(L, idx, key);
+  if (t == LUA_TNIL) return fallback;
+  if (t != LUA_TSTRING) fail("field '", key, "' must be a string, got ", lua_typename(L, t));
+  size_t n = 0;
+  const char* s = lua_tolstring(L, -1, &n);
+  return std::string(s, n);
+}
+
+Eigen::Vector3d to_vec3(lua_State* L, int idx) {
+  idx = lua_absindex(L, idx);
+  if (!lua_istable(L, idx)) fail("expected a 3-vector {x, y, z}, got ", luaL_typename(L, idx));
+  Eigen::Vector3d v;
+  for (int c = 0; c < 3; ++c) {
+    if (lua_rawgeti(L, idx, c + 1) != LUA_TNUMBER) {
+      lua_pop(L, 1);
+      fail("expected a 3-vector {x, y, z} of numbers");
+    }
+    v(c) = lua_tonumber(L, -1);
+    lua_pop(L, 1);
+  }
+  return v;
+}
+
+Eigen::Vector3d get_vec3(lua_State* L, int idx, const char* key, const Eigen::Vector3d& fallback) {
+  Pop p{L, 1};
+  if (field(L, idx, key) == LUA_TNIL) return fallback;
+  try {
+    return to_vec3(L, -1);
+  } catch (const Error& e) {
+    fail("field '", key, "': ", e.what());
+  }
+}
+
+std::vector<double> get_numbers(lua_State* L, int idx, const char* key) {
+  Pop p{L, 1};
+  std::vector<double> out;
+  if (field(L, idx, key) == LUA_TNIL) return out;
+  if (!lua_istable(L, -1)) fail("field '", key, "' must be a list of numbers");
+  const lua_Integer n = luaL_len(L, -1);
+  for (lua_Integer i = 1; i <= n; ++i) {
+    if (lua_rawgeti(L, -1, i) != LUA_TNUMBER) {
+      lua_pop(L, 1);
+      fail("field '", key, "' entry ", i, " must be a number");
+    }
+    out.push_back(lua_tonumber(L, -1));
+    lua_pop(L, 1);
+  }
+  return out;
+}
+
+std::vector<int> get_ints(lua_State* L, int idx, const char* key) {
+  std::vector<int> out;
+  for (double d : get_numbers(L, idx, key)) {
+    if (d != std::floor(d) || std::abs(d) > 2e9) fail("field '", key, "' entries must be integers, got ", d);
+    out.push_back(int(d));
+  }
+  return out;
+}
+
+std::vector<Eigen::Vector3d> get_vec3s(lua_State* L, int idx, const char* key) {
+  Pop p{L, 1};
+  std::vector<Eigen::Vector3d> out;
+  if (field(L, idx, key) == LUA_TNIL) return out;
+  if (!lua_istable(L, -1)) fail("field '", key, "' must be a list of 3-vectors");
+  const lua_Integer n = luaL_len(L, -1);
+  for (lua_Integer i = 1; i <= n; ++i) {
+    lua_rawgeti(L, -1, i);
+    Pop q{L, 1};
+    out.push_back(to_vec3(L, -1));
+  }
+  return out;
+}
+
+void push_vec3(lua_State* L, const Eigen::Vector3d& v) {
+  lua_createtable(L, 3, 0);
+  for (int c = 0; c < 3; ++c) {
+    lua_pushnumber(L, v(c));
+    lua_rawseti(L, -2, c + 1);
+  }
+}
+
+void push_ints(lua_State* L, const std::vector<int>& v) {
+  lua_createtable(L, int(v.size()), 0);
+  for (size_t i = 0; i < v.size(); ++i) {
+    lua_pushinteger(L, v[i]);
+    lua_rawseti(L, -2, lua_Integer(i + 1));
+  }
+}
+
+tools::Ramp to_ramp(lua_State* L, int idx) {
+  if (lua_type(L, idx) == LUA_TNUMBER) return tools::Ramp::constant_value(lua_tonumber(L, idx));
+  if (!lua_istable(L, idx)) fail("expected a ramp (softcut.ramp.*) or a number");
+  const std::string where = get_string(L, idx, "where");
+  tools::Ramp r;
+  r.kind = tools::ramp_kind_from_string(get_string(L, idx, "kind", "constant"), where);
+  r.from = get_number(L, idx, "from", 0.0);
+  r.to = get_number(L, idx, "to", 0.0);
+  r.t0 = get_number(L, idx, "t0", 0.0);
+  r.t1 = get_number(L, idx, "t1", 1.0);
+  r.times = get_numbers(L, idx, "times");
+  r.values = get_numbers(L, idx, "values");
+  r.offset = get_number(L, idx, "offset", 0.0);
+  r.amplitude = get_number(L, idx, "amplitude", 0.0);
+  r.frequency = get_number(L, idx, "frequency", 1.0);
+  r.phase = get_number(L, idx, "phase", 0.0);
+  return r;
+}
+
+tools::Path to_path(lua_State* L, int idx) {
+  if (!lua_istable(L, idx)) fail("expected a path (softcut.path.*)");
+  const std::string where = get_string(L, idx, "where");
+  tools::Path p;
+  p.kind = tools::path_kind_from_string(get_string(L, idx, "kind", "fixed"), where);
+  p.times = get_numbers(L, idx, "times");
+  p.points = get_vec3s(L, idx, "points");
+  p.center = get_vec3(L, idx, "center", p.center);
+  p.axis = get_vec3(L, idx, "axis", p.axis);
+  p.start = get_vec3(L, idx, "start", p.start);
+  p.sweep = get_number(L, idx, "sweep", 0.0);
+  p.t0 = get_number(L, idx, "t0", 0.0);
+  p.t1 = get_number(L, idx, "t1", 1.0);
+  return p;
+}
+
+sim::NodeSelector to_node_selector(lua_State* L, int idx) {
+  using K = sim::NodeSelector::Kind;
+  idx = lua_absindex(L, idx);
+  if (!lua_istable(L, idx)) fail("expected a node selection (softcut.select.*)");
+  sim::NodeSelector s;
+  const std::string kind = get_string(L, idx, "kind");
+  static const std::pair<const char*, K> kinds[] = {
+      {"all", K::all}, {"box", K::box}, {"sphere", K::sphere}, {"half_space", K::half_space},
+      {"label", K::label}, {"nodes", K::nodes}, {"surface", K::surface}, {"named", K::named},
+      {"union_of", K::union_of}, {"intersection", K::intersection}, {"difference", K::difference}};
+  bool found = false;
+  for (const auto& [name, k] : kinds)
+    if (kind == name) s.kind = k, found = true;
+  if (!found) fail("unknown selection kind '", kind, "'");
+  s.where = get_string(L, idx, "where");
+  s.lo = get_vec3(L, idx, "lo", s.lo);
+  s.hi = get_vec3(L, idx, "hi", s.hi);
+  s.center = get_vec3(L, idx, "center", s.center);
+  s.radius = get_number(L, idx, "radius", 0.0);
+  s.point = get_vec3(L, idx, "point", s.point);
+  s.normal = get_vec3(L, idx, "normal", s.normal);
+  s.label = get_int(L, idx, "label", -1);
+  s.ids = get_ints(L, idx, "ids");
+  s.name = get_string(L, idx, "name");
+  if (field(L, idx, "children") == LUA_TTABLE) {
+    const lua_Integer n = luaL_len(L, -1);
+    for (lua_Integer i = 1; i <= n; ++i) {
+      lua_rawgeti(L, -1, i);
+      Pop q{L, 1};
+      s.children.push_back(to_node_selector(L, -1));
+    }
+  }
+  lua_pop(L, 1);
+  return s;
+}
+
+sim::TetSelector to_tet_selector(lua_State* L, int idx) {
+  using K = sim::TetSelector::Kind;
+  idx = lua_absindex(L, idx);
+  sim::TetSelector s;
+  if (lua_isnil(L, idx)) return s;  // none
+  if (!lua_istable(L, idx)) fail("expected a region table");
+  const std::string kind = get_string(L, idx, "kind");
+  static const std::pair<const char*, K> kinds[] = {{"all", K::all},       {"none", K::none},
+                                                    {"label", K::label},   {"box", K::box},
+                                                    {"sphere", K::sphere}, {"half_space", K::half_space},
+                                                    {"tets", K::tets}};
+  bool found = false;
+  for (const auto& [name, k] : kinds)
+    if (kind == name) s.kind = k, found = true;
+  if (!found) fail("unknown region kind '", kind, "'");
+  s.where = get_string(L, idx, "where");
+  s.lo = get_vec3(L, idx, "lo", s.lo);
+  s.hi = get_vec3(L, idx, "hi", s.hi);
+  s.center = get_vec3(L, idx, "center", s.center);
+  s.radius = get_number(L, idx, "radius", 0.0);
+  s.point = get_vec3(L, idx, "point", s.point);
+  s.normal = get_vec3(L, idx, "normal", s.normal);
+  s.label = get_int(L, idx, "label", -1);
+  s.ids = get_ints(L, idx, "ids");
+  return s;
+}
+
+std::string describe_selection(lua_State* L, int idx) {
+  idx = lua_absindex(L, idx);
+  const std::string kind = get_string(L, idx, "kind");
+  auto v = [&](const char* k) {
+    const Eigen::Vector3d x = get_vec3(L, idx, k, Eigen::Vector3d::Zero());
+    return cat("{", x(0), ", ", x(1), ", ", x(2), "}");
+  };
+  if (kind == "sphere") return cat("sphere center ", v("center"), " radius ", get_number(L, idx, "radius", 0), " m");
+  if (kind == "box") return cat("box ", v("lo"), " .. ", v("hi"), " m");
+  if (kind == "half_space") return cat("half-space through ", v("point"), " normal ", v("normal"));
+  if (kind == "label") return cat("label ", get_int(L, idx, "label", -1));
+  if (kind == "surface") {
+    const int l = get_int(L, idx, "label", -1);
+    return l < 0 ? std::string("the surface") : cat("the surface of label ", l);
+  }
+  if (kind == "nodes") return cat(get_ints(L, idx, "ids").size(), " listed nodes");
+  if (kind == "tets") return cat(get_ints(L, idx, "ids").size(), " listed tets");
+  if (kind == "named") return cat("node set '", get_string(L, idx, "name"), "'");
+  if (kind == "union_of") return "the union";
+  if (kind == "intersection") return "the intersection";
+  if (kind == "difference") return "the difference";
+  return kind;
+}
+
+}  // namespace softcut::lua

@@ -1,0 +1,470 @@
+#include "runtime.hpp"
+
+#include <lua.hpp>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstdlib>
+#include <cstring>
+#include <exception>
+#include <initializer_list>
+
+#include "bindings.hpp"
+#include "core/error.hpp"
+#include "lua_embedded.hpp"
+
+namespace fs = std::filesystem;
+
+namespace softcut::lua {
+
+// Heap and instruction accounting shared by the allocator and the count hook.
+struct Runtime::Budget {
+  std::size_t used = 0;
+  std::size_t limit = 0;          // 0: unlimited
+  bool memory_exceeded = false;   // set when an allocation was refused
+  long long instructions = 0;
+  long long instruction_limit = 0;  // 0: unlimited
+  const std::atomic<bool>* interrupt = nullptr;  // SIGINT/SIGTERM: ends long-running Lua code too
+};
+
+namespace {
+
+constexpr int kHookInterval = 1000;  // instructions between count-hook calls
+const char* kBudgetKey = "softcut.budget";
+const char* kOptionsKey = "softcut.options";
+const char* kInternalKey = "softcut.internal";
+const char* kLoadedKey = "softcut.loaded";
+
+void* budget_alloc(void* ud, void* ptr, size_t osize, size_t nsize) {
+  auto* b = static_cast<Runtime::Budget*>(ud);
+  const std::size_t old = ptr ? osize : 0;
+  if (nsize == 0) {
+    b->used -= old;
+    std::free(ptr);
+    return nullptr;
+  }
+  if (b->limit && nsize > old && b->used - old + nsize > b->limit) {
+    b->memory_exceeded = true;
+    return nullptr;  // Lua raises LUA_ERRMEM after an emergency collection
+  }
+  void* p = std::realloc(ptr, nsize);
+  if (p) b->used = b->used - old + nsize;
+  return p;
+}
+
+Runtime::Budget* budget_of(lua_State* L) {
+  void* ud = nullptr;
+  lua_getallocf(L, &ud);
+  return static_cast<Runtime::Budget*>(ud);
+}
+
+void count_hook(lua_State* L, lua_Debug*) {
+  Runtime::Budget* b = budget_of(L);
+  b->instructions += kHookInterval;
+  if (b->interrupt && b->interrupt->load()) {
+    {
+      const std::string where = user_where(L);
+      lua_pushfstring(L, "%s: interrupted", where.c_str());
+    }
+    lua_error(L);
+  }
+  if (!(b->instruction_limit && b->instructions > b->instruction_limit)) return;
+  {
+    const std::string where = user_where(L);
+    lua_pushfstring(L, "%s: instruction budget of %I instructions exceeded (an endless loop?); "
+                       "run with --trust to lift the sandbox budgets",
+                    where.c_str(), (lua_Integer)b->instruction_limit);
+  }  // `where` destroyed before the longjmp; lua_error, not luaL_error (that would prefix the caller's line)
+  lua_error(L);
+}
+
+// Message handler: API misuse errors (tables {message=...}) stay one line;
+// everything else gets a traceback.
+int message_handler(lua_State* L) {
+  if (lua_istable(L, 1)) {  // raw access: a user's error table may have any metatable
+    lua_pushliteral(L, "softcut_api_error");
+    lua_rawget(L, 1);
+    const bool api = lua_toboolean(L, -1);
+    lua_pop(L, 1);
+    if (api) {
+      lua_pushliteral(L, "message");
+      lua_rawget(L, 1);
+      return 1;
+    }
+  }
+  const char* msg = luaL_tolstring(L, 1, nullptr);
+  luaL_traceback(L, L, msg, 1);
+  return 1;
+}
+
+const SandboxOptions& options_of(lua_State* L) {
+  lua_getfield(L, LUA_REGISTRYINDEX, kOptionsKey);
+  auto* opt = static_cast<const SandboxOptions*>(lua_touserdata(L, -1));
+  lua_pop(L, 1);
+  return *opt;
+}
+
+bool inside(const fs::path& p, const fs::path& dir) {
+  if (dir.empty()) return false;
+  std::error_code ec;
+  const fs::path a = fs::weakly_canonical(p, ec);
+  const fs::path d = fs::weakly_canonical(dir, ec);
+  auto [di, ai] = std::mismatch(d.begin(), d.end(), a.begin(), a.end());
+  return di == d.end() || (std::next(di) == d.end() && di->empty());
+}
+
+// io.open / io.lines restricted to the scenario folder (read) and the output
+// folder (write). Relative paths resolve against those folders.
+int sandboxed_open(lua_State* L) {
+  const char* name = luaL_checkstring(L, 1);
+  const char* mode = luaL_optstring(L, 2, "r");
+  const bool lines = lua_toboolean(L, lua_upvalueindex(2));
+  const bool write = !lines && (std::strpbrk(mode, "wa+") != nullptr);
+  const SandboxOptions& opt = options_of(L);
+  const fs::path& dir = write ? opt.write_dir : opt.read_dir;
+  fs::path p(name);
+  if (p.is_relative() && !dir.empty()) p = dir / p;
+  bool ok = false;
+  {
+    std::string out;
+    if (inside(p, dir)) {
+      ok = true;
+      out = p.string();
+    } else {
+      out = cat(lines ? "io.lines" : "io.open", ": '", name, "' is outside the ",
+                write ? "output folder '" : "scenario folder '", dir.string(),
+                "' (the sandbox reads below the scenario folder and writes below the output folder; "
+                "run with --trust to lift this)");
+    }
+    lua_pushlstring(L, out.data(), out.size());
+  }  // C++ strings gone before anything below can longjmp
+  if (!ok) {
+    luaL_where(L, 1);
+    lua_insert(L, -2);
+    lua_concat(L, 2);
+    return lua_error(L);
+  }
+  lua_replace(L, 1);
+  lua_pushvalue(L, lua_upvalueindex(1));
+  lua_insert(L, 1);
+  lua_call(L, lua_gettop(L) - 1, LUA_MULTRET);
+  return lua_gettop(L);
+}
+
+// load(chunk [, name [, mode [, env]]]) with mode forced to text.
+int sandboxed_load(lua_State* L) {
+  if (lua_type(L, 1) == LUA_TSTRING) {
+    size_t n = 0;
+    const char* s = lua_tolstring(L, 1, &n);
+    if (n > 0 && s[0] == LUA_SIGNATURE[0])
+      return luaL_error(L, "load: binary chunks are refused in the sandbox (they can crash the "
+                           "interpreter); load Lua source text, or run with --trust");
+  }
+  const int top = lua_gettop(L);
+  lua_pushvalue(L, lua_upvalueindex(1));
+  lua_pushvalue(L, 1);
+  if (top >= 2) lua_pushvalue(L, 2); else lua_pushnil(L);
+  lua_pushliteral(L, "t");
+  if (top >= 4) lua_pushvalue(L, 4);  // env only when given: nil would mean "no upvalue"
+  lua_call(L, top >= 4 ? 4 : 3, LUA_MULTRET);
+  return lua_gettop(L) - top;
+}
+
+// Refuses a name taken out of the sandbox, saying how to get it back.
+int refused(lua_State* L) {
+  return luaL_error(L, "%s is not available in the sandbox; run with --trust to allow it",
+                    lua_tostring(L, lua_upvalueindex(1)));
+}
+
+void push_refused(lua_State* L, const char* name) {
+  lua_pushstring(L, name);
+  lua_pushcclosure(L, refused, 1);
+}
+
+// __index of a trimmed library table: names that exist only with --trust.
+int refused_index(lua_State* L) {
+  const char* lib = lua_tostring(L, lua_upvalueindex(1));
+  const char* key = lua_tostring(L, 2);
+  return luaL_error(L, "%s.%s is not available in the sandbox; run with --trust to allow it", lib,
+                    key ? key : "?");
+}
+
+void set_refusing_metatable(lua_State* L, int t, const char* lib) {
+  t = lua_absindex(L, t);
+  lua_newtable(L);
+  lua_pushstring(L, lib);
+  lua_pushcclosure(L, refused_index, 1);
+  lua_setfield(L, -2, "__index");
+  lua_setmetatable(L, t);
+}
+
+// Copies library `lib` (opened into package.loaded only) keeping `keep`.
+void push_trimmed(lua_State* L, lua_CFunction open, const char* lib, std::initializer_list<const char*> keep) {
+  luaL_requiref(L, lib, open, 0);
+  lua_newtable(L);
+  for (const char* k : keep) {
+    lua_getfield(L, -2, k);
+    lua_setfield(L, -2, k);
+  }
+  lua_remove(L, -2);
+}
+
+void open_sandbox(lua_State* L) {
+  luaL_requiref(L, LUA_GNAME, luaopen_base, 1);
+  luaL_requiref(L, LUA_STRLIBNAME, luaopen_string, 1);
+  luaL_requiref(L, LUA_TABLIBNAME, luaopen_table, 1);
+  luaL_requiref(L, LUA_MATHLIBNAME, luaopen_math, 1);
+  luaL_requiref(L, LUA_UTF8LIBNAME, luaopen_utf8, 1);
+  luaL_requiref(L, LUA_COLIBNAME, luaopen_coroutine, 1);
+  lua_pop(L, 6);
+
+  push_refused(L, "dofile");
+  lua_setglobal(L, "dofile");
+  push_refused(L, "loadfile");
+  lua_setglobal(L, "loadfile");
+  lua_getglobal(L, "load");
+  lua_pushcclosure(L, sandboxed_load, 1);
+  lua_setglobal(L, "load");
+
+  push_trimmed(L, luaopen_io, LUA_IOLIBNAME, {"write", "read", "type", "stdout", "stderr"});
+  for (int lines = 0; lines < 2; ++lines) {
+    luaL_requiref(L, LUA_IOLIBNAME, luaopen_io, 0);
+    lua_getfield(L, -1, lines ? "lines" : "open");
+    lua_remove(L, -2);
+    lua_pushboolean(L, lines);
+    lua_pushcclosure(L, sandboxed_open, 2);
+    lua_setfield(L, -2, lines ? "lines" : "open");
+  }
+  set_refusing_metatable(L, -1, "io");
+  lua_setglobal(L, "io");
+
+  push_trimmed(L, luaopen_os, LUA_OSLIBNAME, {"clock", "time", "date", "difftime"});
+  set_refusing_metatable(L, -1, "os");
+  lua_setglobal(L, "os");
+
+  lua_newtable(L);
+  set_refusing_metatable(L, -1, "package");
+  lua_setglobal(L, "package");
+  lua_newtable(L);
+  set_refusing_metatable(L, -1, "debug");
+  lua_setglobal(L, "debug");
+}
+
+// require(name) for the embedded library: chunk "=softcut/<name>.lua",
+// called with (name, internal) so library modules reach the C bindings.
+int embedded_require(lua_State* L) {
+  const char* name = luaL_checkstring(L, 1);
+  // Own cache, not package.loaded: that one holds the full os / io libraries
+  // (luaL_requiref registers them there), which the sandbox must not hand out.
+  luaL_getsubtable(L, LUA_REGISTRYINDEX, kLoadedKey);
+  lua_getfield(L, -1, name);
+  if (lua_toboolean(L, -1)) return 1;
+  lua_pop(L, 1);
+  for (const EmbeddedScript& s : embedded_scripts()) {
+    if (s.name != name) continue;
+    const std::string chunk = cat("=softcut/", s.name, ".lua");
+    if (luaL_loadbufferx(L, s.source.data(), s.source.size(), chunk.c_str(), "t") != LUA_OK)
+      return lua_error(L);
+    lua_pushstring(L, name);
+    lua_getfield(L, LUA_REGISTRYINDEX, kInternalKey);
+    lua_call(L, 2, 1);
+    if (lua_isnil(L, -1)) {
+      lua_pop(L, 1);
+      lua_pushboolean(L, 1);
+    }
+    lua_pushvalue(L, -1);
+    lua_setfield(L, -3, name);
+    return 1;
+  }
+  std::string names;
+  for (const EmbeddedScript& s : embedded_scripts()) names += cat(names.empty() ? "" : ", ", s.name);
+  return luaL_error(L, "require: no module '%s' (the sandbox loads only the embedded library: %s; "
+                       "run with --trust to use package.path)", name, names.c_str());
+}
+
+int where_binding(lua_State* L) {
+  const std::string w = user_where(L);
+  lua_pushlstring(L, w.data(), w.size());
+  return 1;
+}
+
+void open_internal(lua_State* L) {
+  lua_newtable(L);
+  lua_pushcfunction(L, where_binding);
+  lua_setfield(L, -2, "where");
+  open_bindings(L);  // fills the table on top with the engine bindings
+  lua_setfield(L, LUA_REGISTRYINDEX, kInternalKey);
+}
+
+}  // namespace
+
+bool may_read(lua_State* L, const fs::path& path) {
+  const SandboxOptions& opt = options_of(L);
+  return opt.trusted || inside(path, opt.read_dir);
+}
+
+std::string user_where(lua_State* L) {
+  lua_Debug ar;
+  for (int level = 0; lua_getstack(L, level, &ar); ++level) {
+    lua_getinfo(L, "Sl", &ar);
+    if (ar.source && ar.source[0] == '@' && ar.currentline > 0)
+      return cat(ar.source + 1, ":", ar.currentline);  // the full name (short_src cuts at 60 chars)
+  }
+  return "?";
+}
+
+int protect(lua_State* L, const std::function<int()>& f) {
+  bool failed = false;
+  {
+    std::string msg;
+    try {
+      return f();
+    } catch (const std::exception& e) {
+      msg = e.what();
+      failed = true;
+    } catch (...) {
+      msg = "unknown C++ exception";
+      failed = true;
+    }
+    lua_pushlstring(L, msg.data(), msg.size());
+  }  // msg destroyed before the longjmp below
+  (void)failed;
+  return lua_error(L);
+}
+
+void push_library(lua_State* L) {
+  lua_pushcfunction(L, embedded_require);
+  lua_pushliteral(L, "softcut");
+  lua_call(L, 1, 1);
+}
+
+Runtime::Runtime(const SandboxOptions& opt) : opt_(opt), budget_(new Budget) {
+  if (!opt_.trusted) {
+    budget_->limit = opt_.memory_budget;
+    budget_->instruction_limit = opt_.instruction_budget;
+  }
+  L_ = lua_newstate(budget_alloc, budget_);
+  if (!L_) {
+    delete budget_;
+    fail("lua: cannot create a Lua state (out of memory)");
+  }
+  lua_pushlightuserdata(L_, &opt_);
+  lua_setfield(L_, LUA_REGISTRYINDEX, kOptionsKey);
+  lua_pushlightuserdata(L_, budget_);
+  lua_setfield(L_, LUA_REGISTRYINDEX, kBudgetKey);
+  if (opt_.trusted) {
+    luaL_openlibs(L_);
+  } else {
+    open_sandbox(L_);
+  }
+  lua_pushcfunction(L_, embedded_require);
+  if (opt_.trusted) {
+    // Embedded modules first, then package.path / cpath as usual.
+    lua_getglobal(L_, "package");
+    lua_getfield(L_, -1, "searchers");
+    lua_pushcfunction(L_, [](lua_State* L) -> int {
+      const char* name = luaL_checkstring(L, 1);
+      for (const EmbeddedScript& s : embedded_scripts())
+        if (s.name == name) {
+          lua_pushcfunction(L, embedded_require);
+          lua_pushnil(L);
+          return 2;
+        }
+      lua_pushfstring(L, "no embedded module '%s'", name);
+      return 1;
+    });
+    // shift searchers up by one and insert at 2 (after preload)
+    const int n = int(lua_rawlen(L_, -2));
+    for (int i = n; i >= 2; --i) {
+      lua_rawgeti(L_, -2, i);
+      lua_rawseti(L_, -3, i + 1);
+    }
+    lua_rawseti(L_, -2, 2);
+    lua_pop(L_, 2);
+    lua_pop(L_, 1);  // embedded_require
+  } else {
+    lua_setglobal(L_, "require");
+  }
+  budget_->interrupt = opt_.interrupt;
+  if (!opt_.trusted || opt_.interrupt) lua_sethook(L_, count_hook, LUA_MASKCOUNT, kHookInterval);
+  try {
+    lua_pushcfunction(L_, [](lua_State* L) -> int {
+      open_internal(L);
+      push_library(L);
+      lua_setglobal(L, "softcut");
+      return 0;
+    });
+    call(0, 0);
+  } catch (...) {
+    lua_close(L_);
+    delete budget_;
+    throw;
+  }
+}
+
+Runtime::~Runtime() {
+  lua_close(L_);
+  delete budget_;
+}
+
+void Runtime::set_interruptible(bool on) { budget_->interrupt = on ? opt_.interrupt : nullptr; }
+
+void Runtime::push_internal() { lua_getfield(L_, LUA_REGISTRYINDEX, kInternalKey); }
+
+std::size_t Runtime::memory_used() const { return budget_->used; }
+long long Runtime::instructions_used() const { return budget_->instructions; }
+
+void Runtime::call(int nargs, int nresults) {
+  const int base = lua_gettop(L_) - nargs;  // index of the function
+  lua_pushcfunction(L_, message_handler);
+  lua_insert(L_, base);
+  budget_->memory_exceeded = false;
+  budget_->instructions = 0;  // the budget is per entry from C++ (main chunk, each on_frame)
+  const int status = lua_pcall(L_, nargs, nresults, base);
+  lua_remove(L_, base);
+  if (status == LUA_OK) return;
+  std::string msg;
+  if (status == LUA_ERRMEM || budget_->memory_exceeded) {
+    msg = cat(chunk_.empty() ? "" : chunk_ + ": ", "memory budget of ", budget_->limit >> 20,
+              " MiB exceeded by the scenario's Lua code (a huge table or string?); "
+              "run with --trust to lift the sandbox budgets");
+    if (status != LUA_ERRMEM) msg += cat(" [", lua_tostring(L_, -1) ? lua_tostring(L_, -1) : "", "]");
+  } else {
+    const char* m = lua_tostring(L_, -1);
+    msg = m ? m : "(error object is not a string)";
+  }
+  lua_pop(L_, 1);
+  throw Error(msg);
+}
+
+void Runtime::run_file(const fs::path& path, int nresults) {
+  chunk_ = path.string();
+  const std::string chunk = "@" + path.string();
+  std::string text;
+  {
+    FILE* f = std::fopen(path.c_str(), "rb");
+    if (!f) fail(path.string(), ": cannot open the scenario file (", std::strerror(errno), ")");
+    char buf[65536];
+    size_t n;
+    while ((n = std::fread(buf, 1, sizeof buf, f)) > 0) text.append(buf, n);
+    std::fclose(f);
+  }
+  if (!text.empty() && text[0] == '#') text.insert(0, "--");  // shebang line stays a comment
+  if (luaL_loadbufferx(L_, text.data(), text.size(), chunk.c_str(), opt_.trusted ? "bt" : "t") != LUA_OK) {
+    std::string msg = lua_tostring(L_, -1);
+    lua_pop(L_, 1);
+    throw Error(msg);
+  }
+  call(0, nresults);
+}
+
+void Runtime::run_string(std::string_view code, const std::string& chunkname, int nresults) {
+  if (luaL_loadbufferx(L_, code.data(), code.size(), chunkname.c_str(), opt_.trusted ? "bt" : "t") != LUA_OK) {
+    std::string msg = lua_tostring(L_, -1);
+    lua_pop(L_, 1);
+    throw Error(msg);
+  }
+  call(0, nresults);
+}
+
+}  // namespace softcut::lua

@@ -1,0 +1,86 @@
+#pragma once
+// The Lua 5.4 runtime a scenario runs in: one lua_State with the sandbox
+// (safe libraries only, file access limited to two folders, text chunks only,
+// an instruction budget and a memory budget), the embedded Lua-side library
+// as `softcut`, and calls that turn every Lua error into a softcut::Error
+// whose message starts with the user's file:line (runtime errors also carry
+// a traceback). No physics here: see wrap_*.cpp for the engine bindings.
+#include <atomic>
+#include <cstddef>
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <string_view>
+
+struct lua_State;
+
+namespace softcut::lua {
+
+struct SandboxOptions {
+  bool trusted = false;                     // --trust: full standard library, no budgets
+  std::filesystem::path read_dir;           // io.open(..., "r") allowed below it (scenario folder)
+  std::filesystem::path write_dir;          // io.open(..., "w"/"a") allowed below it (output folder)
+  long long instruction_budget = 200'000'000;  // Lua VM instructions per call from C++ (main chunk, each on_frame)
+  std::size_t memory_budget = 512u << 20;      // bytes held by the Lua heap at any time
+  const std::atomic<bool>* interrupt = nullptr;  // when set, running Lua code stops with "interrupted"
+};
+
+class Runtime {
+ public:
+  explicit Runtime(const SandboxOptions& opt = {});
+  ~Runtime();
+  Runtime(const Runtime&) = delete;
+  Runtime& operator=(const Runtime&) = delete;
+
+  lua_State* state() const { return L_; }
+  const SandboxOptions& options() const { return opt_; }
+
+  // Loads `path` as a text chunk named "@path" and calls it with no arguments;
+  // leaves `nresults` results on the stack. Throws softcut::Error.
+  void run_file(const std::filesystem::path& path, int nresults);
+  // Same for a string (tests, --set parsing); `chunkname` like "=[test]".
+  void run_string(std::string_view code, const std::string& chunkname, int nresults);
+  // Calls the function below `nargs` arguments on the stack, with the
+  // traceback handler; throws softcut::Error carrying the Lua message.
+  void call(int nargs, int nresults);
+
+  // Pushes the library's private table (bindings, overrides, scenario_dir).
+  void push_internal();
+  // The output folder, once known (io.open for writing is allowed below it).
+  void set_write_dir(const std::filesystem::path& dir) { opt_.write_dir = dir; }
+  // Whether the interrupt flag stops running Lua code (on while the script is
+  // set up; the frame loop turns it off and honours the flag between frames,
+  // so an interrupted run ends "interrupted", not with an error).
+  void set_interruptible(bool on);
+
+  // Lua heap in use, bytes; VM instructions executed by the current or last
+  // call (in steps of the hook interval).
+  std::size_t memory_used() const;
+  long long instructions_used() const;
+
+  struct Budget;  // heap and instruction accounting (runtime.cpp)
+
+ private:
+  SandboxOptions opt_;
+  Budget* budget_ = nullptr;
+  std::string chunk_;  // the scenario file, for messages without a Lua stack
+  lua_State* L_ = nullptr;
+};
+
+// Calls f() and converts a C++ exception into a Lua error (the message of
+// softcut::Error unchanged) without unwinding C++ frames by longjmp. Every
+// binding body goes through it.
+int protect(lua_State* L, const std::function<int()>& f);
+
+// Pushes the `softcut` library table (loads it on first use).
+void push_library(lua_State* L);
+
+// Whether the sandbox lets the scenario read `path` (always with --trust):
+// engine bindings that open files (mesh files) ask this first.
+bool may_read(lua_State* L, const std::filesystem::path& path);
+
+// "file:line" of the innermost function that runs from a user chunk (source
+// "@..."), or "?" when none: where a binding's error should point.
+std::string user_where(lua_State* L);
+
+}  // namespace softcut::lua

@@ -1,0 +1,305 @@
+-- Scenario builder and the per-frame glue. A Scenario collects checked,
+-- plain-table descriptions (each with the file:line of its call); the C++
+-- side (lua/spec_from_lua.cpp) turns them into sim::ScenarioSpec. The mesh
+-- is loaded at s:mesh{} so every selection is evaluated, and an empty one
+-- refused, at the line that made it.
+local _, internal = ...
+local check = require("check")
+
+local M = {}
+local Scenario = { __name = "Scenario" }
+Scenario.__index = Scenario
+M.Scenario = Scenario
+
+function M.new(args)
+  local a = check.args("softcut.scenario", args)
+  local s = setmetatable({
+    name = a.name or internal.scenario_stem or "scenario",
+    duration = a.duration, fps = a.fps, tolerance = a.tolerance, description = a.description,
+    where = check.where(),
+    _materials = {}, _fixed = {}, _loads = {}, _tools = {}, _expect = {}, _on_frame = {},
+    _output = { csv = true, vtu = false, vtu_every = 1 },
+  }, Scenario)
+  if not s.name:match("^[%w_%-%.]+$") or s.name:match("^%.") then
+    check.fail("scenario", "name '%s' must be a plain folder name (letters, digits, _ - .)", s.name)
+  end
+  internal.last_scenario = s
+  return s
+end
+
+-- Builder calls describe the scenario before it runs; during the run the
+-- Frame methods are the way to change it.
+local function editable(s, fname)
+  if s._running then
+    check.fail(fname, "the scenario is already running; change it from on_frame with f:set_load, "
+      .. "f:move_tool or f:enable_tool")
+  end
+end
+
+local function need_mesh(s, fname)
+  if not s._mesh then check.fail(fname, "call s:mesh{...} first (selections and labels need the mesh)") end
+  return s._mesh
+end
+
+-- Evaluates `sel` on the mesh (cached in the selection); empty -> error.
+local function resolve(s, fname, sel, what)
+  local m = need_mesh(s, fname)
+  if not sel._ids then
+    local ids, err = internal.select_nodes(m.handle, sel, fname)
+    if not ids then check.raise(fname, err) end
+    sel._ids = ids
+  end
+  if #sel._ids == 0 then
+    check.fail(fname, "%s selection is empty: %s selects no node of the mesh (%d nodes, bounds %s .. %s)",
+      what or "the", internal.describe_selection(sel), m.info.num_nodes,
+      internal.format_vec(m.info.min), internal.format_vec(m.info.max))
+  end
+  return sel._ids
+end
+M.resolve = resolve
+
+function Scenario:mesh(args)
+  editable(self, "mesh")
+  local a = check.args("Scenario:mesh", args)
+  if self._mesh then check.fail("mesh", "the scenario already has a mesh (from line %s)", self._mesh.where) end
+  local ok, handle, info = pcall(internal.mesh_load, a, internal.scenario_dir or ".")
+  if not ok then check.raise("mesh", tostring(handle)) end
+  self._mesh = { file = a.file and info.file, generate = a.generate, options = info.options, handle = handle,
+                 info = info, where = check.where() }
+  return info
+end
+
+local function region(s, fname, a)
+  local r
+  if a.label then
+    r = { kind = "label", label = a.label }
+    local known = false
+    for _, l in ipairs(need_mesh(s, fname).info.labels) do if l == a.label then known = true end end
+    if not known then
+      local ls = {}
+      for _, l in ipairs(s._mesh.info.labels) do ls[#ls + 1] = tostring(l) end
+      check.fail(fname, "unknown label %d (the mesh has labels %s)", a.label, table.concat(ls, ", "))
+    end
+  elseif a.sphere then r = { kind = "sphere", center = a.sphere.center, radius = a.sphere.radius }
+  elseif a.box then r = { kind = "box", lo = a.box.min, hi = a.box.max }
+  elseif a.halfspace then r = { kind = "half_space", point = a.halfspace.point, normal = a.halfspace.normal }
+  elseif a.tets then r = { kind = "tets", ids = a.tets }
+  else return { kind = "all", where = check.where() } end
+  r.where = check.where()
+  local n, err = internal.count_tets(need_mesh(s, fname).handle, r, fname)
+  if not n then check.raise(fname, err) end
+  if n == 0 then check.fail(fname, "region is empty: %s contains no tet centroid", internal.describe_selection(r)) end
+  return r
+end
+
+function Scenario:material(args)
+  editable(self, "material")
+  local a = check.args("Scenario:material", args)
+  if not a.tissue and not (a.young and a.poisson) then
+    check.fail("material", "give a tissue preset (tissue = \"liver\") or both young and poisson")
+  end
+  if a.tissue and not internal.tissue_known(a.tissue) then
+    local names = {}
+    for _, p in ipairs(internal.tissue_presets()) do names[#names + 1] = p.name end
+    check.fail("material", "unknown tissue '%s'%s", a.tissue, check.suggest(a.tissue, names))
+  end
+  local r = region(self, "material", a)
+  self._materials[#self._materials + 1] = { name = a.name or ("material" .. (#self._materials + 1)), where = r.where,
+    region = r, tissue = a.tissue, young = a.young, poisson = a.poisson }
+end
+
+function Scenario:operational(args)
+  editable(self, "operational")
+  local a = check.args("Scenario:operational", args)
+  if self._operational then check.fail("operational", "already set at %s", self._operational.where) end
+  self._operational = region(self, "operational", a)
+end
+
+function Scenario:fix(args)
+  editable(self, "fix")
+  local a = check.args("Scenario:fix", args)
+  resolve(self, "fix", a.nodes)
+  self._fixed[#self._fixed + 1] = { sel = a.nodes, where = check.where() }
+end
+
+local function unique_name(s, list, fname, name)
+  for _, x in ipairs(list) do
+    if x.name == name then check.fail(fname, "name '%s' is already used at %s", name, x.where) end
+  end
+  return name
+end
+
+function Scenario:load(args)
+  editable(self, "load")
+  local a = check.args("Scenario:load", args)
+  resolve(self, "load", a.nodes)
+  local l = { name = unique_name(self, self._loads, "load", a.name or ("load" .. (#self._loads + 1))),
+              where = check.where(), nodes = a.nodes, per_node = a.per_node }
+  if a.force then
+    local len = math.sqrt(a.force[1] ^ 2 + a.force[2] ^ 2 + a.force[3] ^ 2)
+    l.kind, l.direction = "world", len > 0 and { a.force[1] / len, a.force[2] / len, a.force[3] / len } or { 0, 0, -1 }
+    l.magnitude = M.scaled_ramp(a.ramp, len)
+  else
+    l.kind, l.direction = "normal", { 0, 0, 0 }
+    l.magnitude = M.scaled_ramp(a.ramp, a.normal)
+    local err = internal.check_on_surface(self._mesh.handle, a.nodes._ids)
+    if err then check.fail("load", "normal loads need surface nodes: %s", err) end
+  end
+  self._loads[#self._loads + 1] = l
+end
+
+local function tool(s, kind, args)
+  editable(s, kind)
+  local a = check.args("Scenario:" .. kind, args)
+  local t = { name = unique_name(s, s._tools, kind, a.name), where = check.where(), kind = kind,
+              drive = a.stiffness and "spring" or "force", path = M.as_path(a.path), radius = a.radius,
+              force = a.force and M.scaled_ramp(a.force, 1) or nil, direction = a.direction, stiffness = a.stiffness,
+              start = a.start, stop = a.stop, implicit = a.implicit }
+  if a.stop and a.stop <= a.start then check.fail(kind, "stop = %g must be after start = %g", a.stop, a.start) end
+  s._tools[#s._tools + 1] = t
+end
+function Scenario:probe(args) tool(self, "probe", args) end
+function Scenario:grasper(args) tool(self, "grasper", args) end
+
+function Scenario:output(args)
+  editable(self, "output")
+  local a = check.args("Scenario:output", args)
+  if a.log then resolve(self, "output", a.log, "the log") end
+  self._output = { log = a.log, csv = a.csv, vtu = a.vtu, vtu_every = a.vtu_every, render = a.render, where = check.where() }
+end
+
+function Scenario:solver(args)
+  editable(self, "solver")
+  self._solver = check.args("Scenario:solver", args)
+end
+
+function Scenario:expect(args)
+  editable(self, "expect")
+  local a = check.args("Scenario:expect", args)
+  if a.nodes then
+    resolve(self, "expect", a.nodes)
+    if a.min == nil and a.max == nil then check.fail("expect", "give min, max or both (m)") end
+    if a.min and a.max and a.min > a.max then check.fail("expect", "min = %g > max = %g", a.min, a.max) end
+  elseif a.min or a.max then
+    check.fail("expect", "min/max bound the displacement of `nodes`; with `check` return false, \"why\" instead")
+  end
+  if a.at > self.duration + 1e-12 then
+    check.fail("expect", "at = %g s is after the end of the timeline (duration = %g s)", a.at, self.duration)
+  end
+  a.where = check.where()
+  a.name = a.name or ("expect" .. (#self._expect + 1))
+  self._expect[#self._expect + 1] = a
+end
+
+function Scenario:on_frame(fn)
+  editable(self, "on_frame")
+  fn = check.positional("Scenario:on_frame", 1, fn)
+  self._on_frame[#self._on_frame + 1] = fn
+end
+
+function Scenario:select(sel)
+  sel = check.positional("Scenario:select", 1, sel)
+  local ids = resolve(self, "select", sel)
+  local out = {}
+  for i, v in ipairs(ids) do out[i] = v end
+  return out
+end
+
+-- Frames -------------------------------------------------------------------------
+
+local Frame = { __name = "Frame" }
+Frame.__index = Frame
+M.Frame = Frame
+
+local function node_arg(f, q, node)
+  node = check.positional(q, 1, node)
+  if node >= f._num_nodes then
+    check.fail(q:gsub("^Frame:", ""), "node %d out of range (the mesh has %d nodes, ids 0..%d)", node, f._num_nodes, f._num_nodes - 1)
+  end
+  return node
+end
+function Frame:displacement(node) return internal.frame_displacement(self._ctx, node_arg(self, "Frame:displacement", node)) end
+function Frame:position(node) return internal.frame_position(self._ctx, node_arg(self, "Frame:position", node)) end
+function Frame:mean_displacement(sel)
+  sel = check.positional("Frame:mean_displacement", 1, sel)
+  return internal.frame_mean_displacement(self._ctx, resolve(self._scenario, "mean_displacement", sel))
+end
+function Frame:max_displacement(sel)
+  sel = check.positional("Frame:max_displacement", 1, sel)
+  return internal.frame_max_displacement(self._ctx, resolve(self._scenario, "max_displacement", sel))
+end
+local function tool_index(f, q, name)
+  name = check.positional(q, 1, name)
+  for i, t in ipairs(f._scenario._tools) do if t.name == name then return i - 1 end end
+  local names = {}
+  for _, t in ipairs(f._scenario._tools) do names[#names + 1] = t.name end
+  check.fail(q:gsub("^Frame:", ""), "no tool '%s'%s", name, #names > 0 and check.suggest(name, names) or " (the scenario has no tools)")
+end
+function Frame:tool(name) return internal.frame_tool(self._ctx, tool_index(self, "Frame:tool", name)) end
+function Frame:move_tool(name, point)
+  local i = tool_index(self, "Frame:move_tool", name)
+  internal.frame_move_tool(self._ctx, i, check.positional("Frame:move_tool", 2, point))
+end
+function Frame:enable_tool(name, on)
+  local i = tool_index(self, "Frame:enable_tool", name)
+  internal.frame_enable_tool(self._ctx, i, check.positional("Frame:enable_tool", 2, on))
+end
+function Frame:set_load(name, args)
+  name = check.positional("Frame:set_load", 1, name)
+  local a = check.args("Frame:set_load", args)
+  for i, l in ipairs(self._scenario._loads) do
+    if l.name == name then return internal.frame_set_load(self._ctx, i - 1, a.scale, a.enabled) end
+  end
+  local names = {}
+  for _, l in ipairs(self._scenario._loads) do names[#names + 1] = l.name end
+  check.fail("set_load", "no load '%s'%s", name, #names > 0 and check.suggest(name, names) or " (the scenario has no loads)")
+end
+function Frame:stop() internal.frame_stop(self._ctx) end
+
+-- Called by the C++ run loop after every frame with a context handle; runs
+-- due expectations, then the on_frame functions. Returns false to stop.
+function M.after_frame(s, ctx, frame, time, dt, num_nodes)
+  s._running = true
+  local f = setmetatable({ frame = frame, time = time, _ctx = ctx, _scenario = s, _num_nodes = num_nodes }, Frame)
+  s._results = s._results or {}
+  for _, e in ipairs(s._expect) do
+    if not e._done and time >= e.at - 0.5 * dt then
+      e._done = true
+      local ok, msg
+      if e.check then
+        ok, msg = e.check(f)
+        ok = ok and true or false
+        if not ok then msg = msg or e.message or "check returned false" end
+      else
+        local u
+        if e.measure == "max" then
+          local comp = e.component
+          u = internal.frame_max_component(ctx, resolve(s, "expect", e.nodes), comp)
+        else
+          local m = internal.frame_mean_displacement(ctx, resolve(s, "expect", e.nodes))
+          if e.component == "magnitude" then u = math.sqrt(m[1] ^ 2 + m[2] ^ 2 + m[3] ^ 2)
+          else u = m[({ x = 1, y = 2, z = 3 })[e.component]] end
+        end
+        ok = (e.min == nil or u >= e.min) and (e.max == nil or u <= e.max)
+        local what = (e.measure == "max" and "max" or "mean") .. " " ..
+          (e.component == "magnitude" and "|u|" or ("u" .. e.component)) .. " of " .. #e.nodes._ids .. " nodes"
+        msg = ("%s at t = %.4g s is %.6g m, %s [%s, %s] m"):format(what, time, u, ok and "within" or "outside",
+          e.min and ("%.6g"):format(e.min) or "-inf", e.max and ("%.6g"):format(e.max) or "inf")
+      end
+      s._results[#s._results + 1] = { name = e.name, where = e.where, ok = ok, message = msg, time = time }
+    end
+  end
+  for _, fn in ipairs(s._on_frame) do fn(f) end
+  return true
+end
+
+-- Expectations never reached (run stopped early, --frames).
+function M.pending(s)
+  local out = {}
+  for _, e in ipairs(s._expect) do
+    if not e._done then out[#out + 1] = { name = e.name, where = e.where, at = e.at } end
+  end
+  return out
+end
+
+return M

@@ -1,0 +1,349 @@
+#include "scenario_runner.hpp"
+
+#include <lua.hpp>
+
+#include <limits>
+#include <memory>
+
+#include "convert.hpp"
+#include "core/error.hpp"
+#include "gpu/egl_context.hpp"
+#include "render/renderer.hpp"
+#include "runtime.hpp"
+#include "sim/model.hpp"
+#include "sim/outputs.hpp"
+#include "wrap_frame.hpp"
+#include "wrap_mesh.hpp"
+
+namespace fs = std::filesystem;
+
+namespace softcut::lua {
+
+namespace {
+
+// Pushes t[key] and returns its type (raw access: plain data tables).
+int push_field(lua_State* L, int idx, const char* key) {
+  idx = lua_absindex(L, idx);
+  lua_pushstring(L, key);
+  return lua_rawget(L, idx);
+}
+
+// Calls fn(table at idx_item) for each entry of list t[key].
+template <class Fn>
+void each(lua_State* L, int idx, const char* key, Fn&& fn) {
+  if (push_field(L, idx, key) == LUA_TTABLE) {
+    const lua_Integer n = luaL_len(L, -1);
+    for (lua_Integer i = 1; i <= n; ++i) {
+      lua_rawgeti(L, -1, i);
+      fn(lua_gettop(L));
+      lua_pop(L, 1);
+    }
+  }
+  lua_pop(L, 1);
+}
+
+sim::ScenarioSpec spec_from_table(lua_State* L, int s, const fs::path& source) {
+  sim::ScenarioSpec spec;
+  const std::string where = get_string(L, s, "where");
+  spec.name = get_string(L, s, "name", "scenario");
+  spec.source = source;
+  spec.versions["lua"] = LUA_RELEASE;
+  spec.timeline.duration = get_number(L, s, "duration", 1.0);
+  spec.timeline.frame_rate = get_number(L, s, "fps", 30.0);
+
+  if (push_field(L, s, "_mesh") != LUA_TTABLE) fail(where, ": scenario: no mesh (add s:mesh{ file = ... } or s:mesh{ generate = ... })");
+  push_field(L, -1, "handle");
+  const MeshHandle* h = to_mesh_handle(L, -1);
+  if (!h) fail(where, ": scenario: mesh handle missing");
+  spec.mesh = h->source;
+  lua_pop(L, 2);
+
+  each(L, s, "_materials", [&](int m) {
+    sim::MaterialAssignment a;
+    a.name = get_string(L, m, "name");
+    a.where = get_string(L, m, "where");
+    push_field(L, m, "region");
+    a.tets = to_tet_selector(L, -1);
+    lua_pop(L, 1);
+    a.preset = get_string(L, m, "tissue");
+    a.young = get_number(L, m, "young", 0.0);
+    a.poisson = get_number(L, m, "poisson", -2.0);
+    spec.materials.push_back(a);
+  });
+
+  push_field(L, s, "_operational");
+  spec.operational = to_tet_selector(L, -1);
+  lua_pop(L, 1);
+
+  std::vector<sim::NodeSelector> fixed;
+  each(L, s, "_fixed", [&](int f) {
+    push_field(L, f, "sel");
+    fixed.push_back(to_node_selector(L, -1));
+    lua_pop(L, 1);
+  });
+  if (fixed.empty())
+    fail(where, ": scenario: no fixed nodes, so the body can float away (the stiffness matrix is singular); "
+                "add s:fix{ nodes = softcut.select... }");
+  if (fixed.size() == 1) {
+    spec.fixed = fixed[0];
+  } else {
+    spec.fixed.kind = sim::NodeSelector::Kind::union_of;
+    spec.fixed.children = fixed;
+    spec.fixed.where = fixed[0].where;
+  }
+
+  each(L, s, "_loads", [&](int l) {
+    sim::LoadSpec ls;
+    ls.name = get_string(L, l, "name");
+    ls.where = get_string(L, l, "where");
+    push_field(L, l, "nodes");
+    ls.nodes = to_node_selector(L, -1);
+    lua_pop(L, 1);
+    ls.direction_kind = get_string(L, l, "kind") == "normal" ? sim::LoadSpec::Direction::normal
+                                                             : sim::LoadSpec::Direction::world;
+    ls.direction = get_vec3(L, l, "direction", ls.direction);
+    push_field(L, l, "magnitude");
+    ls.magnitude = to_ramp(L, -1);
+    lua_pop(L, 1);
+    ls.per_node = get_bool(L, l, "per_node", false);
+    spec.loads.push_back(ls);
+  });
+
+  each(L, s, "_tools", [&](int t) {
+    tools::ToolSpec ts;
+    ts.name = get_string(L, t, "name");
+    ts.where = get_string(L, t, "where");
+    ts.kind = get_string(L, t, "kind") == "grasper" ? tools::ToolSpec::Kind::grasper : tools::ToolSpec::Kind::probe;
+    ts.drive = get_string(L, t, "drive") == "spring" ? tools::ToolSpec::Drive::spring : tools::ToolSpec::Drive::force;
+    push_field(L, t, "path");
+    ts.path = to_path(L, -1);
+    lua_pop(L, 1);
+    ts.radius = get_number(L, t, "radius", ts.radius);
+    if (push_field(L, t, "force") != LUA_TNIL) ts.force = to_ramp(L, -1);
+    lua_pop(L, 1);
+    ts.direction = get_vec3(L, t, "direction", Eigen::Vector3d::Zero());
+    ts.stiffness = get_number(L, t, "stiffness", 0.0);
+    ts.active_from = get_number(L, t, "start", 0.0);
+    ts.active_until = get_number(L, t, "stop", std::numeric_limits<double>::infinity());
+    ts.implicit = get_bool(L, t, "implicit", ts.implicit);
+    spec.tools.push_back(ts);
+  });
+
+  if (push_field(L, s, "_output") == LUA_TTABLE) {
+    const int o = lua_gettop(L);
+    sim::OutputSpec& out = spec.outputs;
+    if (push_field(L, o, "log") == LUA_TTABLE) {
+      out.log_all_surface = false;
+      out.log_nodes = to_node_selector(L, -1);
+    }
+    lua_pop(L, 1);
+    out.csv = get_bool(L, o, "csv", true);
+    out.vtu = get_bool(L, o, "vtu", false);
+    out.vtu_every = get_int(L, o, "vtu_every", 1);
+    if (push_field(L, o, "render") == LUA_TTABLE) {
+      const int r = lua_gettop(L);
+      sim::RenderSettings& rs = out.render;
+      rs.enabled = true;
+      rs.width = get_int(L, r, "width", rs.width);
+      rs.height = get_int(L, r, "height", rs.height);
+      rs.auto_frame = !has_field(L, r, "eye") && !has_field(L, r, "target");
+      rs.azimuth_deg = get_number(L, r, "azimuth", rs.azimuth_deg);
+      rs.elevation_deg = get_number(L, r, "elevation", rs.elevation_deg);
+      rs.orbit_deg_per_s = get_number(L, r, "orbit", rs.orbit_deg_per_s);
+      rs.eye = get_vec3(L, r, "eye", rs.eye);
+      rs.target = get_vec3(L, r, "target", rs.target);
+      rs.up = get_vec3(L, r, "up", rs.up);
+      rs.fov_deg = get_number(L, r, "fov", rs.fov_deg);
+      rs.every = get_int(L, r, "every", 1);
+      rs.wireframe = get_bool(L, r, "wireframe", false);
+      rs.show_interface = get_bool(L, r, "show_interface", rs.show_interface);
+      rs.show_forces = get_bool(L, r, "show_forces", true);
+      rs.background = get_vec3(L, r, "background", rs.background);
+    }
+    lua_pop(L, 1);
+  }
+  lua_pop(L, 1);
+
+  if (push_field(L, s, "_solver") == LUA_TTABLE) {
+    const int v = lua_gettop(L);
+    spec.solver.cg_tolerance = get_number(L, v, "tolerance", spec.solver.cg_tolerance);
+    spec.solver.cg_max_iterations = get_int(L, v, "max_iterations", 0);
+    spec.solver.backend = get_string(L, v, "backend", spec.solver.backend);
+    spec.solver.mode = get_string(L, v, "mode", spec.solver.mode);
+    spec.solver.gpu_fp64 = get_bool(L, v, "gpu_fp64", spec.solver.gpu_fp64);
+  }
+  lua_pop(L, 1);
+  return spec;
+}
+
+// Runs the script in `rt`; leaves the Scenario table on the stack and
+// returns its absolute index.
+int run_script(Runtime& rt, const RunRequest& req) {
+  lua_State* L = rt.state();
+  const fs::path file = fs::absolute(req.scenario).lexically_normal();
+  if (!fs::is_regular_file(file)) fail(req.scenario.string(), ": no such scenario file");
+  rt.push_internal();
+  lua_newtable(L);
+  for (const auto& [k, v] : req.overrides) {
+    lua_pushlstring(L, v.data(), v.size());
+    lua_setfield(L, -2, k.c_str());
+  }
+  lua_setfield(L, -2, "overrides");
+  lua_pushstring(L, file.parent_path().c_str());
+  lua_setfield(L, -2, "scenario_dir");
+  lua_pushstring(L, file.stem().c_str());
+  lua_setfield(L, -2, "scenario_stem");
+  lua_pushstring(L, req.scenario.lexically_normal().c_str());
+  lua_setfield(L, -2, "scenario_file");
+  lua_pop(L, 1);
+
+  rt.run_file(req.scenario.lexically_normal(), 1);  // messages name the file as the user gave it
+  const int top = lua_gettop(L);
+  auto is_scenario = [L](int idx) {
+    if (!lua_istable(L, idx) || !lua_getmetatable(L, idx)) return false;
+    lua_getfield(L, -1, "__name");
+    const bool yes = lua_isstring(L, -1) && std::string(lua_tostring(L, -1)) == "Scenario";
+    lua_pop(L, 2);
+    return yes;
+  };
+  if (!is_scenario(top)) {
+    lua_pop(L, 1);
+    rt.push_internal();
+    lua_getfield(L, -1, "last_scenario");
+    lua_remove(L, -2);
+    if (!is_scenario(-1))
+      fail(file.string(), ": the script made no scenario (call softcut.scenario{ duration = ... } and return it)");
+  }
+  rt.push_internal();
+  lua_getfield(L, -1, "params_declared");
+  const bool declared = lua_toboolean(L, -1);
+  lua_pop(L, 2);
+  if (!req.overrides.empty() && !declared)
+    fail(file.string(), ": --set ", req.overrides.begin()->first,
+         "=...: the scenario declares no parameters (add local P = softcut.params{ name = default, ... })");
+  return lua_gettop(L);
+}
+
+std::string first_line(const std::string& s) { return s.substr(0, s.find('\n')); }
+
+SandboxOptions sandbox_of(const RunRequest& req) {
+  SandboxOptions opt;
+  opt.trusted = req.trusted;
+  opt.read_dir = fs::absolute(req.scenario).lexically_normal().parent_path();
+  opt.instruction_budget = req.instruction_budget;
+  opt.memory_budget = req.memory_budget;
+  opt.interrupt = req.interrupt;
+  return opt;
+}
+
+}  // namespace
+
+sim::ScenarioSpec load_scenario_spec(const RunRequest& req) {
+  Runtime rt(sandbox_of(req));
+  const int s = run_script(rt, req);
+  return spec_from_table(rt.state(), s, fs::absolute(req.scenario).lexically_normal());
+}
+
+RunOutcome run_scenario(const RunRequest& req) {
+  Runtime rt(sandbox_of(req));
+  lua_State* L = rt.state();
+  const int s = run_script(rt, req);
+  RunOutcome out;
+  sim::ScenarioSpec spec = spec_from_table(L, s, fs::absolute(req.scenario).lexically_normal());
+  out.name = spec.name;
+  out.description = get_string(L, s, "description");
+  out.tolerance = get_number(L, s, "tolerance", 1e-6);
+  out.out_dir = req.out_dir.empty() ? fs::path("renders") / spec.name : req.out_dir;
+  fs::create_directories(out.out_dir);
+  rt.set_write_dir(fs::absolute(out.out_dir));
+  spec.outputs.dir = out.out_dir;
+  if (!req.render) spec.outputs.render.enabled = false;
+  if (!req.backend.empty()) spec.solver.backend = req.backend;
+
+  // One EGL context for the GPU backend and rendering, made here (the engine
+  // never creates one) and outliving the Model and the renderer.
+  std::unique_ptr<gpu::EglContext> context;
+  if (sim::wants_gpu_context(spec)) {
+    const bool required = spec.solver.backend == "gpu" || spec.outputs.render.enabled;
+    try {
+      context = std::make_unique<gpu::EglContext>();
+    } catch (const Error& e) {
+      if (required) throw;
+      out.warnings.push_back(cat("no OpenGL context (", first_line(e.what()), "); solver backend auto uses the CPU"));
+    }
+  }
+  const sim::Model model = sim::compile(spec, sim::RunResources{context.get()});
+  std::unique_ptr<render::Renderer> renderer;
+  if (spec.outputs.render.enabled) renderer = std::make_unique<render::Renderer>(*context);
+  out.num_frames = model.num_frames;
+  sim::State state = sim::make_state(model);
+
+  // The Scenario table and the glue function live in the registry while the
+  // loop runs.
+  lua_pushvalue(L, s);
+  const int s_ref = luaL_ref(L, LUA_REGISTRYINDEX);
+  rt.run_string("return require('scenario').after_frame", "=softcut/after_frame", 1);
+  const int fn_ref = luaL_ref(L, LUA_REGISTRYINDEX);
+
+  sim::RunHooks hooks;
+  hooks.interrupt = req.interrupt;
+  hooks.max_frames = req.max_frames;
+  hooks.progress = req.progress;
+  hooks.on_frame = [&](const sim::Model& m, sim::State& st) {
+    lua_rawgeti(L, LUA_REGISTRYINDEX, fn_ref);
+    lua_rawgeti(L, LUA_REGISTRYINDEX, s_ref);
+    // A fresh handle per frame: one a script keeps goes stale after its call.
+    FrameContext* ctx = push_frame_context(L);
+    ctx->model = &m;
+    ctx->state = &st;
+    struct Reset {
+      FrameContext* c;
+      ~Reset() { c->model = nullptr, c->state = nullptr; }
+    } reset{ctx};
+    lua_pushinteger(L, st.frame);
+    lua_pushnumber(L, st.time);
+    lua_pushnumber(L, m.dt);
+    lua_pushinteger(L, m.mesh.num_nodes());
+    rt.call(6, 1);
+    const bool go_on = lua_toboolean(L, -1);
+    lua_pop(L, 1);
+    return go_on && !st.stop_requested;
+  };
+
+  rt.set_interruptible(false);  // from here on the frame loop polls the flag
+  sim::Recorder rec(model, out.out_dir);
+  if (renderer) rec.set_renderer(renderer.get());
+  out.result = sim::run(model, state, rec, hooks);
+  out.warnings.insert(out.warnings.end(), model.warnings.begin(), model.warnings.end());
+  out.warnings.insert(out.warnings.end(), state.warnings.begin(), state.warnings.end());
+
+  // Expectation results (evaluated in the glue), then those never reached.
+  lua_rawgeti(L, LUA_REGISTRYINDEX, s_ref);
+  each(L, -1, "_results", [&](int e) {
+    ExpectationResult r;
+    r.name = get_string(L, e, "name");
+    r.where = get_string(L, e, "where");
+    r.reached = true;
+    r.ok = get_bool(L, e, "ok", false);
+    r.message = get_string(L, e, "message");
+    out.expectations.push_back(r);
+  });
+  lua_pop(L, 1);
+  rt.run_string("return require('scenario').pending", "=softcut/pending", 1);
+  lua_rawgeti(L, LUA_REGISTRYINDEX, s_ref);
+  rt.call(1, 1);
+  const int p = lua_gettop(L);
+  for (lua_Integer i = 1, n = luaL_len(L, p); i <= n; ++i) {
+    lua_rawgeti(L, p, i);
+    ExpectationResult r;
+    r.name = get_string(L, -1, "name");
+    r.where = get_string(L, -1, "where");
+    r.message = cat("not reached: the run ended at t = ", state.time, " s before at = ", get_number(L, -1, "at", 0), " s");
+    out.expectations.push_back(r);
+    lua_pop(L, 1);
+  }
+  lua_pop(L, 1);
+  return out;
+}
+
+}  // namespace softcut::lua

@@ -1,0 +1,60 @@
+#pragma once
+// Runs one Lua scenario end to end: sandboxed script -> ScenarioSpec ->
+// compile -> frame loop with the script's on_frame and expectations ->
+// displacements.csv + summary.json. The CLI (softcut run / check) calls this;
+// it needs no Lua headers.
+#include <atomic>
+#include <filesystem>
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "sim/run.hpp"
+#include "sim/scenario_spec.hpp"
+
+namespace softcut::lua {
+
+struct RunRequest {
+  std::filesystem::path scenario;                 // the .lua file
+  std::filesystem::path out_dir;                  // empty: renders/<scenario name>/ under the working folder
+  std::map<std::string, std::string> overrides;   // --set key=value (the scenario's params{})
+  int max_frames = -1;                            // --frames N (>= 0)
+  bool trusted = false;                           // --trust: no sandbox
+  bool render = true;                             // false: skip rendered frames (softcut check)
+  std::string backend;                            // --backend: overrides s:solver{ backend }; empty: the scenario's
+  long long instruction_budget = 200'000'000;     // sandbox: Lua VM instructions per call (main chunk, each on_frame)
+  std::size_t memory_budget = 512u << 20;         // sandbox: Lua heap, bytes
+  std::function<void(int frame, int num_frames, double elapsed_s)> progress;
+  const std::atomic<bool>* interrupt = nullptr;   // set by SIGINT/SIGTERM
+};
+
+struct ExpectationResult {
+  std::string name;
+  std::string where;    // "scenario.lua:40"
+  bool reached = false; // false: the run ended before `at`
+  bool ok = false;
+  std::string message;  // what was measured, or the check's message
+};
+
+struct RunOutcome {
+  std::string name;         // scenario name (renders/<name>)
+  std::string description;
+  std::filesystem::path out_dir;
+  double tolerance = 1e-6;  // reference comparison, relative to max |u_ref|
+  int num_frames = 0;       // of the timeline
+  sim::RunResult result;
+  std::vector<ExpectationResult> expectations;
+  std::vector<std::string> warnings;
+};
+
+// Throws softcut::Error (with the scenario's file:line) for script errors,
+// misuse and engine errors; after the frame loop started, the outputs are
+// finished (summary marks the error) before the error propagates.
+RunOutcome run_scenario(const RunRequest& req);
+
+// Only the script part: runs the scenario file and returns its spec (tests,
+// `softcut check` listing). Same errors as run_scenario.
+sim::ScenarioSpec load_scenario_spec(const RunRequest& req);
+
+}  // namespace softcut::lua

@@ -1,0 +1,180 @@
+// Frame bindings for on_frame and expectations: read the State, steer tools
+// and loads between frames, request a stop.
+#include <cmath>
+
+#include "bindings.hpp"
+#include "convert.hpp"
+#include "runtime.hpp"
+#include "wrap_frame.hpp"
+
+namespace softcut::lua {
+
+namespace {
+
+const char* kFrameMeta = "softcut.FrameContext";
+
+FrameContext& ctx(lua_State* L) {
+  auto* c = static_cast<FrameContext*>(luaL_checkudata(L, 1, kFrameMeta));
+  if (!c->model || !c->state) fail("this frame is over: use the frame only inside its on_frame call");
+  return *c;
+}
+
+int node_of(lua_State* L, const FrameContext& c, int idx) {
+  const lua_Integer n = luaL_checkinteger(L, idx);
+  if (n < 0 || n >= c.model->mesh.num_nodes())
+    fail("node ", n, " out of range (the mesh has ", c.model->mesh.num_nodes(), " nodes)");
+  return int(n);
+}
+
+std::vector<int> ids_of(lua_State* L, int idx) {
+  lua_newtable(L);
+  lua_pushvalue(L, idx);
+  lua_setfield(L, -2, "ids");
+  std::vector<int> ids = get_ints(L, -1, "ids");
+  lua_pop(L, 1);
+  return ids;
+}
+
+template <class Vec>
+int tool_index(lua_State* L, const Vec& tools, int idx) {
+  const lua_Integer i = luaL_checkinteger(L, idx);
+  if (i < 0 || i >= lua_Integer(tools.size())) fail("tool index ", i, " out of range");
+  return int(i);
+}
+
+int frame_displacement(lua_State* L) {
+  return protect(L, [L] {
+    FrameContext& c = ctx(L);
+    push_vec3(L, c.state->displacement.row(node_of(L, c, 2)).transpose());
+    return 1;
+  });
+}
+
+int frame_position(lua_State* L) {
+  return protect(L, [L] {
+    FrameContext& c = ctx(L);
+    const int n = node_of(L, c, 2);
+    push_vec3(L, (c.model->mesh.nodes.row(n) + c.state->displacement.row(n)).transpose());
+    return 1;
+  });
+}
+
+int frame_mean_displacement(lua_State* L) {
+  return protect(L, [L] {
+    FrameContext& c = ctx(L);
+    push_vec3(L, sim::mean_displacement(*c.state, ids_of(L, 2)));
+    return 1;
+  });
+}
+
+int frame_max_displacement(lua_State* L) {
+  return protect(L, [L] {
+    FrameContext& c = ctx(L);
+    double m = 0;
+    for (int n : ids_of(L, 2)) m = std::max(m, c.state->displacement.row(n).norm());
+    lua_pushnumber(L, m);
+    return 1;
+  });
+}
+
+// frame_max_component(ctx, ids, "magnitude"|"x"|"y"|"z"): the largest
+// magnitude, or the component largest in absolute value (signed).
+int frame_max_component(lua_State* L) {
+  return protect(L, [L] {
+    FrameContext& c = ctx(L);
+    const std::string comp = luaL_checkstring(L, 3);
+    double best = 0;
+    for (int n : ids_of(L, 2)) {
+      const Eigen::RowVector3d u = c.state->displacement.row(n);
+      const double v = comp == "magnitude" ? u.norm() : u(comp == "x" ? 0 : comp == "y" ? 1 : 2);
+      if (std::abs(v) > std::abs(best)) best = v;
+    }
+    lua_pushnumber(L, best);
+    return 1;
+  });
+}
+
+int frame_tool(lua_State* L) {
+  return protect(L, [L] {
+    FrameContext& c = ctx(L);
+    const tools::ToolState& t = c.state->tools[tool_index(L, c.state->tools, 2)];
+    lua_createtable(L, 0, 4);
+    push_vec3(L, t.tip);
+    lua_setfield(L, -2, "tip");
+    lua_pushboolean(L, t.engaged);
+    lua_setfield(L, -2, "engaged");
+    lua_pushinteger(L, lua_Integer(t.nodes.size()));
+    lua_setfield(L, -2, "num_nodes");
+    push_vec3(L, t.total_force);
+    lua_setfield(L, -2, "force");
+    return 1;
+  });
+}
+
+int frame_move_tool(lua_State* L) {
+  return protect(L, [L] {
+    FrameContext& c = ctx(L);
+    tools::ToolState& t = c.state->tools[tool_index(L, c.state->tools, 2)];
+    if (lua_isnoneornil(L, 3)) {
+      t.override_tip = false;
+    } else {
+      t.tip = to_vec3(L, 3);
+      t.override_tip = true;
+    }
+    return 0;
+  });
+}
+
+int frame_enable_tool(lua_State* L) {
+  return protect(L, [L] {
+    FrameContext& c = ctx(L);
+    c.state->tool_specs[tool_index(L, c.state->tool_specs, 2)].enabled = lua_toboolean(L, 3);
+    return 0;
+  });
+}
+
+// frame_set_load(ctx, index, scale|nil, enabled|nil)
+int frame_set_load(lua_State* L) {
+  return protect(L, [L] {
+    FrameContext& c = ctx(L);
+    sim::ActiveLoad& l = c.state->loads[tool_index(L, c.state->loads, 2)];
+    if (!lua_isnoneornil(L, 3)) l.scale = luaL_checknumber(L, 3);
+    if (!lua_isnoneornil(L, 4)) l.enabled = lua_toboolean(L, 4);
+    return 0;
+  });
+}
+
+int frame_stop(lua_State* L) {
+  return protect(L, [L] {
+    ctx(L).state->stop_requested = true;
+    return 0;
+  });
+}
+
+}  // namespace
+
+FrameContext* push_frame_context(lua_State* L) {
+  auto* c = static_cast<FrameContext*>(lua_newuserdatauv(L, sizeof(FrameContext), 0));
+  *c = FrameContext{};
+  if (luaL_newmetatable(L, kFrameMeta)) {
+    lua_pushstring(L, "Frame");
+    lua_setfield(L, -2, "__name");
+  }
+  lua_setmetatable(L, -2);
+  return c;
+}
+
+const luaL_Reg kFrameFunctions[] = {
+    {"frame_displacement", frame_displacement},
+    {"frame_position", frame_position},
+    {"frame_mean_displacement", frame_mean_displacement},
+    {"frame_max_displacement", frame_max_displacement},
+    {"frame_max_component", frame_max_component},
+    {"frame_tool", frame_tool},
+    {"frame_move_tool", frame_move_tool},
+    {"frame_enable_tool", frame_enable_tool},
+    {"frame_set_load", frame_set_load},
+    {"frame_stop", frame_stop},
+    {nullptr, nullptr}};
+
+}  // namespace softcut::lua

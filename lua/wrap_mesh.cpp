@@ -1,0 +1,227 @@
+// Mesh bindings: load the rest mesh at s:mesh{} and evaluate selections on it.
+#include <algorithm>
+#include <filesystem>
+#include <set>
+
+#include "bindings.hpp"
+#include "convert.hpp"
+#include "mesh/surface.hpp"
+#include "runtime.hpp"
+#include "sim/mesh_source.hpp"
+#include "sim/selector.hpp"
+#include "wrap_mesh.hpp"
+
+namespace fs = std::filesystem;
+
+namespace softcut::lua {
+
+namespace {
+
+const char* kMeshMeta = "softcut.MeshHandle";
+
+MeshHandle& check_handle(lua_State* L, int idx) {
+  return **static_cast<MeshHandle**>(luaL_checkudata(L, idx, kMeshMeta));
+}
+
+int handle_gc(lua_State* L) {
+  auto** p = static_cast<MeshHandle**>(luaL_checkudata(L, 1, kMeshMeta));
+  delete *p;
+  *p = nullptr;
+  return 0;
+}
+
+// Generator options: numbers, or 3-vectors flattened to name.x/.y/.z.
+std::map<std::string, double> read_options(lua_State* L, int idx) {
+  std::map<std::string, double> out;
+  if (lua_isnil(L, idx)) return out;
+  idx = lua_absindex(L, idx);
+  lua_pushnil(L);
+  while (lua_next(L, idx)) {
+    if (lua_type(L, -2) != LUA_TSTRING) {
+      lua_pop(L, 2);
+      fail("mesh: options must be named (name = value)");
+    }
+    const std::string key = lua_tostring(L, -2);
+    if (lua_type(L, -1) == LUA_TNUMBER) {
+      out[key] = lua_tonumber(L, -1);
+    } else if (lua_istable(L, -1)) {
+      Eigen::Vector3d v;
+      try {
+        v = to_vec3(L, -1);
+      } catch (const Error&) {
+        lua_pop(L, 2);
+        fail("mesh: option '", key, "' must be a number or a 3-vector {x, y, z}");
+      }
+      out[key + ".x"] = v(0), out[key + ".y"] = v(1), out[key + ".z"] = v(2);
+    } else {
+      const std::string t = luaL_typename(L, -1);
+      lua_pop(L, 2);
+      fail("mesh: option '", key, "' must be a number or a 3-vector {x, y, z}, got ", t);
+    }
+    lua_pop(L, 1);
+  }
+  return out;
+}
+
+// mesh_load(args, scenario_dir) -> handle, info | nil, message
+int mesh_load(lua_State* L) {
+  return protect(L, [L] {
+    luaL_checktype(L, 1, LUA_TTABLE);
+    const fs::path dir = luaL_checkstring(L, 2);
+    auto h = std::make_unique<MeshHandle>();
+    h->source.where = user_where(L);
+    const std::string file = get_string(L, 1, "file");
+    if (!file.empty()) h->source.file = fs::absolute(dir / file).lexically_normal();
+    h->source.generator = get_string(L, 1, "generate");
+    lua_getfield(L, 1, "options");
+    h->source.options = read_options(L, -1);
+    lua_pop(L, 1);
+    if (!file.empty() && !may_read(L, h->source.file))
+      fail(h->source.where, ": mesh: file '", file, "' is outside the scenario's folder ", dir.string(),
+           " (the sandbox reads only below it; run with --trust to lift this)");
+    if (!file.empty() && !fs::exists(h->source.file))
+      fail(h->source.where, ": mesh: file '", file, "' not found (looked for ", h->source.file.string(),
+           "; paths are relative to the scenario's folder)");
+    Diagnostics diag;
+    h->loaded = sim::load_mesh_source(h->source, diag);
+    h->warnings = diag.warnings;
+    h->surface = mesh::extract_surface(h->loaded.mesh);
+    const mesh::TetMesh& m = h->loaded.mesh;
+
+    auto** ud = static_cast<MeshHandle**>(lua_newuserdatauv(L, sizeof(MeshHandle*), 0));
+    *ud = h.release();
+    luaL_setmetatable(L, kMeshMeta);
+
+    lua_newtable(L);
+    lua_pushinteger(L, m.num_nodes());
+    lua_setfield(L, -2, "num_nodes");
+    lua_pushinteger(L, m.num_tets());
+    lua_setfield(L, -2, "num_tets");
+    std::set<int> labels(m.labels.data(), m.labels.data() + m.labels.size());
+    push_ints(L, std::vector<int>(labels.begin(), labels.end()));
+    lua_setfield(L, -2, "labels");
+    const Eigen::Vector3d lo = m.num_nodes() ? Eigen::Vector3d(m.nodes.colwise().minCoeff()) : Eigen::Vector3d::Zero();
+    const Eigen::Vector3d hi = m.num_nodes() ? Eigen::Vector3d(m.nodes.colwise().maxCoeff()) : Eigen::Vector3d::Zero();
+    push_vec3(L, lo);
+    lua_setfield(L, -2, "min");
+    push_vec3(L, hi);
+    lua_setfield(L, -2, "max");
+    push_vec3(L, 0.5 * (lo + hi));
+    lua_setfield(L, -2, "center");
+    push_vec3(L, hi - lo);
+    lua_setfield(L, -2, "size");
+    lua_newtable(L);
+    int k = 1;
+    for (const auto& [name, ids] : (*ud)->loaded.named_sets) {
+      lua_pushstring(L, name.c_str());
+      lua_rawseti(L, -2, k++);
+    }
+    lua_setfield(L, -2, "sets");
+    push_ints(L, (*ud)->surface.nodes);
+    lua_setfield(L, -2, "surface_nodes");
+    if (!file.empty()) {
+      lua_pushstring(L, (*ud)->source.file.c_str());
+      lua_setfield(L, -2, "file");
+    }
+    return 2;
+  });
+}
+
+// select_nodes(handle, selection, fname) -> ids (0-based, sorted) | nil, message
+int select_nodes(lua_State* L) {
+  return protect(L, [L] {
+    MeshHandle& h = check_handle(L, 1);
+    const sim::NodeSelector sel = to_node_selector(L, 2);
+    const std::string fname = luaL_optstring(L, 3, "select");
+    try {
+      push_ints(L, sim::select_nodes(sel, h.context(), fname));
+      return 1;
+    } catch (const Error& e) {
+      lua_pushnil(L);
+      lua_pushstring(L, e.what());
+      return 2;
+    }
+  });
+}
+
+// count_tets(handle, region, fname) -> n | nil, message
+int count_tets(lua_State* L) {
+  return protect(L, [L] {
+    MeshHandle& h = check_handle(L, 1);
+    const sim::TetSelector sel = to_tet_selector(L, 2);
+    const std::string fname = luaL_optstring(L, 3, "region");
+    try {
+      lua_pushinteger(L, lua_Integer(sim::select_tets(sel, h.context(), fname).size()));
+      return 1;
+    } catch (const Error& e) {
+      lua_pushnil(L);
+      lua_pushstring(L, e.what());
+      return 2;
+    }
+  });
+}
+
+// check_on_surface(handle, ids) -> nil | message naming the first interior node
+int check_on_surface(lua_State* L) {
+  return protect(L, [L] {
+    MeshHandle& h = check_handle(L, 1);
+    lua_newtable(L);
+    lua_pushvalue(L, 2);
+    lua_setfield(L, -2, "ids");
+    const std::vector<int> ids = get_ints(L, -1, "ids");
+    lua_pop(L, 1);
+    int off = 0, first = -1;
+    for (int n : ids)
+      if (!std::binary_search(h.surface.nodes.begin(), h.surface.nodes.end(), n)) {
+        if (first < 0) first = n;
+        ++off;
+      }
+    if (off == 0) return 0;
+    const std::string msg = cat(off, " of ", ids.size(), " selected nodes are not on the surface (first: node ", first,
+                                "); intersect with softcut.select.surface()");
+    lua_pushlstring(L, msg.data(), msg.size());
+    return 1;
+  });
+}
+
+int describe(lua_State* L) {
+  return protect(L, [L] {
+    const std::string s = describe_selection(L, 1);
+    lua_pushlstring(L, s.data(), s.size());
+    return 1;
+  });
+}
+
+int format_vec(lua_State* L) {
+  return protect(L, [L] {
+    const Eigen::Vector3d v = to_vec3(L, 1);
+    const std::string s = cat("{", v(0), ", ", v(1), ", ", v(2), "}");
+    lua_pushlstring(L, s.data(), s.size());
+    return 1;
+  });
+}
+
+}  // namespace
+
+sim::SelectContext MeshHandle::context() const { return {loaded.mesh, surface, loaded.named_sets}; }
+
+MeshHandle* to_mesh_handle(lua_State* L, int idx) {
+  void* p = luaL_testudata(L, idx, kMeshMeta);
+  return p ? *static_cast<MeshHandle**>(p) : nullptr;
+}
+
+void register_mesh_meta(lua_State* L) {
+  if (luaL_newmetatable(L, kMeshMeta)) {
+    lua_pushcfunction(L, handle_gc);
+    lua_setfield(L, -2, "__gc");
+  }
+  lua_pop(L, 1);
+}
+
+const luaL_Reg kMeshFunctions[] = {
+    {"mesh_load", mesh_load},           {"select_nodes", select_nodes},
+    {"count_tets", count_tets},         {"check_on_surface", check_on_surface},
+    {"describe_selection", describe},   {"format_vec", format_vec},
+    {nullptr, nullptr}};
+
+}  // namespace softcut::lua

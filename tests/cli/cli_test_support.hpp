@@ -1,0 +1,46 @@
+#pragma once
+// Running the softcut executable (SOFTCUT_BIN) from tests.
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "test_support.hpp"
+
+namespace softcut::test {
+
+struct CliResult {
+  int status = -1;     // exit status
+  std::string output;  // stdout and stderr together
+};
+
+// Runs `softcut ARGS` in `cwd` (default: the source folder), capturing output.
+inline CliResult run_cli(const std::string& args, const std::filesystem::path& cwd = SOFTCUT_SOURCE_DIR) {
+  const std::string cmd = "cd '" + cwd.string() + "' && '" SOFTCUT_BIN "' " + args + " 2>&1";
+  CliResult r;
+  FILE* p = popen(cmd.c_str(), "r");
+  if (!p) return r;
+  std::array<char, 4096> buf;
+  size_t n;
+  while ((n = fread(buf.data(), 1, buf.size(), p)) > 0) r.output.append(buf.data(), n);
+  const int st = pclose(p);
+  r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+  return r;
+}
+
+inline std::string source(const std::string& rel) { return (std::filesystem::path(SOFTCUT_SOURCE_DIR) / rel).string(); }
+
+inline std::string slurp(const std::filesystem::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+inline bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
+
+}  // namespace softcut::test

@@ -1,0 +1,117 @@
+// engine/cli/cmd_run.cpp through the real executable (SOFTCUT_BIN).
+#include <doctest/doctest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <thread>
+
+#include "cli_test_support.hpp"
+
+namespace fs = std::filesystem;
+using softcut::test::contains;
+using softcut::test::run_cli;
+using softcut::test::slurp;
+
+TEST_SUITE("cli/cmd_run") {
+  TEST_CASE("runs the flagship scenario into --out, quietly") {
+    const fs::path out = softcut::test::scratch_dir("cli_run") / "leg";
+    const auto r = run_cli("run " + softcut::test::source("scenarios/upper_leg.lua") + " --out " + out.string() + " --quiet");
+    CHECK(r.status == 0);
+    CHECK(r.output == "");  // --quiet: nothing
+    CHECK(contains(slurp(out / "summary.json"), "\"exit_reason\": \"completed\""));
+    CHECK(slurp(out / "displacements.csv").rfind("frame,time,node,ux,uy,uz\n", 0) == 0);
+  }
+
+  TEST_CASE("plain progress lines when not on a terminal - --frames - --set") {
+    const fs::path dir = softcut::test::scratch_dir("cli_run_lines");
+    const auto r = run_cli("run " + softcut::test::source("scenarios/knee_ligament.lua") + " --out " + (dir / "a").string() +
+                           " --frames 7 --set force=2");
+    CHECK(r.status == 0);
+    CHECK(contains(r.output, "frame 7/61"));
+    CHECK(contains(r.output, "ETA"));
+    CHECK_FALSE(contains(r.output, "\r"));
+    CHECK(contains(r.output, "knee_ligament: 7 frames, frame_limit"));
+    CHECK(contains(slurp(dir / "a" / "summary.json"), "\"frames\": 7"));
+  }
+
+  TEST_CASE("default output folder is renders/<scenario name>/ under the working folder") {
+    const fs::path dir = softcut::test::scratch_dir("cli_run_default");
+    const auto r = run_cli("run " + softcut::test::source("scenarios/liver_retraction.lua") + " --quiet --frames 2", dir);
+    CHECK(r.status == 0);
+    CHECK(fs::exists(dir / "renders" / "liver_retraction" / "summary.json"));
+  }
+
+  TEST_CASE("usage errors and script errors exit non-zero with one clear message") {
+    CHECK(run_cli("run").status == 2);
+    const auto bad = run_cli("run x.lua --bogus");
+    CHECK(bad.status == 1);
+    CHECK(contains(bad.output, "unknown option '--bogus'"));
+    const auto set = run_cli("run " + softcut::test::source("scenarios/upper_leg.lua") + " --set poke=1 --quiet");
+    CHECK(set.status == 1);
+    CHECK(contains(set.output, "upper_leg.lua:7: params: --set poke: the scenario has no parameter 'poke' (did you mean 'poke_force'?)"));
+    const fs::path dir = softcut::test::scratch_dir("cli_run_err");
+    std::ofstream(dir / "e.lua") << "os.execute('touch " << (dir / "pwned").string() << "')\n";
+    const auto esc = run_cli("run " + (dir / "e.lua").string());
+    CHECK(esc.status == 1);
+    CHECK(contains(esc.output, "e.lua:1: os.execute is not available in the sandbox"));
+    CHECK_FALSE(fs::exists(dir / "pwned"));
+    // --trust lifts the sandbox.
+    std::ofstream(dir / "t.lua") << "assert(type(os.getenv('PATH')) == 'string')\nerror('reached')\n";
+    CHECK(contains(run_cli("run " + (dir / "t.lua").string() + " --trust").output, "t.lua:2: reached"));
+  }
+
+  TEST_CASE("SIGTERM finishes the frame, writes valid outputs marked interrupted") {
+    const fs::path dir = softcut::test::scratch_dir("cli_run_sigterm");
+    // Long enough that the signal lands mid-run: 100000 frames of a tiny box.
+    std::ofstream(dir / "long.lua") << R"(
+local s = softcut.scenario{ name = "long", duration = 1000, fps = 100 }
+s:mesh{ generate = "box", options = { nx = 2, ny = 2, nz = 2 } }
+s:material{ tissue = "liver" }
+s:fix{ nodes = softcut.select.box{ min = {0, 0, 0}, max = {0, 1, 1} } }
+s:load{ nodes = softcut.select.box{ min = {1, 0, 0}, max = {1, 1, 1} }, force = {0, 0, -1}, ramp = softcut.ramp.sine{ amplitude = 1, frequency = 1 } }
+s:on_frame(function(f) if f.frame == 20 then local m = io.open("started", "w"); m:write("x"); m:close() end end)
+return s
+)";
+    const pid_t pid = fork();
+    REQUIRE(pid >= 0);
+    if (pid == 0) {
+      freopen("/dev/null", "w", stderr);
+      execl(SOFTCUT_BIN, SOFTCUT_BIN, "run", (dir / "long.lua").c_str(), "--out", (dir / "out").c_str(), (char*)nullptr);
+      _exit(127);
+    }
+    for (int i = 0; i < 200 && !fs::exists(dir / "out" / "started"); ++i)
+      std::this_thread::sleep_for(std::chrono::milliseconds(25));
+    REQUIRE(fs::exists(dir / "out" / "started"));
+    kill(pid, SIGTERM);
+    int status = 0;
+    waitpid(pid, &status, 0);
+    CHECK(WIFEXITED(status));
+    CHECK(WEXITSTATUS(status) == 130);
+    const std::string summary = slurp(dir / "out" / "summary.json");
+    CHECK(contains(summary, "\"interrupted\": true"));
+    // Every row complete; the last frame logged completely.
+    std::istringstream csv(slurp(dir / "out" / "displacements.csv"));
+    std::string line;
+    std::getline(csv, line);
+    CHECK(line == "frame,time,node,ux,uy,uz");
+    int rows = 0, last_frame = -1, per_frame = 0, in_last = 0;
+    while (std::getline(csv, line)) {
+      CHECK(std::count(line.begin(), line.end(), ',') == 5);
+      const int frame = std::stoi(line.substr(0, line.find(',')));
+      if (frame != last_frame) {
+        if (last_frame == 0) per_frame = in_last;
+        last_frame = frame, in_last = 0;
+      }
+      ++in_last, ++rows;
+    }
+    CHECK(last_frame >= 20);
+    CHECK(last_frame < 100000 - 1);
+    CHECK(in_last == per_frame);
+  }
+}

@@ -1,0 +1,69 @@
+#include "convert.hpp"
+
+#include <doctest/doctest.h>
+#include <lua.hpp>
+
+#include "lua_test_support.hpp"
+
+namespace {
+
+// Evaluates `expr` in a fresh runtime and converts the result with `fn`.
+template <class Fn>
+auto convert(const std::string& expr, Fn fn) {
+  softcut::lua::Runtime rt;
+  rt.run_string("return " + expr, "=t", 1);
+  return fn(rt.state(), -1);
+}
+
+}  // namespace
+
+TEST_SUITE("lua/convert") {
+  TEST_CASE("selections: kinds, shapes and set algebra trees") {
+    using K = softcut::sim::NodeSelector::Kind;
+    const auto s = convert(
+        "softcut.select.sphere{ center = {1, 2, 3}, radius = 0.5 } + softcut.select.label(4) - softcut.select.nodes{ 7 }",
+        softcut::lua::to_node_selector);
+    CHECK(s.kind == K::difference);
+    REQUIRE(s.children.size() == 2);
+    CHECK(s.children[0].kind == K::union_of);
+    CHECK(s.children[0].children[0].kind == K::sphere);
+    CHECK(s.children[0].children[0].center == Eigen::Vector3d(1, 2, 3));
+    CHECK(s.children[0].children[0].radius == 0.5);
+    CHECK(s.children[0].children[1].label == 4);
+    CHECK(s.children[1].ids == std::vector<int>{7});
+    CHECK(s.children[1].where == "?");  // no user file (chunk "=t"): unknown line
+    const auto b = convert("softcut.select.box{ min = {0, 0, 0}, max = {1, 2, 3} }", softcut::lua::to_node_selector);
+    CHECK(b.kind == K::box);
+    CHECK(b.hi == Eigen::Vector3d(1, 2, 3));
+  }
+
+  TEST_CASE("ramps and paths: every field reaches the engine struct") {
+    const auto n = convert("2.5", softcut::lua::to_ramp);
+    CHECK(n.kind == softcut::tools::Ramp::Kind::constant);
+    CHECK(softcut::tools::evaluate(n, 9) == 2.5);
+    const auto k = convert("softcut.ramp.keyframes{ times = {0, 1}, values = {3, 4} }", softcut::lua::to_ramp);
+    CHECK(k.times == std::vector<double>{0, 1});
+    CHECK(k.values == std::vector<double>{3, 4});
+    const auto w = convert("softcut.ramp.sine{ amplitude = 2, frequency = 3, phase = 0.5, offset = 1, t0 = 4 }", softcut::lua::to_ramp);
+    CHECK((w.amplitude == 2 && w.frequency == 3 && w.phase == 0.5 && w.offset == 1 && w.t0 == 4));
+    const auto a = convert("softcut.path.arc{ center = {1, 0, 0}, axis = {0, 1, 0}, start = {2, 0, 0}, sweep = 3, t0 = 1, t1 = 2 }",
+                           softcut::lua::to_path);
+    CHECK(a.kind == softcut::tools::Path::Kind::arc);
+    CHECK(a.axis == Eigen::Vector3d(0, 1, 0));
+    CHECK((a.sweep == 3 && a.t0 == 1 && a.t1 == 2));
+    const auto p = convert("softcut.path.polyline{ times = {0, 1}, points = {{0, 0, 0}, {1, 1, 1}} }", softcut::lua::to_path);
+    REQUIRE(p.points.size() == 2);
+    CHECK(p.points[1] == Eigen::Vector3d(1, 1, 1));
+  }
+
+  TEST_CASE("malformed tables are errors, not guesses") {
+    softcut::lua::Runtime rt;
+    lua_State* L = rt.state();
+    rt.run_string("return { kind = 'sphere', center = {1, 2} }", "=t", 1);
+    CHECK_THROWS_WITH(softcut::lua::to_node_selector(L, -1), doctest::Contains("field 'center'"));
+    rt.run_string("return { kind = 'blob' }", "=t", 1);
+    CHECK_THROWS_WITH(softcut::lua::to_node_selector(L, -1), doctest::Contains("unknown selection kind 'blob'"));
+    rt.run_string("return { kind = 'linear', t1 = 'x' }", "=t", 1);
+    CHECK_THROWS_WITH(softcut::lua::to_ramp(L, -1), doctest::Contains("field 't1' must be a number"));
+  }
+}

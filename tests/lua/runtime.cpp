@@ -1,0 +1,145 @@
+#include "runtime.hpp"
+
+#include <doctest/doctest.h>
+#include <lua.hpp>
+
+#include <fstream>
+
+#include "lua_test_support.hpp"
+
+namespace fs = std::filesystem;
+using softcut::test::contains;
+using softcut::test::lua_error;
+
+TEST_SUITE("lua/runtime") {
+  TEST_CASE("a syntax error names the chunk's file and line") {
+    const std::string e = lua_error("local a = 1\nlocal b = = 2\n");
+    CHECK(e.rfind("snippet.lua:2:", 0) == 0);
+    CHECK(contains(e, "unexpected symbol"));
+  }
+
+  TEST_CASE("a runtime error carries file:line and a traceback") {
+    const std::string e = lua_error("local function f(t)\n  return t.x.y\nend\nf({})\n");
+    CHECK(e.rfind("snippet.lua:2:", 0) == 0);
+    CHECK(contains(e, "attempt to index a nil value"));
+    CHECK(contains(e, "stack traceback:"));
+    CHECK(contains(e, "snippet.lua:4: in main chunk"));
+  }
+
+  TEST_CASE("run_file loads the chunk as @path") {
+    const fs::path f = softcut::test::write_scenario("rt_file", "local x = nil\nreturn x.y\n", "bad.lua");
+    softcut::lua::Runtime rt;
+    try {
+      rt.run_file(f, 0);
+      FAIL("no error");
+    } catch (const softcut::Error& e) {
+      CHECK(std::string(e.what()).rfind(f.string() + ":2:", 0) == 0);
+    }
+  }
+
+  TEST_CASE("a C++ exception in a binding becomes a Lua error, catchable by pcall") {
+    softcut::lua::Runtime rt;
+    lua_State* L = rt.state();
+    lua_pushcfunction(L, [](lua_State* L) -> int {
+      return softcut::lua::protect(L, []() -> int { softcut::fail("engine said no"); });
+    });
+    lua_setglobal(L, "thrower");
+    rt.run_string("local ok, msg = pcall(thrower)\nassert(not ok)\nassert(msg == 'engine said no', msg)\n", "@t.lua", 0);
+    try {
+      rt.run_string("\nthrower()", "@t.lua", 0);
+      FAIL("no error");
+    } catch (const softcut::Error& e) {
+      CHECK(std::string(e.what()).rfind("engine said no", 0) == 0);
+      CHECK(contains(e.what(), "t.lua:2: in main chunk"));
+    }
+  }
+
+  TEST_CASE("the embedded library is the global softcut and require-able") {
+    CHECK(lua_error("assert(require('softcut') == softcut)\nassert(type(softcut.scenario) == 'function')") == "");
+    CHECK(lua_error("assert(softcut.version:match('^%d+%.%d+'))") == "");
+  }
+
+  TEST_CASE("sandbox: process and native-code escapes are refused with a clear message") {
+    for (const char* code : {"os.execute('true')", "io.popen('ls')", "package.loadlib('libc.so.6', 'system')",
+                             "os.exit(1)", "os.getenv('HOME')", "os.remove('x')", "debug.sethook()", "dofile('x.lua')",
+                             "loadfile('x.lua')"}) {
+      CAPTURE(code);
+      const std::string e = lua_error(code);
+      CHECK(contains(e, "not available in the sandbox"));
+      CHECK(contains(e, "--trust"));
+      CHECK(e.rfind("snippet.lua:1:", 0) == 0);
+    }
+    const std::string e = lua_error("require('os')");
+    CHECK(contains(e, "require: no module 'os'"));
+  }
+
+  TEST_CASE("sandbox: files only below the scenario folder (read) and the output folder (write)") {
+    const fs::path dir = softcut::test::scratch_dir("rt_files");
+    fs::create_directories(dir / "scn");
+    fs::create_directories(dir / "out");
+    std::ofstream(dir / "scn" / "data.txt") << "hello\n";
+    std::ofstream(dir / "secret.txt") << "no\n";
+    softcut::lua::SandboxOptions opt;
+    opt.read_dir = dir / "scn";
+    opt.write_dir = dir / "out";
+    CHECK(lua_error("assert(io.open('data.txt'):read('l') == 'hello')", opt) == "");
+    const std::string passwd = lua_error("io.open('/etc/passwd')", opt);
+    CHECK(contains(passwd, "io.open: '/etc/passwd' is outside the scenario folder"));
+    CHECK(contains(lua_error("io.open('../secret.txt')", opt), "outside the scenario folder"));
+    CHECK(contains(lua_error("io.lines('/etc/passwd')", opt), "io.lines: '/etc/passwd' is outside"));
+    CHECK(contains(lua_error("io.open('../scn/data.txt', 'w')", opt), "outside the output folder"));
+    CHECK(lua_error("local f = io.open('log.txt', 'w'); f:write('x'); f:close()", opt) == "");
+    CHECK(fs::exists(dir / "out" / "log.txt"));
+    CHECK(contains(lua_error("io.open('" + (dir / "scn" / "x.txt").string() + "', 'a')", opt), "outside the output folder"));
+  }
+
+  TEST_CASE("sandbox: binary chunks are refused, text chunks load") {
+    CHECK(contains(lua_error("load(string.dump(function() return 1 end))"), "binary chunks are refused"));
+    CHECK(lua_error("assert(load('return 1 + 1')() == 2)") == "");
+    softcut::lua::SandboxOptions trusted;
+    trusted.trusted = true;
+    CHECK(lua_error("assert(load(string.dump(function() return 7 end))() == 7)", trusted) == "");
+    CHECK(lua_error("assert(type(os.getenv) == 'function')", trusted) == "");
+  }
+
+  TEST_CASE("sandbox: an endless loop ends at the instruction budget") {
+    softcut::lua::SandboxOptions opt;
+    opt.instruction_budget = 2'000'000;
+    const std::string e = lua_error("local i = 0\nwhile true do i = i + 1 end", opt);
+    CHECK(e.rfind("snippet.lua:2: instruction budget of 2000000 instructions exceeded", 0) == 0);
+    CHECK(contains(e, "--trust"));
+    // A coroutine does not escape it.
+    CHECK(contains(lua_error("coroutine.wrap(function() while true do end end)()", opt), "instruction budget"));
+  }
+
+  TEST_CASE("sandbox: a huge allocation ends at the memory budget") {
+    softcut::lua::SandboxOptions opt;
+    opt.memory_budget = 32u << 20;
+    CHECK(contains(lua_error("local s = string.rep('x', 64 * 1024 * 1024)", opt), "memory budget of 32 MiB exceeded"));
+    CHECK(contains(lua_error("local t = {}\nfor i = 1, 1e8 do t[i] = i end", opt), "memory budget of 32 MiB exceeded"));
+    // The state stays usable after a refused allocation.
+    softcut::lua::Runtime rt(opt);
+    CHECK_THROWS(rt.run_string("local s = string.rep('x', 64 * 1024 * 1024)", "=t", 0));
+    rt.run_string("assert(#string.rep('x', 1000) == 1000)", "=t", 0);
+    CHECK(rt.memory_used() < opt.memory_budget);
+  }
+
+  TEST_CASE("an interruption flag stops running Lua code, also with --trust") {
+    std::atomic<bool> flag{false};
+    softcut::lua::SandboxOptions opt;
+    opt.trusted = true;
+    opt.interrupt = &flag;
+    softcut::lua::Runtime rt(opt);
+    flag = true;  // as the signal handler would
+    CHECK_THROWS_WITH(rt.run_string("local x = 0\nwhile true do x = x + 1 end", "@loop.lua", 0),
+                      doctest::Contains("loop.lua:2: interrupted"));
+  }
+
+  TEST_CASE("--trust lifts the budgets") {
+    softcut::lua::SandboxOptions opt;
+    opt.trusted = true;
+    opt.instruction_budget = 1000;
+    opt.memory_budget = 1u << 20;
+    CHECK(lua_error("local t = {} for i = 1, 300000 do t[i] = i end", opt) == "");
+  }
+}

@@ -1,0 +1,193 @@
+#include "scenario_runner.hpp"
+
+#include <doctest/doctest.h>
+
+#include <fstream>
+#include <sstream>
+
+#include "lua_test_support.hpp"
+
+namespace fs = std::filesystem;
+using softcut::test::contains;
+using softcut::test::kBoxHead;
+using softcut::test::scenario_error;
+using softcut::test::write_scenario;
+
+namespace {
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+const char* kPull = R"(
+s:load{ name = "pull", nodes = tip, force = {0, 0, -P.force}, ramp = softcut.ramp.linear{ t1 = 0.5 } }
+s:expect{ name = "down", at = 0.5, nodes = tip, component = "z", max = 0 }
+s:expect{ name = "tiny", at = 0.3, nodes = tip, measure = "max", max = 1e-9 }
+s:expect{ name = "fn", at = 0.2, check = function(f) return f.time > 0.1, "never" end }
+return s
+)";
+
+std::string params_scenario(const std::string& name) {
+  return write_scenario(name, "local P = softcut.params{ force = 0.05, label = 'x', fast = false }\n" + std::string(kBoxHead) + kPull)
+      .string();
+}
+
+}  // namespace
+
+TEST_SUITE("lua/scenario_runner") {
+  TEST_CASE("a run writes the outputs and reports each expectation with its line") {
+    softcut::lua::RunOutcome out;
+    const fs::path f = params_scenario("runner_basic");
+    REQUIRE(scenario_error(f, &out) == "");
+    CHECK(out.name == "scenario");
+    CHECK(out.num_frames == 6);
+    CHECK(out.result.frames == 6);
+    CHECK(fs::exists(out.out_dir / "displacements.csv"));
+    CHECK(contains(slurp(out.out_dir / "summary.json"), "\"exit_reason\": \"completed\""));
+    REQUIRE(out.expectations.size() == 3);
+    // Evaluated in time order: fn (0.2), tiny (0.3), down (0.5).
+    CHECK(out.expectations[0].name == "fn");
+    CHECK(out.expectations[0].ok);
+    CHECK(out.expectations[1].name == "tiny");
+    CHECK_FALSE(out.expectations[1].ok);
+    CHECK(out.expectations[1].where == f.string() + ":11");
+    CHECK(contains(out.expectations[1].message, "max |u| of 9 nodes at t = 0.3 s is "));
+    CHECK(contains(out.expectations[1].message, "outside [-inf, 1e-09] m"));
+    CHECK(out.expectations[2].ok);
+  }
+
+  TEST_CASE("--set overrides params by the defaults' types - unknown keys are suggested") {
+    softcut::lua::RunRequest req;
+    req.overrides = {{"force", "0.1"}};
+    const fs::path f = params_scenario("runner_set");
+    REQUIRE(scenario_error(f, nullptr, req) == "");
+    req.overrides = {{"forse", "1"}};
+    CHECK(contains(scenario_error(f, nullptr, req), "scenario.lua:1: params: --set forse: the scenario has no parameter 'forse' (did you mean 'force'?)"));
+    req.overrides = {{"force", "abc"}};
+    CHECK(contains(scenario_error(f, nullptr, req), "--set force=abc: 'abc' is not a number"));
+    req.overrides = {{"fast", "maybe"}};
+    CHECK(contains(scenario_error(f, nullptr, req), "--set fast=maybe: expected true or false"));
+    const fs::path g = write_scenario("runner_noparams", std::string(kBoxHead) + "return s\n");
+    req.overrides = {{"force", "1"}};
+    CHECK(contains(scenario_error(g, nullptr, req), "--set force=...: the scenario declares no parameters"));
+  }
+
+  TEST_CASE("twice the force gives twice the displacement") {
+    const fs::path f = params_scenario("runner_linear");
+    softcut::lua::RunRequest r1, r2;
+    r1.out_dir = f.parent_path() / "a";
+    r2.out_dir = f.parent_path() / "b";
+    r2.overrides = {{"force", "0.1"}};
+    softcut::lua::RunOutcome a, b;
+    REQUIRE(scenario_error(f, &a, r1) == "");
+    REQUIRE(scenario_error(f, &b, r2) == "");
+    std::istringstream sa(slurp(a.out_dir / "displacements.csv")), sb(slurp(b.out_dir / "displacements.csv"));
+    std::string la, lb;
+    int rows = 0;
+    std::getline(sa, la), std::getline(sb, lb);
+    while (std::getline(sa, la) && std::getline(sb, lb)) {
+      const double ua = std::stod(la.substr(la.rfind(',') + 1)), ub = std::stod(lb.substr(lb.rfind(',') + 1));
+      CHECK(ub == doctest::Approx(2 * ua).epsilon(1e-9));
+      ++rows;
+    }
+    CHECK(rows > 0);
+  }
+
+  TEST_CASE("same scenario, same build: byte-identical logs") {
+    const fs::path f = params_scenario("runner_determinism");
+    softcut::lua::RunRequest r1, r2;
+    r1.out_dir = f.parent_path() / "a";
+    r2.out_dir = f.parent_path() / "b";
+    REQUIRE(scenario_error(f, nullptr, r1) == "");
+    REQUIRE(scenario_error(f, nullptr, r2) == "");
+    CHECK(slurp(r1.out_dir / "displacements.csv") == slurp(r2.out_dir / "displacements.csv"));
+  }
+
+  TEST_CASE("interruption: the frame finishes, outputs are valid and marked interrupted") {
+    const fs::path f = params_scenario("runner_interrupt");
+    std::atomic<bool> flag{false};
+    softcut::lua::RunRequest req;
+    req.interrupt = &flag;
+    req.progress = [&](int frame, int, double) { if (frame == 1) flag = true; };  // as a signal would, mid-run
+    softcut::lua::RunOutcome out;
+    REQUIRE(scenario_error(f, &out, req) == "");
+    CHECK(out.result.reason == softcut::sim::ExitReason::interrupted);
+    CHECK(out.result.frames == 2);
+    CHECK(contains(slurp(out.out_dir / "summary.json"), "\"interrupted\": true"));
+    CHECK(slurp(out.out_dir / "displacements.csv").rfind("frame,time,node,ux,uy,uz\n", 0) == 0);
+    // Expectations after the stop are reported as not reached.
+    bool pending = false;
+    for (const auto& e : out.expectations) pending = pending || contains(e.message, "not reached");
+    CHECK(pending);
+  }
+
+  TEST_CASE("the instruction budget applies per call: long runs are fine, an endless on_frame is not") {
+    softcut::lua::RunRequest req;
+    req.instruction_budget = 60'000;
+    const auto ok = write_scenario("runner_budget_ok", std::string(kBoxHead) +
+        "s:on_frame(function(f) local x = 0 for i = 1, 3000 do x = x + i end end)\nreturn s\n");
+    softcut::lua::RunOutcome out;
+    CHECK(scenario_error(ok, &out, req) == "");  // 6 frames x ~12k instructions > 60k in total
+    CHECK(out.result.frames == 6);
+    const auto bad = write_scenario("runner_budget_bad", std::string(kBoxHead) +
+        "s:on_frame(function(f)\n  while true do end\nend)\nreturn s\n");
+    const std::string e = scenario_error(bad, nullptr, req);
+    CHECK(e.rfind(bad.string() + ":8: instruction budget of 60000 instructions exceeded", 0) == 0);
+  }
+
+  TEST_CASE("output settings reach the engine: logged nodes, VTU series") {
+    const auto f = write_scenario("runner_vtu", std::string(kBoxHead) +
+        "s:output{ vtu = true, vtu_every = 2, log = softcut.select.nodes{ 0, 44 } }\nreturn s\n");
+    softcut::lua::RunOutcome out;
+    REQUIRE(scenario_error(f, &out) == "");
+    CHECK(fs::exists(out.out_dir / "series.pvd"));
+    CHECK(fs::exists(out.out_dir / "vtu" / "frame_000000.vtu"));
+    CHECK(fs::exists(out.out_dir / "vtu" / "frame_000004.vtu"));
+    CHECK_FALSE(fs::exists(out.out_dir / "vtu" / "frame_000001.vtu"));
+    std::istringstream csv(slurp(out.out_dir / "displacements.csv"));
+    int rows = 0;
+    for (std::string line; std::getline(csv, line);) ++rows;
+    CHECK(rows == 1 + 6 * 2);  // header + frames x logged nodes
+  }
+
+  TEST_CASE("--frames limits the run") {
+    softcut::lua::RunRequest req;
+    req.max_frames = 2;
+    softcut::lua::RunOutcome out;
+    REQUIRE(scenario_error(params_scenario("runner_frames"), &out, req) == "");
+    CHECK(out.result.frames == 2);
+  }
+
+  TEST_CASE("scenario-level errors name the file and what to add") {
+    CHECK(contains(scenario_error(write_scenario("runner_none", "local x = 1\n")), "the script made no scenario"));
+    CHECK(contains(scenario_error(write_scenario("runner_nomesh", "return softcut.scenario{ duration = 1 }\n")),
+                   "scenario.lua: scenario: no mesh"));
+    CHECK(contains(scenario_error(write_scenario("runner_nofix", R"(
+local s = softcut.scenario{ duration = 1 }
+s:mesh{ generate = "box" }
+return s
+)")),
+                   "scenario.lua:2: scenario: no fixed nodes"));
+    CHECK(contains(scenario_error(write_scenario("runner_late", std::string(kBoxHead) + "s:expect{ at = 3, nodes = tip, max = 1 }\nreturn s\n")),
+                   "scenario.lua:7: expect: at = 3 s is after the end of the timeline (duration = 0.5 s)"));
+  }
+
+  TEST_CASE("load_scenario_spec fills the engine's spec") {
+    softcut::lua::RunRequest req;
+    req.scenario = params_scenario("runner_spec");
+    const softcut::sim::ScenarioSpec spec = softcut::lua::load_scenario_spec(req);
+    CHECK(spec.mesh.generator == "box");
+    CHECK(spec.mesh.options.at("max.x") == 0.1);
+    REQUIRE(spec.loads.size() == 1);
+    CHECK(spec.loads[0].name == "pull");
+    CHECK(spec.loads[0].direction.z() == -1);
+    CHECK(spec.loads[0].magnitude.kind == softcut::tools::Ramp::Kind::linear);
+    CHECK(spec.loads[0].magnitude.to == doctest::Approx(0.05));
+    CHECK(spec.materials.at(0).preset == "liver");
+    CHECK(spec.timeline.frame_rate == 10);
+    CHECK(spec.fixed.kind == softcut::sim::NodeSelector::Kind::box);
+  }
+}
