@@ -40,8 +40,9 @@ uniform uint dense_m;     // size of the dense block
 shared REAL red0[GROUP_SIZE];
 shared REAL red1[GROUP_SIZE];
 
-// Tree reduction of red0/red1 within the group; thread 0 writes the partials.
-void group_reduce2(REAL a, REAL b) {
+// Tree sums of a and b over the group into red0[0] and red1[0] (every
+// invocation must call it: it holds barriers).
+void group_sum2(REAL a, REAL b) {
   uint t = gl_LocalInvocationID.x;
   red0[t] = a; red1[t] = b;
   barrier();
@@ -49,7 +50,15 @@ void group_reduce2(REAL a, REAL b) {
     if (t < s) { red0[t] += red0[t + s]; red1[t] += red1[t + s]; }
     barrier();
   }
-  if (t == 0u) { partial[2u * gl_WorkGroupID.x] = red0[0]; partial[2u * gl_WorkGroupID.x + 1u] = red1[0]; }
+}
+
+// group_sum2, then thread 0 writes the group's partials.
+void group_reduce2(REAL a, REAL b) {
+  group_sum2(a, b);
+  if (gl_LocalInvocationID.x == 0u) {
+    partial[2u * gl_WorkGroupID.x] = red0[0];
+    partial[2u * gl_WorkGroupID.x + 1u] = red1[0];
+  }
 }
 
 // z_I = Dinv_I r_I for node I.
@@ -66,15 +75,9 @@ void precondition(uint I) {
 // Sums the 2 x REDUCE_GROUPS partials in one group: returns (sum0, sum1) in red0[0], red1[0].
 const char* kFinalReduce = R"(
 void final_reduce() {
-  uint t = gl_LocalInvocationID.x;
   REAL a = REAL(0), b = REAL(0);
-  for (uint g = t; g < REDUCE_GROUPS; g += GROUP_SIZE) { a += partial[2u * g]; b += partial[2u * g + 1u]; }
-  red0[t] = a; red1[t] = b;
-  barrier();
-  for (uint s = GROUP_SIZE / 2u; s > 0u; s >>= 1u) {
-    if (t < s) { red0[t] += red0[t + s]; red1[t] += red1[t + s]; }
-    barrier();
-  }
+  for (uint g = gl_LocalInvocationID.x; g < REDUCE_GROUPS; g += GROUP_SIZE) { a += partial[2u * g]; b += partial[2u * g + 1u]; }
+  group_sum2(a, b);
 }
 )";
 

@@ -168,9 +168,16 @@ int ComputeCg::solve_device(const Eigen::VectorXd& r, Eigen::VectorXd& d, double
   Impl& m = *impl_;
   const int n = m.cached.size();
   if (r.size() != n) fail("GPU solver: right-hand side of size ", r.size(), " for a system of size ", n);
+  if (opt_.check_every < 1) fail("GPU solver: check_every = ", opt_.check_every, " must be >= 1 (iterations)");
+  // The device solves for r / scale: fp32 dot products of a tiny residual
+  // (late refinements, micro-newton loads) underflow and those of a huge one
+  // overflow; the system is linear, so d is scaled back at the end.
+  const double scale = n > 0 ? r.cwiseAbs().maxCoeff() : 0.0;
+  if (!std::isfinite(scale)) fail("GPU solver: the right-hand side has NaN or Inf entries");
+  const Eigen::VectorXd r_unit = scale > 0 ? Eigen::VectorXd(r / scale) : r;
   context_.make_current();
   m.bind_all();
-  const auto rb = to_device(r.data(), std::size_t(n), m.fp64);
+  const auto rb = to_device(r_unit.data(), std::size_t(n), m.fp64);
   m.buf[L::kR].upload_range(0, rb.data(), rb.size());
   storage_barrier();
   m.start.dispatch(L::kReduceGroups);
@@ -206,7 +213,7 @@ int ComputeCg::solve_device(const Eigen::VectorXd& r, Eigen::VectorXd& d, double
   std::vector<unsigned char> xb(std::size_t(n) * m.scalar());
   m.buf[L::kX].download(xb.data(), xb.size());
   const auto xd = from_device(xb, m.fp64);
-  d = Eigen::Map<const Eigen::VectorXd>(xd.data(), n);
+  d = scale * Eigen::Map<const Eigen::VectorXd>(xd.data(), n);
   if (rr0 == 0) d.setZero();
   return it;
 }

@@ -9,7 +9,9 @@
 // (mixed-precision iterative refinement): r = b - A x in double with the exact
 // operator, the device solves A d = r to `inner_tolerance`, x += d, until
 // ||b - A x|| <= tolerance ||b||. So the answer meets the CPU solver's
-// tolerance although the device computes in float. With fp64 = true the same
+// tolerance although the device computes in float. Each device solve sees r
+// scaled to a largest entry of 1, so fp32 dot products neither underflow nor
+// overflow whatever the load's magnitude. With fp64 = true the same
 // kernels run in double (GL 4.0+ core; llvmpipe and NVIDIA offer it).
 #include <Eigen/Core>
 #include <cstddef>

@@ -89,19 +89,27 @@ std::size_t StorageBuffer::upload(const void* data, std::size_t bytes) {
     glNamedBufferData(id_, GLsizeiptr(bytes), data, GL_DYNAMIC_DRAW);
     capacity_ = bytes;
   } else if (data) {
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
     glNamedBufferSubData(id_, 0, GLsizeiptr(bytes), data);
   }
   return data ? bytes : 0;
 }
 
+// Buffer reads and writes through the API see (and wait for) earlier shader
+// writes only after GL_BUFFER_UPDATE_BARRIER_BIT (GL 4.6 §7.13.2); the
+// shader-storage barrier alone orders shader accesses only.
 void StorageBuffer::upload_range(std::size_t offset, const void* data, std::size_t bytes) {
   if (offset + bytes > capacity_) fail("StorageBuffer::upload_range past the allocation");
-  if (bytes) glNamedBufferSubData(id_, GLintptr(offset), GLsizeiptr(bytes), data);
+  if (!bytes) return;
+  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+  glNamedBufferSubData(id_, GLintptr(offset), GLsizeiptr(bytes), data);
 }
 
 void StorageBuffer::download(void* data, std::size_t bytes, std::size_t offset) const {
   if (offset + bytes > capacity_) fail("StorageBuffer::download past the allocation");
-  if (bytes) glGetNamedBufferSubData(id_, GLintptr(offset), GLsizeiptr(bytes), data);
+  if (!bytes) return;
+  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+  glGetNamedBufferSubData(id_, GLintptr(offset), GLsizeiptr(bytes), data);
 }
 
 void StorageBuffer::bind(std::uint32_t binding) const { glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding, id_); }

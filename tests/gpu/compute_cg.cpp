@@ -109,6 +109,39 @@ TEST_SUITE("gpu/compute_cg") {
     CHECK((expected - b).norm() <= 1e-10 * b.norm());
   }
 
+  TEST_CASE("the answer scales with the load: tiny and huge right-hand sides converge in fp32") {
+    // fp32 dot products of a residual of 1e-14 N underflow (r.z ~ 1e-32 and
+    // below), and those of 1e20 N overflow; the solve is linear, so x(s b) = s x(b).
+    const auto K = box_stiffness(4, 2, 2, 0.1, 5);
+    const auto bs = softcut::gpu::make_block_system(K);
+    const Eigen::VectorXd b = Eigen::VectorXd::Random(K.rows());
+    const Eigen::VectorXd direct = softcut::solve::Cholesky(K).solve(b);
+    softcut::gpu::ComputeCg cg(context(), {});
+    cg.set_system(bs);
+    for (double scale : {1e-14, 1e20}) {
+      Eigen::VectorXd x;
+      const auto rep =
+          cg.solve([&](const Eigen::VectorXd& v, Eigen::VectorXd& y) { bs.apply(v, y); }, scale * b, x);
+      CAPTURE(scale);
+      CHECK(rep.converged);
+      CHECK(rep.relative_residual <= 1e-10);
+      CHECK((x - scale * direct).norm() <= 1e-7 * scale * direct.norm());
+    }
+  }
+
+  TEST_CASE("a residual check interval below 1 is refused, not a division by zero") {
+    const auto K = box_stiffness(3, 2, 2, 0.0, 1);
+    const auto bs = softcut::gpu::make_block_system(K);
+    softcut::gpu::ComputeCgOptions opt;
+    opt.check_every = 0;
+    softcut::gpu::ComputeCg cg(context(), opt);
+    cg.set_system(bs);
+    const Eigen::VectorXd b = Eigen::VectorXd::Ones(K.rows());
+    Eigen::VectorXd x;
+    CHECK_THROWS_WITH_AS(cg.solve([&](const Eigen::VectorXd& v, Eigen::VectorXd& y) { bs.apply(v, y); }, b, x),
+                         doctest::Contains("check_every"), softcut::Error);
+  }
+
   TEST_CASE("NaN right-hand sides are refused") {
     const auto K = box_stiffness(3, 2, 2, 0.0, 1);
     const auto bs = softcut::gpu::make_block_system(K);

@@ -65,4 +65,13 @@ TEST_SUITE("mesh/generate/band") {
     o.along = 3;
     CHECK_THROWS_AS(generate_band(o), Error);
   }
+
+  TEST_CASE("resolutions whose node or tet count overflows an int are errors, not crashes") {
+    BandOptions o;
+    o.along = 1, o.across = 100000, o.through = 100000;
+    CHECK_THROWS_WITH_AS(generate_band(o), doctest::Contains("too many"), Error);
+    o = {};
+    o.thickness = 1e-12;  // default cells of half the thickness: 2e10 across
+    CHECK_THROWS_WITH_AS(generate_band(o), doctest::Contains("too many"), Error);
+  }
 }

@@ -35,4 +35,13 @@ TEST_SUITE("mesh/generate/box") {
     p.seed = 2;
     CHECK(generate_box(o).nodes != generate_box(p).nodes);
   }
+
+  TEST_CASE("cell counts whose node or tet count overflows an int are errors, not crashes") {
+    // 2001^3 nodes and 6 * 2000^3 tets do not fit int ids (the CLI takes counts up to 1e9).
+    BoxOptions o;
+    o.nx = o.ny = o.nz = 2000;
+    CHECK_THROWS_WITH_AS(generate_box(o), doctest::Contains("too many"), Error);
+    o.nx = 1000000000, o.ny = o.nz = 1;
+    CHECK_THROWS_WITH_AS(generate_box(o), doctest::Contains("too many"), Error);
+  }
 }

@@ -62,4 +62,13 @@ TEST_SUITE("mesh/generate/cylinder") {
     o.jitter = 0.3;
     CHECK_THROWS_AS(generate_cylinder(o), Error);
   }
+
+  TEST_CASE("resolutions whose node or tet count overflows an int are errors, not crashes") {
+    CylinderOptions o;
+    o.rings = 30000, o.layers = 1;  // 1 + 3 R (R + 1) section points overflow an int
+    CHECK_THROWS_WITH_AS(generate_cylinder(o), doctest::Contains("too many"), Error);
+    o = {};
+    o.radius = 1e-12, o.length = 1;  // the default 4 rings ask for 4e12 layers
+    CHECK_THROWS_WITH_AS(generate_cylinder(o), doctest::Contains("too many"), Error);
+  }
 }

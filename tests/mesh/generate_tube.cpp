@@ -100,4 +100,13 @@ TEST_SUITE("mesh/generate/tube") {
     o.radial = 1, o.around = 2, o.layers = 1;
     CHECK_THROWS_AS(generate_tube(o), Error);
   }
+
+  TEST_CASE("resolutions whose node or tet count overflows an int are errors, not crashes") {
+    TubeOptions o;
+    o.radial = 100000, o.around = 100000, o.layers = 1;
+    CHECK_THROWS_WITH_AS(generate_tube(o), doctest::Contains("too many"), Error);
+    o = {};
+    o.outer_radius = o.inner_radius + 1e-12;  // default cells of the wall's size: 1.5e11 around
+    CHECK_THROWS_WITH_AS(generate_tube(o), doctest::Contains("too many"), Error);
+  }
 }

@@ -71,6 +71,16 @@ TEST_SUITE("mesh/io/text_reader") {
     CHECK(error_of([&] { r.to_index(r.token("i"), "node id"); }).find("found 99999999999") != std::string::npos);
   }
 
+  TEST_CASE("nothing is left after a last line without a newline") {
+    // The cursor then stands one past the end; bytes_left() must not wrap to
+    // SIZE_MAX (it bounds reservations announced by headers).
+    TextReader r("f.txt", "Vertices 1000000000000");
+    REQUIRE(r.next_line());
+    CHECK(r.bytes_left() == 0);
+    TextReader e("e.txt", "");
+    CHECK(e.bytes_left() == 0);
+  }
+
   TEST_CASE("reserve_cap bounds announced counts by the bytes present") {
     using softcut::mesh::io::reserve_cap;
     CHECK(reserve_cap(4000000000LL, 100, 8) == 13);

@@ -34,6 +34,9 @@ TEST_SUITE("mesh/io/vtk_reader") {
     expect_error("nan.vtk", replaced(a, "5 5 5", "5 5 nan"), {"nan.vtk:6:", "point 2 z is not finite"});
     expect_error("size.vtk", replaced(a, "CELLS 4 17", "CELLS 4 18"), {"size.vtk:13:", "expected a number for CELLS, found 'CELL_TYPES'"});
     expect_error("types.vtk", replaced(a, "CELL_TYPES 4\n3 5 10 10", "CELL_TYPES 3\n3 5 10"), {"types.vtk", "CELL_TYPES lists 3 cells but CELLS has 4"});
+    // A non-integral cell type is malformed, not a tetrahedron (10.5 once truncated to 10).
+    expect_error("celltype.vtk", replaced(a, "3 5 10 10", "3 5 10 10.5"), {"celltype.vtk:13:", "cell 3: type 10.5 is not an integer"});
+    expect_error("celltype_big.vtk", replaced(a, "3 5 10 10", "3 5 10 1e300"), {"celltype_big.vtk:13:", "cell 3: type 1e+300 is not an integer"});
     expect_error("dataset.vtk", replaced(a, "UNSTRUCTURED_GRID", "POLYDATA"), {"dataset.vtk:4:", "dataset POLYDATA is not supported"});
     expect_error("header.vtk", replaced(a, "# vtk DataFile", "# vtx DataFile"), {"header.vtk:1:", "not a legacy VTK file"});
     expect_error("version.vtk", replaced(a, "Version 4.2", "Version 9.0"), {"version.vtk:1:", "unsupported legacy VTK version 9.0"});

@@ -1,5 +1,7 @@
 #include <doctest/doctest.h>
 
+#include <zlib.h>
+
 #include "io_sample.hpp"
 #include "mesh/io/base64.hpp"
 
@@ -27,6 +29,16 @@ std::string array_text(const std::string& xml, const std::string& name) {
 }
 
 void put_u32(std::string& bytes, std::size_t at, std::uint32_t v) { std::memcpy(bytes.data() + at, &v, 4); }
+void put_u64(std::string& bytes, std::size_t at, std::uint64_t v) { std::memcpy(bytes.data() + at, &v, 8); }
+
+std::string zlib(const std::string& raw) {
+  uLongf n = compressBound(uLong(raw.size()));
+  std::string out(n, '\0');
+  REQUIRE(compress2(reinterpret_cast<Bytef*>(out.data()), &n, reinterpret_cast<const Bytef*>(raw.data()),
+                    uLong(raw.size()), 6) == Z_OK);
+  out.resize(n);
+  return out;
+}
 }  // namespace
 
 TEST_SUITE("mesh/io/vtu_reader") {
@@ -57,6 +69,7 @@ TEST_SUITE("mesh/io/vtu_reader") {
     expect_error("tag.vtu", replaced(a, "<Piece NumberOfPoints=\"6\"", "<Piece NumberOfPoints=6"), {"tag.vtu:5:", "is not quoted"});
     expect_error("nopiece.vtu", a.substr(0, a.find("<Piece")), {"nopiece.vtu", "no <Piece> element"});
     expect_error("noconn.vtu", replaced(a, "Name=\"connectivity\"", "Name=\"conn\""), {"noconn.vtu", "no Cells 'connectivity' DataArray"});
+    expect_error("celltype.vtu", replaced(a, "3 5 10 10", "3 5 10 10.5"), {"celltype.vtu:20:", "type 10.5 of cell 3 is not an integer"});
     expect_error("label.vtu", replaced(a, "1 2 7 9", "1 2 7 9.5"), {"label.vtu:28:", "label 9.5 of cell 3 is not an integer"});
   }
 
@@ -86,6 +99,31 @@ TEST_SUITE("mesh/io/vtu_reader") {
       std::string d = *base64_decode(data);
       d[5] = char(d[5] ^ 0x55);
       expect_error("zcorrupt.vtu", replaced(z, zpts, base64_encode(head) + base64_encode(d)), {"zcorrupt.vtu:9:", "zlib block 0 does not decompress"});
+    }
+    {
+      // UInt64 header with two zlib blocks whose compressed sizes are each
+      // 2^63 too large: their sum wraps around to the true total, so a reader
+      // that checks only the sum steps 2^63 bytes past the data for block 1.
+      const std::string a = slurp(mesh_data("sample_ascii.vtu"));
+      std::string points(144, '\0');
+      const double xyz[18] = {0, 0, 0, 1, 0, 0, 5, 5, 5, 0, 1, 0, 0, 0, 1, 1, 1, 1};
+      std::memcpy(points.data(), xyz, 144);
+      const std::string c0 = zlib(points.substr(0, 72)), c1 = zlib(points.substr(72));
+      std::string h(5 * 8, '\0');
+      put_u64(h, 0, 2), put_u64(h, 8, 72), put_u64(h, 16, 72);
+      put_u64(h, 24, c0.size() + (std::uint64_t(1) << 63)), put_u64(h, 32, c1.size() + (std::uint64_t(1) << 63));
+      const auto with_points = [&](const std::string& header) {
+        const std::string z =
+            replaced(a, "header_type=\"UInt32\"", "header_type=\"UInt64\" compressor=\"vtkZLibDataCompressor\"");
+        return replaced(z, "NumberOfComponents=\"3\" format=\"ascii\">\n  0 0 0 1 0 0 5 5 5 0 1 0 0 0 1 1 1 1",
+                        "NumberOfComponents=\"3\" format=\"binary\">\n  " + base64_encode(header + c0 + c1));
+      };
+      expect_error("zwrap.vtu", with_points(h), {"zwrap.vtu:9:", "DataArray 'Points'", "compressed"});
+      // The same blocks with honest sizes read to the sample mesh.
+      put_u64(h, 24, c0.size()), put_u64(h, 32, c1.size());
+      const auto path = softcut::test::scratch_dir("io_errors") / "zhonest.vtu";
+      softcut::test::spit(path, with_points(h));
+      check_sample(path, 2);
     }
     const std::string raw = slurp(mesh_data("sample_appended_raw.vtu"));
     expect_error("rawtrunc.vtu", raw.substr(0, raw.find("_", raw.find("<AppendedData")) + 100), {"rawtrunc.vtu:", "DataArray 'Points': header announces 144 bytes but only"});

@@ -1,6 +1,7 @@
 #include "mesh/volume/nrrd.hpp"
 
 #include <doctest/doctest.h>
+#include <sys/resource.h>
 
 #include <string>
 
@@ -173,5 +174,30 @@ TEST_SUITE("mesh/volume/nrrd") {
     CHECK(d.warnings[0].find("w.nrrd:7: unknown NRRD field 'frobnicate'") != std::string::npos);
     CHECK(d.warnings[1].find("millimetres") != std::string::npos);
     CHECK(d.warnings[2].find("5 bytes after the voxel data ignored") != std::string::npos);
+  }
+
+  TEST_CASE("a header announcing 2^28 voxels over a few bytes of data fails without allocating them") {
+    // The labels (4 bytes a voxel: 1 and 2 GiB here) must not be allocated
+    // before the data is known to hold them; peak memory may not grow by that
+    // much. (The peak only rises, so the second case announces more voxels.)
+    const fs::path dir = test::scratch_dir("nrrd_huge");
+    const auto peak_kib = [] {
+      rusage u{};
+      getrusage(RUSAGE_SELF, &u);
+      return long(u.ru_maxrss);
+    };
+    for (const char* enc : {"raw", "ascii"}) {
+      const std::string sizes = enc == std::string("raw") ? "1024 1024 256" : "1024 1024 512";
+      test::write_bytes(dir / "huge.nrrd",
+                        kHead + "uchar\ndimension: 3\nsizes: " + sizes + "\nencoding: " + enc + "\n\n1 2 3 4 5\n");
+      const long before = peak_kib();
+      const std::string msg = error_of(dir / "huge.nrrd");
+      CAPTURE(enc);
+      CAPTURE(msg);
+      CHECK(msg.find("huge.nrrd") != std::string::npos);
+      CHECK(msg.find(enc == std::string("raw") ? "data has 10 bytes" : "ascii data holds 5 values") !=
+            std::string::npos);
+      CHECK(peak_kib() - before < 256 * 1024);
+    }
   }
 }

@@ -19,12 +19,21 @@ BandOptions resolve_band(const BandOptions& opt) {
     fail("band: resolution and targets must be >= 0");
   const bool any = o.along > 0 || o.across > 0 || o.through > 0;
   if (any && !(o.along > 0 && o.across > 0 && o.through > 0)) fail("band: give along, across and through, or none");
-  if (any) return o;
+  const auto check_size = [](double a, double w, double t) {
+    check_mesh_size("band", (a + 1) * (w + 1) * (t + 1), 6 * a * w * t);
+  };
+  if (any) {
+    check_size(o.along, o.across, o.through);
+    return o;
+  }
   if (o.target_tets == 0 && o.target_nodes == 0) {
     o.through = 2;
     const double h = o.thickness / o.through;
-    o.across = std::max(1, int(std::lround(o.width / h)));
-    o.along = std::max(1, int(std::lround(o.length / h)));
+    const double across = std::max(1.0, std::round(o.width / h));
+    const double along = std::max(1.0, std::round(o.length / h));
+    check_size(along, across, o.through);
+    o.across = int(across);
+    o.along = int(along);
     return o;
   }
   double best = 1e300;

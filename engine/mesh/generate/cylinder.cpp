@@ -15,10 +15,18 @@ CylinderOptions resolve_cylinder(const CylinderOptions& opt) {
   if (o.rings < 0 || o.layers < 0 || o.target_tets < 0 || o.target_nodes < 0)
     fail("cylinder: resolution and targets must be >= 0");
   if ((o.rings > 0) != (o.layers > 0)) fail("cylinder: give both rings and layers, or neither");
-  if (o.rings > 0) return o;
+  const auto check_size = [](double k, double l) {
+    check_mesh_size("cylinder", (1 + 3 * k * (k + 1)) * (l + 1), 18 * k * k * l);
+  };
+  if (o.rings > 0) {
+    check_size(o.rings, o.layers);
+    return o;
+  }
   if (o.target_tets == 0 && o.target_nodes == 0) {
     o.rings = 4;
-    o.layers = std::max(1, int(std::lround(o.length / (o.radius / o.rings))));
+    const double layers = std::max(1.0, std::round(o.length / (o.radius / o.rings)));
+    check_size(o.rings, layers);
+    o.layers = int(layers);
     return o;
   }
   double best = 1e300;

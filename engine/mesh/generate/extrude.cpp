@@ -1,6 +1,7 @@
 #include "mesh/generate/extrude.hpp"
 
 #include <algorithm>
+#include <climits>
 #include <cmath>
 #include <random>
 
@@ -54,6 +55,12 @@ double resolution_score(long nodes, long tets, int target_nodes, int target_tets
   if (target_nodes > 0) miss = std::max(miss, std::abs(double(nodes) / target_nodes - 1));
   if (target_tets > 0) miss = std::max(miss, std::abs(double(tets) / target_tets - 1));
   return miss + 0.05 * std::log(cell.maxCoeff() / cell.minCoeff());
+}
+
+void check_mesh_size(const char* what, double nodes, double tets) {
+  if (!(nodes <= INT_MAX && tets <= INT_MAX))
+    fail(what, ": the requested resolution gives too many nodes or tetrahedra (", nodes, " nodes, ", tets,
+         " tets; at most ", INT_MAX, " each); use fewer cells");
 }
 
 }  // namespace softcut::mesh

@@ -18,13 +18,22 @@ TubeOptions resolve_tube(const TubeOptions& opt) {
   const bool any = o.radial > 0 || o.around > 0 || o.layers > 0;
   if (any && !(o.radial > 0 && o.around > 0 && o.layers > 0)) fail("tube: give radial, around and layers, or none");
   if (any && o.around < 3) fail("tube: need at least 3 cells around the axis, got ", o.around);
-  if (any) return o;
+  const auto check_size = [](double r, double a, double l) {
+    check_mesh_size("tube", (r + 1) * a * (l + 1), 6 * r * a * l);
+  };
+  if (any) {
+    check_size(o.radial, o.around, o.layers);
+    return o;
+  }
   const double wall = o.outer_radius - o.inner_radius, mid = 0.5 * (o.outer_radius + o.inner_radius);
   if (o.target_tets == 0 && o.target_nodes == 0) {
     o.radial = 2;
     const double h = wall / o.radial;
-    o.around = std::max(6, int(std::lround(2 * std::numbers::pi * mid / h)));
-    o.layers = std::max(1, int(std::lround(o.length / h)));
+    const double around = std::max(6.0, std::round(2 * std::numbers::pi * mid / h));
+    const double layers = std::max(1.0, std::round(o.length / h));
+    check_size(o.radial, around, layers);
+    o.around = int(around);
+    o.layers = int(layers);
     return o;
   }
   double best = 1e300;

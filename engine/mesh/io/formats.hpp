@@ -46,7 +46,7 @@ struct SkippedElements {
 // lower rank is preferred when several are present, -1 for other names.
 int label_name_rank(std::string_view name);
 
-// Label value check shared by readers: integral and within int range.
+// Value check shared by readers for labels and cell types: integral and within int range.
 bool label_value_ok(double v);
 
 }  // namespace softcut::mesh::io

@@ -12,12 +12,6 @@ namespace softcut::mesh::io {
 
 namespace {
 
-std::string lower(std::string_view s) {
-  std::string out(s);
-  std::transform(out.begin(), out.end(), out.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-  return out;
-}
-
 bool is_keyword(std::string_view tok) { return !tok.empty() && std::isalpha(static_cast<unsigned char>(tok[0])); }
 
 // Values per item of sections skipped here; 0 where not known. Element

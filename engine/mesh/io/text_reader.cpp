@@ -1,5 +1,7 @@
 #include "mesh/io/text_reader.hpp"
 
+#include <algorithm>
+#include <cctype>
 #include <charconv>
 #include <climits>
 #include <cmath>
@@ -81,6 +83,12 @@ std::string_view TextReader::take_bytes(std::size_t n, std::string_view what) {
   std::string_view out = text_.substr(pos_, n);
   for (char c : out) line_ += c == '\n';
   pos_ += n;
+  return out;
+}
+
+std::string lower(std::string_view s) {
+  std::string out(s);
+  std::transform(out.begin(), out.end(), out.begin(), [](unsigned char c) { return char(std::tolower(c)); });
   return out;
 }
 

@@ -14,6 +14,9 @@
 
 namespace softcut::mesh::io {
 
+// ASCII lower case (keywords of case-insensitive formats).
+std::string lower(std::string_view s);
+
 // Parses a whole string as a number; false if it is not one.
 bool parse_int(std::string_view s, std::int64_t& v);
 bool parse_double(std::string_view s, double& v);
@@ -45,7 +48,8 @@ class TextReader {
   // fully consumed); fails if the file holds fewer. Line counting continues
   // after them.
   std::string_view take_bytes(std::size_t n, std::string_view what);
-  std::size_t bytes_left() const { return text_.size() - pos_; }
+  // (pos_ stands one past the end after a last line without a newline.)
+  std::size_t bytes_left() const { return pos_ < text_.size() ? text_.size() - pos_ : 0; }
 
   int line() const { return line_; }
   const std::string& source() const { return source_; }

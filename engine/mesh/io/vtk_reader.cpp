@@ -16,12 +16,6 @@ namespace softcut::mesh::io {
 
 namespace {
 
-std::string lower(std::string_view s) {
-  std::string out(s);
-  std::transform(out.begin(), out.end(), out.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-  return out;
-}
-
 std::string vtk_cell_name(int type) {
   switch (type) {
     case 1: return "vertex";
@@ -64,7 +58,7 @@ struct VtkFile {
   bool binary = false;
   int major = 0;
   std::vector<double> points, cells, offsets, types, labels;  // raw arrays as read
-  int cells_line = 0, labels_rank = 1 << 30;
+  int cells_line = 0, types_line = 0, labels_rank = 1 << 30;
   std::int64_t npoints = -1, ncells_header = -1;
 
   VtkFile(const std::string& source, std::string_view text) : r(source, text) {}
@@ -213,6 +207,7 @@ struct VtkFile {
           ncells_header = a;
         }
       } else if (kw == "cell_types") {
+        types_line = r.line();
         const std::int64_t n = count_token("the number of cell types");
         types = values(n, "int", "CELL_TYPES");
       } else if (kw == "cell_data" || kw == "point_data") {
@@ -262,6 +257,8 @@ struct VtkFile {
         begin = pos + 1, end = pos + 1 + std::size_t(np);
         pos = end;
       }
+      if (!label_value_ok(types[std::size_t(c)]))
+        fail(r.source(), ":", types_line, ": cell ", c, ": type ", types[std::size_t(c)], " is not an integer");
       const int type = int(types[std::size_t(c)]);
       if (type != 10) {
         skipped.add(vtk_cell_name(type));

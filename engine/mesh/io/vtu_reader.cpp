@@ -259,10 +259,15 @@ std::string VtuFile::block_bytes(const ArrayRef& a, std::string_view bytes) cons
   const std::uint64_t nb = header_value(bytes, 0), bs = header_value(bytes, 1), last = header_value(bytes, 2);
   if (nb > bytes.size() / hs - 3) fail_array(a, "compressed header announces ", nb, " blocks; the data is too short");
   const std::size_t data0 = (3 + std::size_t(nb)) * hs;
+  // Summed with a per-block check, so 64-bit sizes cannot wrap the total.
   std::uint64_t csum = 0;
-  for (std::size_t b = 0; b < nb; ++b) csum += header_value(bytes, 3 + b);
-  if (csum > bytes.size() - data0)
-    fail_array(a, "compressed blocks need ", csum, " bytes but only ", bytes.size() - data0, " follow");
+  for (std::size_t b = 0; b < nb; ++b) {
+    const std::uint64_t csize = header_value(bytes, 3 + b);
+    if (csize > bytes.size() - data0 - csum)
+      fail_array(a, "compressed block ", b, " needs ", csize, " bytes but only ", bytes.size() - data0 - csum,
+                 " follow");
+    csum += csize;
+  }
   // zlib expands at most ~1032:1, which bounds what a header may ask for.
   const std::uint64_t total = nb == 0 ? 0 : (nb - 1) * bs + (last == 0 ? bs : last);
   if (bs > 1032 * (csum + 64) || total > 1032 * (csum + 64))
@@ -272,6 +277,7 @@ std::string VtuFile::block_bytes(const ArrayRef& a, std::string_view bytes) cons
   for (std::size_t b = 0; b < nb; ++b) {
     const std::uint64_t csize = header_value(bytes, 3 + b);
     const uLongf want = uLongf(b + 1 == nb && last != 0 ? last : bs);
+    if (want > out.size() - at) fail_array(a, "compressed header block sizes do not add up to ", total, " bytes");
     uLongf got = want;
     const int rc = uncompress(reinterpret_cast<Bytef*>(out.data() + at), &got,
                               reinterpret_cast<const Bytef*>(bytes.data() + in), uLong(csize));
@@ -384,6 +390,7 @@ TetMesh VtuFile::read(Diagnostics& diag) {
   std::size_t begin = 0;
   for (std::size_t c = 0; c < offsets.size(); ++c) {
     const std::size_t end = std::size_t(offsets[c]);
+    if (!label_value_ok(types[c])) fail_array(ta, "type ", types[c], " of cell ", c, " is not an integer");
     const int type = int(types[c]);
     if (type != 10) {
       skipped.add(type == 5 ? "triangle" : type == 3 ? "line" : type == 1 ? "vertex" : type == 12 ? "hexahedron" : cat("cell type ", type));

@@ -352,25 +352,28 @@ LabelVolume read_nrrd_labels(const std::filesystem::path& path, Diagnostics& dia
     start = eol + 1;
   }
   data.erase(0, start);
-  const size_t need = size_t(v.num_voxels()) * size_t(type.bytes);
+  const size_t nvox = size_t(v.num_voxels());
+  const size_t need = nvox * size_t(type.bytes);
   const std::string geometry = cat("sizes ", v.size(0), " ", v.size(1), " ", v.size(2), " of type ", h.get("type"));
-  v.labels.resize(size_t(v.num_voxels()));
+  // Labels are allocated only as far as the data can hold them: a header may
+  // announce 2^31 voxels over a few bytes.
   if (ascii) {
+    v.labels.reserve(std::min(nvox, data.size() / 2 + 1));  // a value and its separator take 2 bytes or more
     const char* p = data.data() + std::min<size_t>(size_t(std::max<long long>(byte_skip, 0)), data.size());
     const char* end = data.data() + data.size();
     const long long lo = type.is_signed ? -(1LL << (8 * type.bytes - 1)) : 0;
     const long long hi = type.is_signed ? (1LL << (8 * type.bytes - 1)) - 1 : (1LL << (8 * type.bytes)) - 1;
-    for (size_t n = 0; n < v.labels.size(); ++n) {
+    for (size_t n = 0; n < nvox; ++n) {
       while (p < end && (std::isspace((unsigned char)*p) || *p == ',')) ++p;
       long long x = 0;
       auto [q, ec] = std::from_chars(p, end, x);
-      if (p == end) fail(data_name, ": ascii data holds ", n, " values, ", geometry, " need ", v.labels.size());
+      if (p == end) fail(data_name, ": ascii data holds ", n, " values, ", geometry, " need ", nvox);
       if (ec != std::errc() || x < lo || x > hi)
         fail(data_name, ": ascii value ", n, " ('", std::string(p, std::min<size_t>(size_t(end - p), 20)),
              "') is not a ", h.get("type"));
       if (x > std::numeric_limits<std::int32_t>::max())
         fail(data_name, ": label ", x, " at voxel ", n, " does not fit a 32-bit signed label");
-      v.labels[n] = std::int32_t(x);
+      v.labels.push_back(std::int32_t(x));
       p = q;
     }
     return v;
@@ -390,8 +393,9 @@ LabelVolume read_nrrd_labels(const std::filesystem::path& path, Diagnostics& dia
       diag.warn(data_name, ": ", gzip ? std::string("data") : cat(data.size() - off - need, " bytes"),
                 " after the voxel data ignored");
   }
+  v.labels.resize(nvox);
   const auto* b = reinterpret_cast<const unsigned char*>(data.data() + off);
-  for (size_t n = 0; n < v.labels.size(); ++n, b += type.bytes) {
+  for (size_t n = 0; n < nvox; ++n, b += type.bytes) {
     std::uint32_t u = 0;
     for (int k = 0; k < type.bytes; ++k) {
       const int shift = big ? 8 * (type.bytes - 1 - k) : 8 * k;
