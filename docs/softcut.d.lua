@@ -55,6 +55,8 @@ local Frame = {}
 ---@field up? number[] camera up direction
 ---@field fov? number vertical field of view (deg)
 ---@field every? integer render every n-th frame
+---@field contact_sheet? boolean also write contact_sheet.png, a grid of up to ~24 frames
+---@field msaa? integer multisampling samples (0: off)
 ---@field wireframe? boolean draw tet edges
 ---@field show_interface? boolean draw the interface nodes
 ---@field show_forces? boolean draw manipulated nodes and their force lines

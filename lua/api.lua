@@ -48,6 +48,8 @@ api.structs = {
       F("up", "vec3", "camera up direction", { default = { 0, 0, 1 } }),
       F("fov", "number", "vertical field of view", { unit = "deg", gt = 1, lt = 179, default = 30 }),
       F("every", "integer", "render every n-th frame", { ge = 1, default = 1 }),
+      F("contact_sheet", "boolean", "also write contact_sheet.png, a grid of up to ~24 frames", { default = true }),
+      F("msaa", "integer", "multisampling samples (0: off)", { ge = 0, le = 16, default = 4 }),
       F("wireframe", "boolean", "draw tet edges", { default = false }),
       F("show_interface", "boolean", "draw the interface nodes", { default = true }),
       F("show_forces", "boolean", "draw manipulated nodes and their force lines", { default = true }),

@@ -155,6 +155,8 @@ sim::ScenarioSpec spec_from_table(lua_State* L, int s, const fs::path& source) {
       rs.up = get_vec3(L, r, "up", rs.up);
       rs.fov_deg = get_number(L, r, "fov", rs.fov_deg);
       rs.every = get_int(L, r, "every", 1);
+      rs.contact_sheet = get_bool(L, r, "contact_sheet", rs.contact_sheet);
+      rs.msaa_samples = get_int(L, r, "msaa", rs.msaa_samples);
       rs.wireframe = get_bool(L, r, "wireframe", false);
       rs.show_interface = get_bool(L, r, "show_interface", rs.show_interface);
       rs.show_forces = get_bool(L, r, "show_forces", true);

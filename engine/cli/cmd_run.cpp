@@ -15,7 +15,7 @@ namespace {
 
 const char* kRunUsage =
     "usage: softcut run SCENARIO.lua [--out DIR] [--set key=value ...] [--frames N] [--backend B]\n"
-    "                   [--quiet] [--trust]\n"
+    "                   [--quiet] [--trust] [--no-render]\n"
     "\n"
     "Runs a Lua scenario headless and writes DIR/displacements.csv and DIR/summary.json\n"
     "(default DIR: renders/<scenario name>/).\n"
@@ -25,6 +25,7 @@ const char* kRunUsage =
     "  --backend B      operational solver: auto, cpu, gpu, direct or monolithic (overrides the scenario)\n"
     "  --quiet          no progress output\n"
     "  --trust          no sandbox: full Lua standard library, no instruction or memory budget\n"
+    "  --no-render      write no frames (also when no OpenGL context can be made)\n"
     "Ctrl-C (SIGINT) or SIGTERM finishes the current frame, writes the outputs and marks the\n"
     "summary interrupted.\n";
 
@@ -51,6 +52,7 @@ int cmd_run(const Args& args) {
     else if (a == "--backend") req.backend = parse_backend(value("--backend"));
     else if (a == "--quiet" || a == "-q") quiet = true;
     else if (a == "--trust") req.trusted = true;
+    else if (a == "--no-render") req.render = false;
     else if (a.rfind("-", 0) == 0) fail("softcut run: unknown option '", a, "' (see softcut run --help)");
     else files.push_back(a);
   }

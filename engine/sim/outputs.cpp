@@ -8,6 +8,7 @@
 
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
+#include "render/contact_sheet.hpp"
 #include "render/renderer.hpp"
 #include "sim/frame_scene.hpp"
 
@@ -130,6 +131,11 @@ void Recorder::finish(const Model& m, const State& s, const RunResult& r) {
       pvd += "    <DataSet timestep=\"" + num(time, "%.9g") + "\" part=\"0\" file=\"vtu/" + vtu_name(frame) + "\"/>\n";
     pvd += "  </Collection>\n</VTKFile>\n";
     write_file_atomic(dir_ / "series.pvd", pvd);
+  }
+  if (rendered_ > 0 && m.spec.outputs.render.contact_sheet) {
+    // At most ~24 tiles: a quick look at the whole run.
+    const int stride = std::max(1, (rendered_ + 23) / 24);
+    render::write_contact_sheet(dir_ / "frames", dir_ / "contact_sheet.png", stride);
   }
   write_file_atomic(dir_ / "summary.json", summary_json(m, s, r, this));
 }

@@ -84,6 +84,7 @@ struct RenderSettings {
   bool show_forces = true;     // manipulated nodes and their force lines
   int msaa_samples = 4;
   int every = 1;               // render every n-th frame
+  bool contact_sheet = true;   // also <dir>/contact_sheet.png: a grid of up to ~24 frames
 };
 
 struct OutputSpec {
