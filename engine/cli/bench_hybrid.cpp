@@ -336,7 +336,7 @@ int bench_hybrid(const Args& args) {
     else if (args[i] == "--help" || args[i] == "-h") {
       std::printf("usage: softcut bench hybrid [--quick] [--only MODEL] [--storage dense|factor|automatic] [--json FILE] [--md FILE]\n");
       return 0;
-    } else fail("bench hybrid: unknown option '", args[i], "' (usage: softcut bench hybrid [--quick] [--json FILE] [--md FILE])");
+    } else fail("bench hybrid: unknown option '", args[i], "' (usage: softcut bench hybrid [--quick] [--only MODEL] [--storage dense|factor|automatic] [--json FILE] [--md FILE])");
   }
   std::vector<BenchModel> models;
   models.push_back(ligament());

@@ -1,0 +1,144 @@
+#include "hybrid/operational_system.hpp"
+
+#include <atomic>
+
+#include "core/error.hpp"
+#include "fem/assembly.hpp"
+
+namespace softcut::hybrid {
+
+namespace {
+std::atomic<long> next_generation{1};
+}
+
+void OperationalSystem::apply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
+  y.noalias() = K * x;
+  if (num_interface > 0) {
+    const Eigen::Index off = interface_offset(), n = 3 * Eigen::Index(num_interface);
+    // K' is symmetric: reading one triangle halves the memory traffic of the
+    // dense product, which dominates a CG iteration for large interfaces.
+    y.segment(off, n).noalias() += K_prime->selfadjointView<Eigen::Lower>() * x.segment(off, n);
+  }
+}
+
+SparseMatrix OperationalSystem::assembled() const {
+  std::vector<Eigen::Triplet<double>> trip;
+  trip.reserve(size_t(K.nonZeros()) + (num_interface > 0 ? size_t(K_prime->size()) : 0));
+  for (int col = 0; col < K.outerSize(); ++col)
+    for (SparseMatrix::InnerIterator it(K, col); it; ++it) trip.emplace_back(int(it.row()), col, it.value());
+  const int off = interface_offset();
+  for (Eigen::Index j = 0; num_interface > 0 && j < K_prime->cols(); ++j)
+    for (Eigen::Index i = 0; i < K_prime->rows(); ++i) trip.emplace_back(off + int(i), off + int(j), (*K_prime)(i, j));
+  SparseMatrix A(size(), size());
+  A.setFromTriplets(trip.begin(), trip.end());
+  return A;
+}
+
+Eigen::VectorXd OperationalSystem::rhs(const Eigen::MatrixX3d& forces, const Eigen::VectorXd& P_prime) const {
+  Eigen::VectorXd b(size());
+  for (size_t k = 0; k < nodes.size(); ++k) b.segment<3>(3 * Eigen::Index(k)) = forces.row(nodes[k]).transpose();
+  if (num_interface > 0) b.tail(3 * Eigen::Index(num_interface)) -= P_prime;
+  return b;
+}
+
+OperationalSystem build_operational_system(const mesh::TetMesh& m, const std::vector<fem::Material>& tet_material,
+                                           const std::vector<int>& operational_tets,
+                                           const std::vector<int>& interface_nodes,
+                                           const std::vector<char>& node_fixed,
+                                           const std::vector<char>& node_nonoperational,
+                                           std::shared_ptr<const Eigen::MatrixXd> K_prime) {
+  const int nn = m.num_nodes();
+  const Eigen::Index ni = 3 * Eigen::Index(interface_nodes.size());
+  if (!K_prime || K_prime->rows() != ni || K_prime->cols() != ni)
+    fail("operational system: K' must be ", ni, " x ", ni, " for ", interface_nodes.size(), " interface nodes");
+  auto flag = [](const std::vector<char>& v, int i) { return size_t(i) < v.size() && v[size_t(i)]; };
+  std::vector<char> is_interface(size_t(nn), 0), touched(size_t(nn), 0);
+  for (int v : interface_nodes) {
+    if (v < 0 || v >= nn) fail("operational system: interface node ", v, " is not a node of the mesh");
+    is_interface[size_t(v)] = 1;
+  }
+  for (int t : operational_tets) {
+    if (t < 0 || t >= m.num_tets()) fail("operational system: tet ", t, " is not a tet of the mesh");
+    for (int k = 0; k < 4; ++k) {
+      const int v = m.tets(t, k);
+      if (flag(node_nonoperational, v))
+        fail("operational system: operational tet ", t, " uses node ", v, ", a nonoperational node that is "
+             "not an interface node; cutting and remeshing may touch only operational tets and must not "
+             "reach past the interface");
+      touched[size_t(v)] = 1;
+    }
+  }
+  OperationalSystem sys;
+  for (int v = 0; v < nn; ++v)
+    if (touched[size_t(v)] && !is_interface[size_t(v)] && !flag(node_fixed, v)) sys.nodes.push_back(v);
+  sys.num_operational = int(sys.nodes.size());
+  sys.nodes.insert(sys.nodes.end(), interface_nodes.begin(), interface_nodes.end());
+  sys.num_interface = int(interface_nodes.size());
+  sys.node_index = node_positions(sys.nodes, nn);
+  if (operational_tets.empty())
+    sys.K = SparseMatrix(sys.size(), sys.size());
+  else
+    sys.K = node_block(fem::assemble_stiffness(m, tet_material, operational_tets), sys.nodes, sys.nodes);
+  sys.K_prime = std::move(K_prime);
+  sys.generation = next_generation++;
+  return sys;
+}
+
+void CgSolver::prepare(const OperationalSystem& sys) {
+  const int n1 = sys.interface_offset(), ni = sys.size() - n1;
+  if (pre_ == CgPreconditioner::block_jacobi || ni == 0) {
+    precond_ = solve::BlockJacobi(sys.K);
+    if (ni > 0) precond_.add_dense(*sys.K_prime, n1);
+  } else {
+    precond_ = solve::BlockJacobi(SparseMatrix(sys.K.topLeftCorner(n1, n1)));
+    Eigen::MatrixXd D = *sys.K_prime;
+    D += Eigen::MatrixXd(sys.K.bottomRightCorner(ni, ni));
+    interface_llt_.compute(D);
+    if (interface_llt_.info() != Eigen::Success)
+      fail("operational solve: the interface block K1II + K' is not positive definite");
+  }
+  precond_.finalize();
+  generation_ = sys.generation;
+}
+
+SolveReport CgSolver::solve(const OperationalSystem& sys, const Eigen::VectorXd& b, Eigen::VectorXd& x) {
+  if (sys.size() == 0) {
+    x.resize(0);
+    return {};
+  }
+  if (generation_ != sys.generation) prepare(sys);
+  const Eigen::Index n1 = sys.interface_offset(), ni = sys.size() - n1;
+  Eigen::VectorXd head_in, head_out;
+  const solve::LinearOperator interface_pre = [&](const Eigen::VectorXd& r, Eigen::VectorXd& z) {
+    head_in = r.head(n1);
+    head_out.resize(n1);
+    precond_.apply(head_in, head_out);
+    z.head(n1) = head_out;
+    z.tail(ni) = interface_llt_.solve(r.tail(ni));
+  };
+  const bool whole = pre_ == CgPreconditioner::block_jacobi || ni == 0;
+  const solve::CgResult r = solve::pcg([&](const Eigen::VectorXd& v, Eigen::VectorXd& y) { sys.apply(v, y); },
+                                       whole ? precond_.as_operator() : interface_pre, b, x, opt_);
+  if (!r.converged)
+    fail("operational solve: conjugate gradient stopped after ", r.iterations, " iterations at relative residual ",
+         r.relative_residual, " (tolerance ", opt_.tolerance, "); the operational mesh may hold slivers or a "
+         "part without fixed nodes; raise the iteration limit or use the cholmod backend");
+  return {r.iterations, r.relative_residual};
+}
+
+SolveReport CholmodSolver::solve(const OperationalSystem& sys, const Eigen::VectorXd& b, Eigen::VectorXd& x) {
+  if (sys.size() == 0) {
+    x.resize(0);
+    return {};
+  }
+  if (generation_ != sys.generation) {
+    A_ = sys.assembled();
+    factor_.factor(A_, "operational system (K + K')");
+    generation_ = sys.generation;
+  }
+  x = factor_.solve(b);
+  const double bn = b.norm();
+  return {0, bn > 0 ? (b - A_ * x).norm() / bn : 0.0};
+}
+
+}  // namespace softcut::hybrid

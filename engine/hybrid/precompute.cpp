@@ -1,0 +1,185 @@
+#include "hybrid/precompute.hpp"
+
+#include <algorithm>
+
+#include "core/error.hpp"
+#include "core/timer.hpp"
+#include "fem/assembly.hpp"
+#include "hybrid/loads.hpp"
+#include "hybrid/schur_complement.hpp"
+
+namespace softcut::hybrid {
+
+const char* to_string(Storage s) {
+  switch (s) {
+    case Storage::automatic: return "automatic";
+    case Storage::dense: return "dense";
+    case Storage::factor: return "factor";
+  }
+  return "?";
+}
+
+Model precompute(const mesh::TetMesh& m, const std::vector<fem::Material>& tet_material, const Partition& p,
+                 const PrecomputeOptions& opt) {
+  Timer total;
+  const int nn = m.num_nodes();
+  if (int(tet_material.size()) != m.num_tets())
+    fail("hybrid precompute: ", tet_material.size(), " materials for ", m.num_tets(), " tets");
+  if (p.num_nodes() != nn || int(p.operational_tet.size()) != m.num_tets())
+    fail("hybrid precompute: the partition was made for another mesh (", p.num_nodes(), " nodes, ",
+         p.operational_tet.size(), " tets; this mesh has ", nn, " nodes, ", m.num_tets(), " tets)");
+  if (opt.block_columns < 1) fail("hybrid precompute: block_columns must be >= 1, got ", opt.block_columns);
+
+  Model M;
+  M.num_nodes = nn;
+  M.partition = p;
+  M.tet_material = tet_material;
+  M.node_fixed.assign(size_t(nn), 0);
+  M.node_nonoperational.assign(size_t(nn), 0);
+  for (int v = 0; v < nn; ++v) {
+    const NodeSet s = p.node_set[size_t(v)];
+    M.node_fixed[size_t(v)] = s == NodeSet::fixed;
+    M.node_nonoperational[size_t(v)] = s == NodeSet::surface || s == NodeSet::interior;
+  }
+  M.nonop_nodes = p.surface;
+  M.nonop_nodes.insert(M.nonop_nodes.end(), p.interior.begin(), p.interior.end());
+  M.surface_index = node_positions(p.surface, nn);
+
+  const Eigen::Index ns3 = 3 * Eigen::Index(p.surface.size()), ni3 = 3 * Eigen::Index(p.interface.size());
+  const Eigen::Index n23 = 3 * Eigen::Index(M.nonop_nodes.size());
+  const Eigen::Index B = opt.block_columns;
+
+  // Initial loads: checked like per-frame loads (no interior, fixed or unknown nodes).
+  M.initial_loads = Eigen::MatrixX3d::Zero(nn, 3);
+  if (opt.initial_loads.size() > 0) {
+    if (opt.initial_loads.rows() != nn)
+      fail("hybrid precompute: initial_loads has ", opt.initial_loads.rows(), " rows for ", nn, " nodes");
+    for (int v = 0; v < nn; ++v)
+      if (opt.initial_loads.row(v).squaredNorm() != 0 || !opt.initial_loads.row(v).allFinite())
+        check_load(p, v, opt.initial_loads.row(v).transpose(), "initial load");
+    M.initial_loads = opt.initial_loads;
+  }
+  M.Ps0 = gather_nodes(M.initial_loads, p.surface);
+
+  // Blocks of K^non.
+  Timer t;
+  Eigen::MatrixXd K_prime = Eigen::MatrixXd::Zero(ni3, ni3);
+  SparseMatrix K22;
+  if (!p.nonoperational_tets.empty()) {
+    const SparseMatrix Knon = fem::assemble_stiffness(m, tet_material, p.nonoperational_tets);
+    K22 = node_block(Knon, M.nonop_nodes, M.nonop_nodes);
+    M.K2I = node_block(Knon, M.nonop_nodes, p.interface);
+    M.KI2 = M.K2I.transpose();
+    K_prime = Eigen::MatrixXd(node_block(Knon, p.interface, p.interface));
+  } else {
+    M.K2I = SparseMatrix(n23, ni3);
+    M.KI2 = SparseMatrix(ni3, n23);
+  }
+  M.timings.assemble_ms = t.ms();
+
+  // Storage mode from the memory estimate, before anything large is allocated.
+  const double temp = 8.0 * double(n23) * double(std::min<Eigen::Index>(B, std::max(ns3, ni3)));
+  M.memory.dense_bytes = 8.0 * double(ns3 * ns3 + 2 * ns3 * ni3 + ni3 * ni3) + temp;
+  M.memory.factor_bytes = 8.0 * double(ni3 * ni3) + temp;
+  M.memory.budget_bytes = opt.memory_budget_bytes;
+  M.storage = opt.storage != Storage::automatic ? opt.storage
+              : M.memory.dense_bytes <= opt.memory_budget_bytes ? Storage::dense
+                                                               : Storage::factor;
+  const bool dense = M.storage == Storage::dense;
+
+  t.reset();
+  if (n23 > 0) M.K22.factor(K22, "hybrid precompute: K22 (free nonoperational nodes)");
+  M.timings.factor_ms = t.ms();
+
+  // Y = K22^-1 K2I in column blocks: K' -= KI2 Y, K*^-1 P* = -Y[s, :].
+  if (dense) M.Kstar_inv_Pstar.resize(ns3, ni3);
+  double pstar_ms = 0;
+  t.reset();
+  if (!dense && n23 > 0 && ni3 > 0) {
+    // Only K' is needed: one factorisation of the bordered matrix, no 3|I| solves.
+    K_prime = schur_complement(K22, M.K2I, K_prime, "hybrid precompute: nonoperational region with interface");
+  }
+  for (Eigen::Index c0 = 0; dense && n23 > 0 && c0 < ni3; c0 += B) {
+    const Eigen::Index w = std::min(B, ni3 - c0);
+    const Eigen::MatrixXd Yb = M.K22.solve(Eigen::MatrixXd(M.K2I.middleCols(c0, w)));
+    K_prime.middleCols(c0, w).noalias() -= M.KI2 * Yb;
+    if (dense) {
+      Timer tp;
+      M.Kstar_inv_Pstar.middleCols(c0, w) = -Yb.topRows(ns3);
+      pstar_ms += tp.ms();
+    }
+  }
+  K_prime = 0.5 * (K_prime + K_prime.transpose()).eval();  // symmetric to the last bit: CG and CHOLMOD agree
+  M.K_prime = std::make_shared<const Eigen::MatrixXd>(std::move(K_prime));
+  M.timings.K_prime_ms = t.ms() - pstar_ms;
+  M.timings.Kstar_inv_Pstar_ms = pstar_ms;
+
+  if (dense) {
+    t.reset();
+    M.KI2_K22inv_s = -M.Kstar_inv_Pstar.transpose();
+    M.timings.KI2_K22inv_ms = t.ms();
+
+    // K*^-1 = (K22^-1)_ss: unit right-hand sides on the surface DOFs (the first 3|s| rows).
+    t.reset();
+    M.Kstar_inv.resize(ns3, ns3);
+    for (Eigen::Index c0 = 0; c0 < ns3; c0 += B) {
+      const Eigen::Index w = std::min(B, ns3 - c0);
+      Eigen::MatrixXd E = Eigen::MatrixXd::Zero(n23, w);
+      for (Eigen::Index k = 0; k < w; ++k) E(c0 + k, k) = 1.0;
+      M.Kstar_inv.middleCols(c0, w) = M.K22.solve(E).topRows(ns3);
+    }
+    M.timings.Kstar_inv_ms = t.ms();
+
+    t.reset();
+    M.Kstar_inv_Ps0 = M.Kstar_inv * M.Ps0;
+    M.P_prime0 = M.KI2_K22inv_s * M.Ps0;
+    M.timings.Kstar_inv_Ps0_ms = t.ms();
+  } else {
+    t.reset();
+    Eigen::VectorXd z = Eigen::VectorXd::Zero(n23);
+    if (n23 > 0 && M.Ps0.squaredNorm() > 0) {
+      Eigen::VectorXd P2 = Eigen::VectorXd::Zero(n23);
+      P2.head(ns3) = M.Ps0;
+      z = M.K22.solve(P2);
+    }
+    M.Kstar_inv_Ps0 = z.head(ns3);
+    M.P_prime0 = M.KI2 * z;
+    M.timings.Kstar_inv_Ps0_ms = t.ms();
+  }
+
+  t.reset();
+  M.operational = std::make_shared<const OperationalSystem>(build_operational_system(
+      m, tet_material, p.operational_tets, p.interface, M.node_fixed, M.node_nonoperational, M.K_prime));
+  M.timings.operational_ms = t.ms();
+  M.timings.total_ms = total.ms();
+  return M;
+}
+
+std::shared_ptr<const OperationalSystem> rebuild_operational_system(
+    const Model& model, const mesh::TetMesh& m, const std::vector<fem::Material>& tet_material,
+    const std::vector<int>& operational_tets, const std::vector<char>& new_fixed) {
+  if (m.num_nodes() < model.num_nodes)
+    fail("rebuild operational system: the mesh has ", m.num_nodes(), " nodes, fewer than the ", model.num_nodes,
+         " of the precomputed model; cutting may only append nodes");
+  if (int(tet_material.size()) != m.num_tets())
+    fail("rebuild operational system: ", tet_material.size(), " materials for ", m.num_tets(), " tets");
+  if (!new_fixed.empty() && int(new_fixed.size()) != m.num_nodes())
+    fail("rebuild operational system: the fixed mask has ", new_fixed.size(), " entries for ", m.num_nodes(),
+         " nodes");
+  return std::make_shared<const OperationalSystem>(
+      build_operational_system(m, tet_material, operational_tets, model.partition.interface,
+                               new_fixed.empty() ? model.node_fixed : new_fixed, model.node_nonoperational,
+                               model.K_prime));
+}
+
+std::string describe(const Model& M) {
+  const auto& T = M.timings;
+  return cat("hybrid model: ", describe(M.partition.counts), "; storage ", to_string(M.storage), " (dense blocks ",
+             M.memory.dense_bytes / 1048576.0, " MiB, factor mode ", M.memory.factor_bytes / 1048576.0,
+             " MiB, budget ", M.memory.budget_bytes / 1048576.0, " MiB); precompute ms: assemble ", T.assemble_ms,
+             ", factor K22 ", T.factor_ms, ", K' ", T.K_prime_ms, ", KI2 K22^-1 ", T.KI2_K22inv_ms, ", K*^-1 ",
+             T.Kstar_inv_ms, ", K*^-1 P* ", T.Kstar_inv_Pstar_ms, ", K*^-1 Ps0 ", T.Kstar_inv_Ps0_ms,
+             ", operational system ", T.operational_ms, ", total ", T.total_ms);
+}
+
+}  // namespace softcut::hybrid

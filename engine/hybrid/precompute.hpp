@@ -1,0 +1,117 @@
+#pragma once
+// Precompute of the hybrid condensed model (paper Table 1 "new model",
+// DESIGN.md §1): everything about the nonoperational region that stays fixed
+// while the simulation runs, from ONE sparse Cholesky factor of K22 (rows and
+// columns = the free nonoperational nodes 2 = s ∪ i, surface nodes first).
+//
+//   K'                = K2II - KI2 K22^-1 K2I          (3|I| x 3|I|)
+//   (KI2 K22^-1)[:,s] = ((K22^-1 K2I)[s,:])^T          (3|I| x 3|s|)
+//   K*^-1             = (K22^-1)_ss                   (3|s| x 3|s|)
+//   K*^-1 P*          = -(K22^-1 K2I)[s,:]             (3|s| x 3|I|)
+//   K*^-1 Ps0         = (K22^-1)_ss Ps0                (3|s|)
+//
+// Storage: "dense" keeps these blocks (the paper's scheme, O(|s|^2) memory,
+// per-frame work by selective multiplication); "factor" keeps only the factor
+// and K' and does two sparse triangular solve pairs per frame instead. Both
+// give the same displacements; automatic picks dense when its blocks fit the
+// memory budget. The factor is kept in both modes (interior recovery).
+//
+// Usage (libigl/MuJoCo style):
+//   Partition p = make_partition(mesh, tets_in_sphere(mesh, c, r), fixed_ids);
+//   Model model = precompute(mesh, materials, p, {});
+//   State state = make_state(model);                 // update.hpp
+//   update(model, state, loads);                     // per frame
+#include <Eigen/Core>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "fem/material.hpp"
+#include "hybrid/operational_system.hpp"
+#include "hybrid/partition.hpp"
+#include "mesh/tet_mesh.hpp"
+#include "solve/cholesky.hpp"
+
+namespace softcut::hybrid {
+
+enum class Storage { automatic, dense, factor };
+const char* to_string(Storage s);
+
+struct PrecomputeOptions {
+  Storage storage = Storage::automatic;
+  double memory_budget_bytes = 512.0 * 1024 * 1024;  // automatic: dense if its blocks fit
+  Eigen::MatrixX3d initial_loads;  // (nnode x 3) N, Ps0 and initial operational loads; empty = none
+  int block_columns = 256;         // right-hand sides per CHOLMOD solve (bounds temporary memory)
+};
+
+// Table 3 rows, ms. Solves shared by two rows are booked where first needed.
+struct PrecomputeTimings {
+  double assemble_ms = 0;        // K^non over the nonoperational tets + block extraction
+  double factor_ms = 0;          // CHOLMOD factor of K22
+  double K_prime_ms = 0;         // solves K22^-1 K2I (column blocks) and K' = K2II - KI2 Y
+  double KI2_K22inv_ms = 0;      // (KI2 K22^-1)[:, s] (transpose of the s rows of Y)
+  double Kstar_inv_ms = 0;       // solves K22^-1 E_s, rows s
+  double Kstar_inv_Pstar_ms = 0; // -(Y rows s), copied while K' is formed
+  double Kstar_inv_Ps0_ms = 0;
+  double operational_ms = 0;     // operational system assembly
+  double total_ms = 0;
+};
+
+struct MemoryEstimate {
+  double dense_bytes = 0;      // K*^-1, K*^-1 P*, (KI2 K22^-1)[:,s], K' and solve temporaries
+  double factor_bytes = 0;     // K' and solve temporaries (the CHOLMOD factor itself not counted)
+  double budget_bytes = 0;
+};
+
+struct Model {
+  int num_nodes = 0;                         // nnode of the rest mesh
+  Partition partition;
+  std::vector<fem::Material> tet_material;   // (ntet)
+  std::vector<char> node_fixed;              // (nnode)
+  std::vector<char> node_nonoperational;     // (nnode) sets s and i
+  std::vector<int> nonop_nodes;              // (|s| + |i|) surface ids then interior ids: K22 node order
+  std::vector<int> surface_index;            // (nnode) position of a node in the surface set, -1 if none
+  Storage storage = Storage::dense;          // resolved: dense or factor
+  MemoryEstimate memory;
+
+  solve::Cholesky K22;                       // factor of K22 ((3|2|)^2), both modes
+  SparseMatrix K2I;                          // (3|2| x 3|I|) N/m
+  SparseMatrix KI2;                          // (3|I| x 3|2|) = K2I^T
+  std::shared_ptr<const Eigen::MatrixXd> K_prime;  // (3|I| x 3|I|) N/m
+
+  // Dense mode only (empty in factor mode):
+  Eigen::MatrixXd Kstar_inv;        // (3|s| x 3|s|) m/N
+  Eigen::MatrixXd Kstar_inv_Pstar;  // (3|s| x 3|I|) dimensionless
+  Eigen::MatrixXd KI2_K22inv_s;     // (3|I| x 3|s|) dimensionless
+  Eigen::VectorXd Kstar_inv_Ps0;    // (3|s|) m
+
+  Eigen::MatrixX3d initial_loads;   // (nnode x 3) N
+  Eigen::VectorXd Ps0;              // (3|s|) N, initial surface loads
+  Eigen::VectorXd P_prime0;         // (3|I|) N, KI2 K22^-1 P2 for the initial loads
+
+  std::shared_ptr<const OperationalSystem> operational;  // from the rest mesh
+  PrecomputeTimings timings;
+
+  int ns() const { return int(partition.surface.size()); }
+  int ni() const { return int(partition.interface.size()); }
+};
+
+// Precomputes the model. `tet_material` has one entry per tet. Throws
+// softcut::Error on a singular K22 or bad sizes.
+Model precompute(const mesh::TetMesh& m, const std::vector<fem::Material>& tet_material, const Partition& p,
+                 const PrecomputeOptions& opt = {});
+
+// Rebuilds the operational system of a changed operational mesh (cutting): `m`
+// is the rest mesh with changed operational tets and nodes appended after the
+// original ones; `tet_material` (m.num_tets()); `operational_tets` the
+// operational tets of `m`; `new_fixed` (optional, m.num_nodes()) marks fixed
+// nodes, default: the model's fixed nodes, appended nodes free. Nonoperational
+// data of the model are reused unchanged.
+std::shared_ptr<const OperationalSystem> rebuild_operational_system(
+    const Model& model, const mesh::TetMesh& m, const std::vector<fem::Material>& tet_material,
+    const std::vector<int>& operational_tets, const std::vector<char>& new_fixed = {});
+
+// One line: storage mode, why, memory estimate and per-item times.
+std::string describe(const Model& model);
+
+}  // namespace softcut::hybrid

@@ -1,0 +1,171 @@
+#include "hybrid/update.hpp"
+
+#include "core/error.hpp"
+#include "core/timer.hpp"
+
+namespace softcut::hybrid {
+
+namespace {
+
+// P2 = [Ps0 + Ps_interact; 0] on the K22 DOFs (surface first), minus K2I AI.
+Eigen::VectorXd nonoperational_rhs(const Model& M, const State& S, const Eigen::VectorXd* AI) {
+  const Eigen::Index ns3 = 3 * Eigen::Index(M.ns());
+  Eigen::VectorXd P2 = Eigen::VectorXd::Zero(3 * Eigen::Index(M.nonop_nodes.size()));
+  P2.head(ns3) = M.Ps0 + S.Ps_interact;
+  if (AI && AI->size() > 0) P2.noalias() -= M.K2I * *AI;
+  return P2;
+}
+
+void scatter_interior(const Model& M, const Eigen::VectorXd& w, State& S) {
+  const auto& interior = M.partition.interior;
+  const Eigen::Index off = 3 * Eigen::Index(M.ns());
+  for (size_t k = 0; k < interior.size(); ++k)
+    S.u.row(interior[k]) = w.segment<3>(off + 3 * Eigen::Index(k)).transpose();
+}
+
+}  // namespace
+
+State make_state(const Model& M, std::unique_ptr<OperationalSolver> solver) {
+  State S;
+  S.u = Eigen::MatrixX3d::Zero(M.num_nodes, 3);
+  S.operational = M.operational;
+  S.solver = solver ? std::move(solver) : std::make_unique<CgSolver>();
+  S.Ps_interact = Eigen::VectorXd::Zero(3 * Eigen::Index(M.ns()));
+  S.As_loads = M.Kstar_inv_Ps0;
+  S.P_prime = M.P_prime0;
+  S.forces = M.initial_loads;
+  S.slot.assign(size_t(M.ns()), -1);
+  return S;
+}
+
+void set_operational_system(State& S, std::shared_ptr<const OperationalSystem> sys) {
+  if (!sys) fail("set_operational_system: no system given");
+  S.operational = std::move(sys);
+}
+
+const FrameReport& update(const Model& M, State& S, std::span<const Load> loads, const UpdateOptions& opt) {
+  return update(M, S, loads, *S.solver, opt);
+}
+
+const FrameReport& update(const Model& M, State& S, std::span<const Load> loads, OperationalSolver& solver,
+                          const UpdateOptions& opt) {
+  Timer total, t;
+  FrameReport rep;
+  const OperationalSystem& op = *S.operational;
+  const int nn_op = int(op.node_index.size());
+  if (S.u.rows() < nn_op) {  // nodes appended by cutting
+    const Eigen::Index old = S.u.rows();
+    S.u.conservativeResize(nn_op, 3);
+    S.forces.conservativeResize(nn_op, 3);
+    S.u.bottomRows(nn_op - old).setZero();
+    S.forces.bottomRows(nn_op - old).setZero();
+  }
+
+  // Stage 2: check every load before touching the state.
+  for (const Load& L : loads) {
+    NodeSet set;
+    if (L.node >= M.num_nodes && L.node < nn_op) {
+      if (!L.force.allFinite()) fail("load on node ", L.node, ": the force has NaN or Inf components");
+      set = NodeSet::operational;
+    } else {
+      set = check_load(M.partition, L.node, L.force, "load");
+    }
+    if (set != NodeSet::surface && op.node_index[size_t(L.node)] < 0)
+      fail("load on node ", L.node, ": the node is no longer part of the operational mesh (removed by cutting?)");
+  }
+  S.pending.clear();
+  S.loaded_operational.clear();
+  for (const Load& L : loads) {
+    const int pos = L.node < M.num_nodes ? M.surface_index[size_t(L.node)] : -1;
+    if (pos >= 0) {
+      int& slot = S.slot[size_t(pos)];
+      if (slot < 0) {
+        slot = int(S.pending.size());
+        S.pending.emplace_back(pos, L.force);
+      } else {
+        S.pending[size_t(slot)].second += L.force;
+      }
+    } else {
+      S.forces.row(L.node) += L.force.transpose();
+      S.loaded_operational.push_back(L.node);
+    }
+  }
+  rep.loaded_operational_nodes = int(S.loaded_operational.size());
+  rep.loads_ms = t.ms();
+
+  // Stage 3: selective multiplication on the changed surface loads.
+  t.reset();
+  const bool dense = M.storage == Storage::dense;
+  bool changed = false;
+  auto apply_change = [&](int pos, const Eigen::Vector3d& delta) {
+    ++rep.loaded_surface_nodes;
+    changed = true;
+    if (dense) {
+      S.As_loads.noalias() += M.Kstar_inv.middleCols<3>(3 * Eigen::Index(pos)) * delta;
+      if (M.ni() > 0) S.P_prime.noalias() += M.KI2_K22inv_s.middleCols<3>(3 * Eigen::Index(pos)) * delta;
+    }
+  };
+  for (int pos : S.loaded_surface)
+    if (S.slot[size_t(pos)] < 0) {
+      auto old = S.Ps_interact.segment<3>(3 * Eigen::Index(pos));
+      apply_change(pos, -old);
+      old.setZero();
+    }
+  S.loaded_surface.clear();
+  for (const auto& [pos, f] : S.pending) {
+    auto old = S.Ps_interact.segment<3>(3 * Eigen::Index(pos));
+    const Eigen::Vector3d delta = f - old;
+    if (delta.squaredNorm() > 0) apply_change(pos, delta);
+    old = f;
+    if (f.squaredNorm() > 0) S.loaded_surface.push_back(pos);
+    S.slot[size_t(pos)] = -1;
+  }
+  if (!dense && changed && !M.nonop_nodes.empty()) {
+    const Eigen::VectorXd z = M.K22.solve(nonoperational_rhs(M, S, nullptr));
+    S.As_loads = z.head(3 * Eigen::Index(M.ns()));
+    S.P_prime = M.KI2 * z;
+  }
+  rep.selective_ms = t.ms();
+
+  // Stage 4: operational solve, warm-started.
+  t.reset();
+  if (S.x_generation != op.generation) {
+    S.x_operational = gather_nodes(S.u, op.nodes);
+    S.x_generation = op.generation;
+  }
+  const Eigen::VectorXd b = op.rhs(S.forces, S.P_prime);
+  for (int v : S.loaded_operational)  // back to the initial loads before anything can throw
+    S.forces.row(v) = v < M.num_nodes ? Eigen::RowVector3d(M.initial_loads.row(v)) : Eigen::RowVector3d::Zero();
+  rep.solve = solver.solve(op, b, S.x_operational);
+  scatter_nodes(S.x_operational, op.nodes, S.u);
+  rep.operational_ms = t.ms();
+
+  // Stage 5: nonoperational surface.
+  t.reset();
+  const Eigen::Index ni3 = 3 * Eigen::Index(M.ni());
+  const Eigen::VectorXd AI = S.x_operational.tail(ni3);
+  if (dense) {
+    Eigen::VectorXd As = S.As_loads;
+    if (ni3 > 0) As.noalias() += M.Kstar_inv_Pstar * AI;
+    scatter_nodes(As, M.partition.surface, S.u);
+    if (opt.recover_interior) recover_interior(M, S);
+  } else if (!M.nonop_nodes.empty()) {
+    const Eigen::VectorXd w = M.K22.solve(nonoperational_rhs(M, S, &AI));
+    scatter_nodes(w.head(3 * Eigen::Index(M.ns())), M.partition.surface, S.u);
+    if (opt.recover_interior) scatter_interior(M, w, S);
+  }
+  rep.interior_recovered = opt.recover_interior;
+  rep.nonoperational_ms = t.ms();
+  rep.total_ms = total.ms();
+  ++S.frames;
+  S.last = rep;
+  return S.last;
+}
+
+void recover_interior(const Model& M, State& S) {
+  if (M.nonop_nodes.empty()) return;
+  const Eigen::VectorXd AI = gather_nodes(S.u, M.partition.interface);
+  scatter_interior(M, M.K22.solve(nonoperational_rhs(M, S, &AI)), S);
+}
+
+}  // namespace softcut::hybrid

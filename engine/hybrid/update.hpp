@@ -1,0 +1,81 @@
+#pragma once
+// Per-frame update of the hybrid model (paper §4 stages 2-5, DESIGN.md §1):
+//   2. take this frame's interactive loads;
+//   3. selective multiplication: for surface nodes whose load changed, add
+//      (change) x (the 3 columns of K*^-1 and of (KI2 K22^-1)[:, s]) to the
+//      running sums K*^-1 (Ps0 + Ps_interact) and P' (paper Fig. 3);
+//   4. solve the operational system for A1, AI (pluggable backend, warm start);
+//   5. As = (running sum) + (K*^-1 P*) AI.
+// In factor storage, 3 and 5 are sparse solves with the K22 factor instead.
+// Loads on operational and interface nodes go straight into the operational
+// right-hand side.
+#include <Eigen/Core>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "hybrid/loads.hpp"
+#include "hybrid/operational_system.hpp"
+#include "hybrid/precompute.hpp"
+
+namespace softcut::hybrid {
+
+struct FrameReport {
+  double loads_ms = 0;            // stage 2: check and sort loads
+  double selective_ms = 0;        // stage 3: running sums / P'
+  double operational_ms = 0;      // stage 4
+  double nonoperational_ms = 0;   // stage 5 (+ interior recovery when asked)
+  double total_ms = 0;
+  SolveReport solve;
+  int loaded_surface_nodes = 0;   // surface nodes whose load changed this frame
+  int loaded_operational_nodes = 0;
+  bool interior_recovered = false;
+};
+
+struct UpdateOptions {
+  bool recover_interior = false;  // also compute the interior nonoperational nodes (one factor solve)
+};
+
+struct State {
+  Eigen::MatrixX3d u;  // (nnode x 3) m: sets 1, I, s each frame; fixed rows 0; interior rows as last recovered
+  std::shared_ptr<const OperationalSystem> operational;  // rest or cut operational system
+  std::unique_ptr<OperationalSolver> solver;             // backend used by update() without one
+
+  Eigen::VectorXd Ps_interact;       // (3|s|) N, interactive surface loads now applied
+  std::vector<int> loaded_surface;   // surface positions with nonzero Ps_interact
+  Eigen::VectorXd As_loads;          // (3|s|) m, K*^-1 (Ps0 + Ps_interact)
+  Eigen::VectorXd P_prime;           // (3|I|) N, KI2 K22^-1 P2
+  Eigen::VectorXd x_operational;     // (operational->size()) m, last solution (warm start)
+  long x_generation = -1;            // system the warm start belongs to
+  long frames = 0;
+  FrameReport last;
+
+  // Scratch (no allocation per frame).
+  Eigen::MatrixX3d forces;           // (nnode x 3) N, operational forces of this frame
+  std::vector<int> slot;             // (|s|) index into `pending` or -1
+  std::vector<std::pair<int, Eigen::Vector3d>> pending;  // surface position, force
+  std::vector<int> loaded_operational;
+};
+
+// Fresh state (zero displacement, initial loads applied at the first update).
+// `solver` defaults to CgSolver with tolerance 1e-10.
+State make_state(const Model& model, std::unique_ptr<OperationalSolver> solver = nullptr);
+
+// One frame. `loads` is the complete set of interactive loads of this frame
+// (forces add to the model's initial loads; a node absent from the list has
+// none; repeated nodes add up). Throws softcut::Error on a bad load before
+// changing the state.
+const FrameReport& update(const Model& model, State& state, std::span<const Load> loads, OperationalSolver& solver,
+                          const UpdateOptions& opt = {});
+const FrameReport& update(const Model& model, State& state, std::span<const Load> loads,
+                          const UpdateOptions& opt = {});
+
+// Switches the state to a rebuilt operational system (cutting); the next
+// update warm-starts from the current displacements.
+void set_operational_system(State& state, std::shared_ptr<const OperationalSystem> sys);
+
+// Interior nonoperational displacements for the state's current loads and AI,
+// written into state.u (one solve with the K22 factor).
+void recover_interior(const Model& model, State& state);
+
+}  // namespace softcut::hybrid

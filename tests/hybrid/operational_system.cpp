@@ -1,0 +1,100 @@
+#include "hybrid/operational_system.hpp"
+
+#include <doctest/doctest.h>
+
+#include <Eigen/LU>
+#include <random>
+
+#include "fem/assembly.hpp"
+#include "fixtures.hpp"
+#include "hybrid/precompute.hpp"
+
+using namespace softcut;
+using namespace softcut::hybrid;
+
+TEST_SUITE("hybrid/operational_system") {
+  TEST_CASE("K + K' is the Schur complement of the whole free stiffness onto the operational DOFs") {
+    std::mt19937 rng(12);
+    int checked = 0;
+    for (int trial = 0; trial < 15; ++trial) {
+      const test::HybridCase c = test::random_case(rng, trial % 4, 3);
+      const Partition& p = c.partition;
+      if (p.interface.empty()) continue;
+      const Model M = precompute(c.mesh, c.material, p, {});
+      const OperationalSystem& sys = *M.operational;
+      // DOF ordering: set 1 first, interface last and contiguous.
+      CHECK(sys.num_operational == int(p.operational.size()));
+      CHECK(sys.num_interface == int(p.interface.size()));
+      for (int k = 0; k < sys.num_interface; ++k)
+        CHECK(sys.nodes[size_t(sys.num_operational + k)] == p.interface[size_t(k)]);
+      for (size_t k = 0; k < sys.nodes.size(); ++k) CHECK(sys.node_index[size_t(sys.nodes[k])] == int(k));
+
+      // Dense reference: whole K over free nodes, op DOFs first, eliminate the rest.
+      const Eigen::MatrixXd K(fem::assemble_stiffness(c.mesh, c.material));
+      std::vector<int> a, b;
+      for (int v : sys.nodes)
+        for (int x = 0; x < 3; ++x) a.push_back(3 * v + x);
+      for (const auto* set : {&p.surface, &p.interior})
+        for (int v : *set)
+          for (int x = 0; x < 3; ++x) b.push_back(3 * v + x);
+      auto pick = [&](const std::vector<int>& r, const std::vector<int>& cc) {
+        Eigen::MatrixXd B(r.size(), cc.size());
+        for (size_t i = 0; i < r.size(); ++i)
+          for (size_t j = 0; j < cc.size(); ++j) B(Eigen::Index(i), Eigen::Index(j)) = K(r[i], cc[j]);
+        return B;
+      };
+      const Eigen::MatrixXd S = pick(a, a) - pick(a, b) * pick(b, b).inverse() * pick(b, a);
+      const Eigen::MatrixXd A(sys.assembled());
+      CHECK((A - S).norm() <= 1e-12 * S.norm());
+      // apply() agrees with the assembled matrix.
+      const Eigen::VectorXd x = Eigen::VectorXd::Random(sys.size());
+      Eigen::VectorXd y;
+      sys.apply(x, y);
+      CHECK((y - A * x).norm() <= 1e-13 * (A * x).norm());
+      ++checked;
+    }
+    CHECK(checked >= 5);
+  }
+
+  TEST_CASE("CG and CHOLMOD backends agree and a CG warm start needs fewer iterations") {
+    std::mt19937 rng(13);
+    test::HybridCase c;
+    do c = test::random_case(rng, 0, 4); while (c.partition.operational.size() < 6 || c.partition.interface.empty());
+    const Model M = precompute(c.mesh, c.material, c.partition, {});
+    const OperationalSystem& sys = *M.operational;
+    const Eigen::VectorXd b = Eigen::VectorXd::Random(sys.size());
+    solve::CgOptions o;
+    o.tolerance = 1e-12;
+    CgSolver cg(o);
+    CholmodSolver direct;
+    Eigen::VectorXd x1, x2;
+    const SolveReport r1 = cg.solve(sys, b, x1);
+    direct.solve(sys, b, x2);
+    CHECK((x1 - x2).norm() <= 1e-9 * x2.norm());
+    CgSolver block(o, CgPreconditioner::interface_block);
+    Eigen::VectorXd x3;
+    const SolveReport r3 = block.solve(sys, b, x3);
+    CHECK((x3 - x2).norm() <= 1e-9 * x2.norm());
+    CHECK(r3.iterations < r1.iterations);  // the exact interface block cuts iterations
+    const Eigen::VectorXd b2 = b + 1e-3 * Eigen::VectorXd::Random(sys.size());
+    const SolveReport r2 = cg.solve(sys, b2, x1);
+    CHECK(r2.iterations < r1.iterations);
+    CHECK(r2.relative_residual <= 1e-12);
+  }
+
+  TEST_CASE("an operational tet reaching a nonoperational node is refused") {
+    std::mt19937 rng(14);
+    test::HybridCase c;
+    do c = test::random_case(rng, 2, 3); while (c.partition.surface.empty() || c.partition.operational_tets.empty());
+    const Model M = precompute(c.mesh, c.material, c.partition, {});
+    std::vector<int> op = c.partition.operational_tets;
+    op.push_back(c.partition.nonoperational_tets[0]);
+    bool touches = false;
+    for (int k = 0; k < 4; ++k) touches |= M.node_nonoperational[size_t(c.mesh.tets(op.back(), k))] != 0;
+    if (touches)
+      CHECK_THROWS_WITH_AS(rebuild_operational_system(M, c.mesh, c.material, op), doctest::Contains("past the interface"),
+                           Error);
+    CHECK_THROWS_WITH_AS(rebuild_operational_system(M, c.mesh, {}, c.partition.operational_tets),
+                         doctest::Contains("materials"), Error);
+  }
+}

@@ -1,0 +1,246 @@
+#include "hybrid/update.hpp"
+
+#include <doctest/doctest.h>
+
+#include <random>
+
+#include "fixtures.hpp"
+#include "hybrid/monolithic.hpp"
+
+using namespace softcut;
+using namespace softcut::hybrid;
+using softcut::test::HybridCase;
+
+namespace {
+
+std::vector<int> visible_nodes(const Partition& p) {
+  std::vector<int> v = p.operational;
+  v.insert(v.end(), p.interface.begin(), p.interface.end());
+  v.insert(v.end(), p.surface.begin(), p.surface.end());
+  return v;
+}
+
+std::unique_ptr<OperationalSolver> tight_cg() {
+  solve::CgOptions o;
+  o.tolerance = 1e-14;
+  return std::make_unique<CgSolver>(o);
+}
+
+}  // namespace
+
+TEST_SUITE("hybrid/update") {
+  TEST_CASE("hybrid == monolithic over many random meshes, partitions, fixed sets and loads") {
+    std::mt19937 rng(20050707);
+    int checked = 0, with_interface = 0, fixed_both = 0, kinds[6] = {};
+    for (int trial = 0; trial < 100; ++trial) {
+      const HybridCase c = test::random_case(rng);
+      PrecomputeOptions po;
+      po.storage = trial % 3 == 0 ? Storage::factor : Storage::automatic;
+      const Model model = precompute(c.mesh, c.material, c.partition, po);
+      State state = make_state(model, tight_cg());
+      for (int frame = 0; frame < 3; ++frame) {
+        const auto loads = test::random_loads(c.partition, rng, 1 + int(rng() % 6));
+        update(model, state, loads, UpdateOptions{frame == 2});
+        const Eigen::MatrixX3d ref =
+            solve_monolithic(c.mesh, c.material, c.fixed_mask, test::load_field(c.mesh.num_nodes(), loads));
+        INFO("trial ", trial, " frame ", frame, " kind ", c.partition_kind, " ", describe(c.partition.counts));
+        CHECK(test::relative_error(state.u, ref, visible_nodes(c.partition)) <= 1e-8);
+        if (frame == 2) CHECK(test::relative_error(state.u, ref, c.partition.interior) <= 1e-8);
+        for (int v : c.partition.fixed) CHECK(state.u.row(v).norm() == 0);
+        ++checked;
+      }
+      with_interface += !c.partition.interface.empty();
+      bool fixed_op = false, fixed_non = false;  // fixed nodes touched by each region
+      for (int t = 0; t < c.mesh.num_tets(); ++t)
+        for (int k = 0; k < 4; ++k)
+          if (c.fixed_mask[size_t(c.mesh.tets(t, k))]) (c.partition.operational_tet[size_t(t)] ? fixed_op : fixed_non) = true;
+      fixed_both += fixed_op && fixed_non;
+      ++kinds[c.partition_kind];
+    }
+    CHECK(checked == 300);
+    CHECK(with_interface >= 40);  // the generator really exercises K' and P*
+    CHECK(fixed_both >= 30);      // ... and fixed nodes in both regions
+    for (int k : kinds) CHECK(k > 0);
+  }
+
+  TEST_CASE("the CHOLMOD backend and initial loads give the monolithic answer") {
+    std::mt19937 rng(11);
+    for (int trial = 0; trial < 10; ++trial) {
+      const HybridCase c = test::random_case(rng, trial % 4);
+      const auto initial = test::random_loads(c.partition, rng, 4);
+      PrecomputeOptions po;
+      po.initial_loads = test::load_field(c.mesh.num_nodes(), initial);
+      po.storage = trial % 2 ? Storage::dense : Storage::factor;
+      const Model model = precompute(c.mesh, c.material, c.partition, po);
+      State state = make_state(model);
+      CholmodSolver direct;
+      const auto loads = test::random_loads(c.partition, rng, 3);
+      update(model, state, loads, direct);
+      const Eigen::MatrixX3d ref = solve_monolithic(c.mesh, c.material, c.fixed_mask,
+                                                    po.initial_loads + test::load_field(c.mesh.num_nodes(), loads));
+      CHECK(test::relative_error(state.u, ref, visible_nodes(c.partition)) <= 1e-8);
+    }
+  }
+
+  TEST_CASE("dense and factor storage give the same displacements frame after frame") {
+    std::mt19937 rng(5);
+    for (int trial = 0; trial < 6; ++trial) {
+      const HybridCase c = test::random_case(rng, trial % 4);
+      PrecomputeOptions pd, pf;
+      pd.storage = Storage::dense;
+      pf.storage = Storage::factor;
+      const Model md = precompute(c.mesh, c.material, c.partition, pd);
+      const Model mf = precompute(c.mesh, c.material, c.partition, pf);
+      CHECK(md.storage == Storage::dense);
+      CHECK(mf.storage == Storage::factor);
+      CHECK(mf.Kstar_inv.size() == 0);
+      State sd = make_state(md, tight_cg()), sf = make_state(mf, tight_cg());
+      for (int frame = 0; frame < 5; ++frame) {
+        const auto loads = test::random_loads(c.partition, rng, 3);
+        update(md, sd, loads, UpdateOptions{true});
+        update(mf, sf, loads, UpdateOptions{true});
+        CHECK(test::relative_error(sf.u, sd.u, visible_nodes(c.partition)) <= 1e-9);
+        CHECK(test::relative_error(sf.u, sd.u, c.partition.interior) <= 1e-9);
+      }
+    }
+  }
+
+  TEST_CASE("automatic storage follows the memory budget") {
+    std::mt19937 rng(8);
+    const HybridCase c = test::random_case(rng, 0);
+    PrecomputeOptions po;
+    po.memory_budget_bytes = 1;
+    CHECK(precompute(c.mesh, c.material, c.partition, po).storage == Storage::factor);
+    po.memory_budget_bytes = 1e9;
+    const Model m = precompute(c.mesh, c.material, c.partition, po);
+    CHECK(m.storage == Storage::dense);
+    CHECK(m.memory.dense_bytes >= 8.0 * 9 * m.ns() * m.ns());
+    CHECK(describe(m).find("storage dense") != std::string::npos);
+  }
+
+  TEST_CASE("running sums do not drift over 1000 frames of changing loads") {
+    std::mt19937 rng(1000);
+    const HybridCase c = test::random_case(rng, 1, 3);
+    const Model model = precompute(c.mesh, c.material, c.partition, {});
+    REQUIRE(model.storage == Storage::dense);
+    REQUIRE(model.ns() > 0);
+    State state = make_state(model, tight_cg());
+    std::vector<Load> loads;
+    for (int frame = 0; frame < 1000; ++frame) {
+      // Drag: a few nodes keep their load and change it, others come and go.
+      if (loads.size() > 4 || (frame % 7 == 0 && !loads.empty())) loads.erase(loads.begin());
+      for (auto& l : loads) l.force *= 1.01;
+      const auto fresh = test::random_loads(c.partition, rng, 1);
+      loads.insert(loads.end(), fresh.begin(), fresh.end());
+      update(model, state, loads);
+    }
+    const Eigen::VectorXd Ps = model.Ps0 + state.Ps_interact;
+    const Eigen::VectorXd As_fresh = model.Kstar_inv * Ps;
+    CHECK((state.As_loads - As_fresh).norm() <= 1e-12 * As_fresh.norm());
+    if (model.ni() > 0) {
+      const Eigen::VectorXd Pp_fresh = model.KI2_K22inv_s * Ps;
+      CHECK((state.P_prime - Pp_fresh).norm() <= 1e-12 * Pp_fresh.norm());
+    }
+    // Ps_interact holds exactly this frame's surface loads.
+    Eigen::MatrixX3d surface_loads = Eigen::MatrixX3d::Zero(c.mesh.num_nodes(), 3);
+    for (const auto& l : loads)
+      if (c.partition.node_set[size_t(l.node)] == NodeSet::surface) surface_loads.row(l.node) += l.force.transpose();
+    CHECK((state.Ps_interact - gather_nodes(surface_loads, c.partition.surface)).norm() == 0);
+    const Eigen::MatrixX3d ref =
+        solve_monolithic(c.mesh, c.material, c.fixed_mask, test::load_field(c.mesh.num_nodes(), loads));
+    CHECK(test::relative_error(state.u, ref, visible_nodes(c.partition)) <= 1e-8);
+  }
+
+  TEST_CASE("degenerate partitions: pure condensed model and plain FEM") {
+    std::mt19937 rng(3);
+    for (int kind : {4, 5}) {
+      const HybridCase c = test::random_case(rng, kind);
+      const Model model = precompute(c.mesh, c.material, c.partition, {});
+      if (kind == 4) {
+        CHECK(model.operational->size() == 0);
+        CHECK(c.partition.operational.empty());
+        CHECK(c.partition.interface.empty());
+      } else {
+        CHECK(model.ns() == 0);
+        CHECK(model.nonop_nodes.empty());
+        CHECK(model.operational->num_interface == 0);
+      }
+      State state = make_state(model, tight_cg());
+      const auto loads = test::random_loads(c.partition, rng, 4);
+      update(model, state, loads);
+      const Eigen::MatrixX3d ref =
+          solve_monolithic(c.mesh, c.material, c.fixed_mask, test::load_field(c.mesh.num_nodes(), loads));
+      CHECK(test::relative_error(state.u, ref, visible_nodes(c.partition)) <= 1e-8);
+    }
+  }
+
+  TEST_CASE("a rebuilt operational system (a crack with appended nodes) still matches the monolithic solve") {
+    std::mt19937 rng(77);
+    int cracked = 0;
+    for (int trial = 0; trial < 20 && cracked < 5; ++trial) {
+      const HybridCase c = test::random_case(rng, 1 + trial % 2);
+      if (c.partition.operational.empty()) continue;
+      const Model model = precompute(c.mesh, c.material, c.partition, {});
+      // Give one set-1 node a twin used by half of its operational tets.
+      const int v = c.partition.operational[rng() % c.partition.operational.size()];
+      mesh::TetMesh cut = c.mesh;
+      cut.nodes.conservativeResize(c.mesh.num_nodes() + 1, 3);
+      cut.nodes.row(c.mesh.num_nodes()) = c.mesh.nodes.row(v);
+      int moved = 0, uses = 0;
+      for (int t : c.partition.operational_tets)
+        for (int k = 0; k < 4; ++k)
+          if (cut.tets(t, k) == v && (uses++ % 2)) {
+            cut.tets(t, k) = c.mesh.num_nodes();
+            ++moved;
+          }
+      if (moved == 0 || moved == uses) continue;
+      ++cracked;
+      State state = make_state(model, tight_cg());
+      auto loads = test::random_loads(c.partition, rng, 3);
+      update(model, state, loads);
+      set_operational_system(state, rebuild_operational_system(model, cut, c.material, c.partition.operational_tets));
+      loads.push_back({c.mesh.num_nodes(), Eigen::Vector3d(0.3, -0.2, 0.1)});
+      update(model, state, loads);
+      std::vector<char> fixed = c.fixed_mask;
+      fixed.push_back(0);
+      const Eigen::MatrixX3d ref = solve_monolithic(cut, c.material, fixed, test::load_field(cut.num_nodes(), loads));
+      std::vector<int> nodes = visible_nodes(c.partition);
+      nodes.push_back(c.mesh.num_nodes());
+      CHECK(test::relative_error(state.u, ref, nodes) <= 1e-8);
+    }
+    CHECK(cracked >= 3);
+  }
+
+  TEST_CASE("bad loads are refused with a message and leave the state unchanged") {
+    std::mt19937 rng(9);
+    HybridCase c;
+    do c = test::random_case(rng, 0); while (c.partition.interior.empty() || c.partition.surface.empty());
+    const Model model = precompute(c.mesh, c.material, c.partition, {});
+    State state = make_state(model);
+    const std::vector<Load> good = {{c.partition.surface[0], Eigen::Vector3d(0, 0, 1)}};
+    update(model, state, good);
+    const Eigen::MatrixX3d before = state.u;
+    auto message = [&](std::vector<Load> loads) {
+      loads.insert(loads.begin(), {c.partition.surface.back(), Eigen::Vector3d(1, 0, 0)});
+      try {
+        update(model, state, loads);
+      } catch (const Error& e) {
+        return std::string(e.what());
+      }
+      return std::string("no error");
+    };
+    const int inner = c.partition.interior[0];
+    const std::string interior = message({{inner, Eigen::Vector3d(1, 0, 0)}});
+    CHECK(interior.find("condensed away") != std::string::npos);
+    CHECK(interior.find(std::to_string(inner)) != std::string::npos);
+    CHECK(interior.find("operational") != std::string::npos);
+    CHECK(message({{c.mesh.num_nodes() + 5, Eigen::Vector3d(1, 0, 0)}}).find("no such node") != std::string::npos);
+    CHECK(message({{-1, Eigen::Vector3d(1, 0, 0)}}).find("no such node") != std::string::npos);
+    CHECK(message({{c.partition.surface[0], Eigen::Vector3d(std::nan(""), 0, 0)}}).find("NaN") != std::string::npos);
+    CHECK(message({{c.partition.fixed[0], Eigen::Vector3d(1, 0, 0)}}).find("fixed") != std::string::npos);
+    CHECK(state.u == before);
+    CHECK(state.loaded_surface.size() == 1);
+    update(model, state, good);  // still consistent after the refusals
+    CHECK((state.u - before).cwiseAbs().maxCoeff() <= 1e-12 * before.cwiseAbs().maxCoeff());
+  }
+}
