@@ -1,0 +1,51 @@
+#include "cut/rest_map.hpp"
+
+#include <Eigen/LU>
+#include <limits>
+
+#include "core/error.hpp"
+
+namespace softcut::cut {
+
+Eigen::Vector3d deformed_to_rest(const mesh::TetMesh& m, const Eigen::MatrixX3d& u, const Eigen::Vector3d& x,
+                                 const std::vector<char>& mask) {
+  if (u.rows() != m.num_nodes())
+    fail("cut: displacement has ", u.rows(), " rows but the mesh has ", m.num_nodes(), " nodes");
+  if (!mask.empty() && mask.size() != size_t(m.num_tets()))
+    fail("cut: tet mask has ", mask.size(), " entries for ", m.num_tets(), " tets");
+  if (!x.allFinite()) fail("cut: point to map has a non-finite coordinate");
+  int best = -1;
+  double best_min = -std::numeric_limits<double>::infinity();
+  Eigen::Vector4d best_bary;
+  for (int t = 0; t < m.num_tets(); ++t) {
+    if (!mask.empty() && !mask[size_t(t)]) continue;
+    Eigen::Vector3d p[4];
+    for (int k = 0; k < 4; ++k) p[k] = (m.nodes.row(m.tets(t, k)) + u.row(m.tets(t, k))).transpose();
+    Eigen::Matrix3d e;
+    e << p[1] - p[0], p[2] - p[0], p[3] - p[0];
+    Eigen::FullPivLU<Eigen::Matrix3d> lu(e);
+    if (!lu.isInvertible()) continue;  // collapsed in the deformed state
+    const Eigen::Vector3d l = lu.solve(x - p[0]);
+    const Eigen::Vector4d bary(1 - l.sum(), l(0), l(1), l(2));
+    if (bary.minCoeff() > best_min) {
+      best_min = bary.minCoeff();
+      best = t;
+      best_bary = bary;
+      if (best_min >= 0) break;  // inside
+    }
+  }
+  if (best < 0) fail("cut: no usable tet to map a blade point to the rest configuration");
+  Eigen::Vector3d r = Eigen::Vector3d::Zero();
+  for (int k = 0; k < 4; ++k) r += best_bary(k) * m.node(m.tets(best, k));
+  return r;
+}
+
+SweptSurface deformed_to_rest(const mesh::TetMesh& m, const Eigen::MatrixX3d& u, const SweptSurface& s,
+                              const std::vector<char>& mask) {
+  SweptSurface out = s;
+  for (auto& tri : out.triangles)
+    for (int k = 0; k < 3; ++k) tri.col(k) = deformed_to_rest(m, u, tri.col(k), mask);
+  return out;
+}
+
+}  // namespace softcut::cut

@@ -1,0 +1,24 @@
+#include "cut/cut_bench.hpp"
+
+#include <doctest/doctest.h>
+
+#include "core/error.hpp"
+
+using namespace softcut;
+
+TEST_SUITE("cut/cut_bench") {
+  TEST_CASE("the benchmark hook runs a small progressive cut and reports it") {
+    const auto r = cut::bench_cut(4, 5);
+    CHECK(r.region_tets == 6 * 64);
+    CHECK(r.region_tets_after > r.region_tets);
+    CHECK(r.steps == 5);
+    CHECK(r.pieces_separated > 0);
+    CHECK(r.mean_ms <= r.max_ms);
+    CHECK(r.worst_dihedral_deg >= cut::CutOptions{}.min_dihedral_deg);
+    // Half the box operational: fewer region tets, the cut still runs.
+    const auto h = cut::bench_cut(4, 5, 0.5);
+    CHECK(h.region_tets < r.region_tets);
+    CHECK(h.region_tets_after > h.region_tets);
+    CHECK_THROWS_AS(cut::bench_cut(0, 5), Error);
+  }
+}

@@ -1,0 +1,49 @@
+#include "cut/rest_map.hpp"
+
+#include <doctest/doctest.h>
+
+#include <Eigen/LU>
+#include <random>
+
+#include "core/error.hpp"
+#include "mesh/generate/box.hpp"
+
+using namespace softcut;
+using Eigen::Vector3d;
+
+TEST_SUITE("cut/rest_map") {
+  TEST_CASE("an affine deformation is inverted exactly inside and outside the body") {
+    std::mt19937 rng(31);
+    std::uniform_real_distribution<double> u(-0.2, 0.2), p(-0.3, 1.3);
+    mesh::BoxOptions box;
+    box.nx = box.ny = box.nz = 3;
+    box.jitter = 0.1;
+    const mesh::TetMesh m = mesh::generate_box(box);
+    for (int trial = 0; trial < 5; ++trial) {
+      Eigen::Matrix3d a = Eigen::Matrix3d::Identity();
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) a(i, j) += u(rng);
+      const Vector3d b(u(rng), u(rng), u(rng));
+      Eigen::MatrixX3d disp(m.num_nodes(), 3);
+      for (int v = 0; v < m.num_nodes(); ++v) disp.row(v) = (a * m.node(v) + b - m.node(v)).transpose();
+      for (int k = 0; k < 20; ++k) {
+        const Vector3d rest(p(rng), p(rng), p(rng));
+        const Vector3d x = a * rest + b;
+        CHECK((cut::deformed_to_rest(m, disp, x) - rest).norm() <= 1e-10);
+      }
+    }
+  }
+
+  TEST_CASE("a swept surface maps vertex by vertex and bad input is refused") {
+    mesh::BoxOptions box;
+    const mesh::TetMesh m = mesh::generate_box(box);
+    Eigen::MatrixX3d disp = Eigen::MatrixX3d::Zero(m.num_nodes(), 3);
+    disp.col(0).setConstant(0.25);  // rigid shift by +0.25 in x
+    const auto s = cut::sweep_triangle(Vector3d(0.5, 0, 0), Vector3d(0.75, 1, 0), Vector3d(0.5, 0, 1));
+    const auto r = cut::deformed_to_rest(m, disp, s);
+    CHECK((r.triangles[0].row(0).array() - s.triangles[0].row(0).array() + 0.25).abs().maxCoeff() <= 1e-12);
+    CHECK_THROWS_AS(cut::deformed_to_rest(m, Eigen::MatrixX3d::Zero(3, 3), Vector3d(0, 0, 0)), Error);
+    CHECK_THROWS_AS(cut::deformed_to_rest(m, disp, Vector3d(0, 0, 0), std::vector<char>(size_t(m.num_tets()), 0)),
+                    Error);
+  }
+}
