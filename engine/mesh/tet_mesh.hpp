@@ -3,6 +3,9 @@
 // its 0-based position in the file it was read from (or the order a generator
 // made it); nodes referenced by no tet keep their id and stay out of the system.
 #include <Eigen/Core>
+// cross() is declared in Core but defined in Geometry: without this a file
+// that only includes Core compiles and then fails to link.
+#include <Eigen/Geometry>
 #include <string>
 #include <vector>
 

@@ -45,7 +45,7 @@ TEST_SUITE("mesh/generate/band") {
     CHECK(a.head<2>().normalized().dot(b.head<2>().normalized()) == doctest::Approx(0).epsilon(1e-9));
   }
 
-  TEST_CASE("targets pick a resolution within 10 %; same options, same mesh") {
+  TEST_CASE("targets pick a resolution within 10 %, same options, same mesh") {
     for (int target : {300, 5000}) {
       BandOptions o;
       o.target_tets = target;

@@ -71,7 +71,7 @@ TEST_SUITE("mesh/generate/tube") {
     }
   }
 
-  TEST_CASE("a target tet count picks a resolution within 10 %; jitter moves interior nodes only") {
+  TEST_CASE("a target tet count picks a resolution within 10 %, jitter moves interior nodes only") {
     for (int target : {1000, 8000}) {
       TubeOptions o;
       o.target_tets = target;

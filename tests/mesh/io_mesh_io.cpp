@@ -24,7 +24,7 @@ TEST_SUITE("mesh/io/mesh_io") {
                          softcut::Error);
   }
 
-  TEST_CASE("extensions are matched case-insensitively; a missing file is named") {
+  TEST_CASE("extensions are matched case-insensitively, a missing file is named") {
     const auto dir = softcut::test::scratch_dir("io_case");
     spit(dir / "UPPER.MSH", slurp(mesh_data("sample_v22.msh")));
     softcut::Diagnostics diag;

@@ -87,7 +87,7 @@ TEST_SUITE("mesh/volume/label_volume") {
     }
   }
 
-  TEST_CASE("all nonzero labels by default; lattice corners at origin - half a voxel") {
+  TEST_CASE("all nonzero labels by default, lattice corners at origin - half a voxel") {
     const auto raw = test::sample_labels();
     const LabelVolume v = make_volume({3, 2, 2}, std::vector<int>(raw.begin(), raw.end()));
     Diagnostics d;
@@ -178,7 +178,7 @@ TEST_SUITE("mesh/volume/label_volume") {
 }
 
 TEST_SUITE("mesh/volume/label_volume") {
-  TEST_CASE("the sample data: detached gzip and attached raw agree; documented counts") {
+  TEST_CASE("the sample data: detached gzip and attached raw agree, documented counts") {
     Diagnostics d;
     const LabelVolume g = read_nrrd_labels(test::data_dir() / "volume" / "organ.nhdr", d);
     const LabelVolume r = read_nrrd_labels(test::data_dir() / "volume" / "organ_raw.nrrd", d);

@@ -39,7 +39,7 @@ TEST_SUITE("mesh/surface") {
     }
   }
 
-  TEST_CASE("a tet mask gives the boundary of the subset; the two halves share the cut faces") {
+  TEST_CASE("a tet mask gives the boundary of the subset, the two halves share the cut faces") {
     BoxOptions o;
     o.nx = 4, o.ny = 2, o.nz = 2;
     const TetMesh m = generate_box(o);
