@@ -165,6 +165,30 @@ function Scenario:probe(args) end
 ---@param args Scenario_grasper_args
 function Scenario:grasper(args) end
 
+---@class Scenario_scalpel_args
+---@field name string for messages, outputs and Frame methods
+---@field path Path|number[] centre of the blade edge over time
+---@field length? number blade edge length (m)
+---@field axis? number[] direction of the blade edge (any length > 0)
+---@field radius? number contact radius around the edge (contact width = 2 radius) (m)
+---@field cut_pressure number contact pressure at which the blade cuts (Pa)
+---@field back? number[] triangular blade: offset from the edge's centre to its third corner (default: the edge alone); the whole triangle sweeps, so a stab or a slice along its plane cuts its area (m)
+---@field force? Ramp|number pressing force magnitude over time (drive force) (N)
+---@field direction? number[] force direction (default: into the surface)
+---@field stiffness? number total spring stiffness (drive spring) (N/m)
+---@field start? number in contact from this time (s)
+---@field stop? number until this time (default: the end) (s)
+---A scalpel: a blade edge of `length` along `axis`, centred on its path, that presses the surface within `radius` of the edge like a probe (`force` ramp or spring `stiffness`). Contact pressure = |contact force| / (length x 2 radius). From the frame it reaches `cut_pressure` the tissue yields (no force) and the surface the edge sweeps between frames is cut, in the operational region only; a cut reaching the interface stops there with a warning. See docs/outputs.md (Cutting).
+---@param args Scenario_scalpel_args
+function Scenario:scalpel(args) end
+
+---@class Scenario_cutting_args
+---@field snap_fraction? number crossings closer than this fraction of an edge to its end snap to the node
+---@field min_dihedral? number smallest dihedral angle of tets made by cutting (deg)
+---Cutter options (rarely needed; docs/cutting.md).
+---@param args Scenario_cutting_args
+function Scenario:cutting(args) end
+
 ---@class Scenario_output_args
 ---@field log? Selection nodes written to displacements.csv (default: the whole surface)
 ---@field csv? boolean write displacements.csv
@@ -400,7 +424,7 @@ function softcut.vec.length(a) end
 ---@return number[]
 function softcut.vec.lerp(a, b, s) end
 
----Displacement of a node (0-based id) this frame.
+---Displacement of a node (0-based id) this frame; nodes made by cutting have ids after the rest mesh's.
 ---@param node integer node id
 ---@return number[]
 function Frame:displacement(node) end
@@ -420,10 +444,14 @@ function Frame:mean_displacement(nodes) end
 ---@return number
 function Frame:max_displacement(nodes) end
 
----A tool's state: tip (m), engaged, num_nodes, force (N, total).
+---A tool's state: tip (m), engaged, num_nodes, force (N, total); a scalpel also pressure (Pa) and cutting (it cut this frame).
 ---@param name string tool name
 ---@return table
 function Frame:tool(name) end
+
+---Cutting so far: events (frames in which a blade changed the mesh), nodes_added, nodes, tets (of the current mesh), components (connected pieces).
+---@return table
+function Frame:cutting() end
 
 ---Places a tool's tip for the next frames (overrides its path); nil returns it to the path.
 ---@param name string tool name

@@ -134,6 +134,31 @@ api.functions = {
       F("implicit", "boolean", "spring solved exactly within each frame (false: explicit, lags a frame and "
         .. "needs stiffness x compliance < 1)", { default = true }) },
     example = 's:grasper{ name = "jaw", path = softcut.path.catmull_rom{ times = {0, 1, 2}, points = {{0, 0, 0.03}, {0, 0, 0.045}, {0.01, 0, 0.05}} },\n           stiffness = 400 }' },
+  { name = "Scenario:scalpel", summary = "A scalpel: a blade edge of `length` along `axis`, centred on its path, "
+      .. "that presses the surface within `radius` of the edge like a probe (`force` ramp or spring `stiffness`). "
+      .. "Contact pressure = |contact force| / (length x 2 radius). From the frame it reaches `cut_pressure` the "
+      .. "tissue yields (no force) and the surface the edge sweeps between frames is cut, in the operational region "
+      .. "only; a cut reaching the interface stops there with a warning. See docs/outputs.md (Cutting).",
+    one_of = { { "force", "stiffness" } }, fields = {
+      F("name", "string", "for messages, outputs and Frame methods", { required = true }),
+      F("path", "Path", "centre of the blade edge over time", { required = true }),
+      F("length", "number", "blade edge length", { unit = "m", gt = 0, default = 0.02 }),
+      F("axis", "vec3", "direction of the blade edge (any length > 0)", { default = { 0, 1, 0 } }),
+      F("radius", "number", "contact radius around the edge (contact width = 2 radius)", { unit = "m", gt = 0, default = 0.001 }),
+      F("cut_pressure", "number", "contact pressure at which the blade cuts", { unit = "Pa", gt = 0, required = true }),
+      F("back", "vec3", "triangular blade: offset from the edge's centre to its third corner (default: the edge "
+        .. "alone); the whole triangle sweeps, so a stab or a slice along its plane cuts its area", { unit = "m" }),
+      F("force", "Ramp", "pressing force magnitude over time (drive force)", { unit = "N" }),
+      F("direction", "vec3", "force direction (default: into the surface)"),
+      F("stiffness", "number", "total spring stiffness (drive spring)", { unit = "N/m", gt = 0 }),
+      F("start", "number", "in contact from this time", { unit = "s", ge = 0, default = 0 }),
+      F("stop", "number", "until this time (default: the end)", { unit = "s", ge = 0 }) },
+    example = 's:scalpel{ name = "blade", path = softcut.path.polyline{ times = {0, 1}, points = {{0.05, 0.02, 0.045}, {0.05, 0.02, 0.02}} },\n          length = 0.05, axis = {0, 1, 0}, force = softcut.ramp.linear{ t1 = 0.3, to = 2 }, cut_pressure = 2e4 }' },
+  { name = "Scenario:cutting", summary = "Cutter options (rarely needed; docs/cutting.md).", fields = {
+      F("snap_fraction", "number", "crossings closer than this fraction of an edge to its end snap to the node",
+        { gt = 0, lt = 0.5, default = 0.15 }),
+      F("min_dihedral", "number", "smallest dihedral angle of tets made by cutting", { unit = "deg", ge = 0, lt = 60, default = 10 }) },
+    example = 's:cutting{ min_dihedral = 12 }' },
   { name = "Scenario:output", summary = "What the run writes besides summary.json: logged nodes in "
       .. "displacements.csv, ParaView VTU/PVD, rendered frames.", fields = {
       F("log", "Selection", "nodes written to displacements.csv (default: the whole surface)"),
@@ -276,7 +301,8 @@ api.functions = {
       F("b", "vec3", "", { required = true }), F("s", "number", "", { required = true }) },
     fields = {}, returns = "vec3", example = "softcut.vec.lerp(m.min, m.max, 0.5)" },
 
-  { name = "Frame:displacement", summary = "Displacement of a node (0-based id) this frame.",
+  { name = "Frame:displacement", summary = "Displacement of a node (0-based id) this frame; nodes made by "
+      .. "cutting have ids after the rest mesh's.",
     positional = { F("node", "integer", "node id", { required = true, ge = 0 }) }, fields = {}, returns = "vec3",
     example = "local u = f:displacement(42)" },
   { name = "Frame:position", summary = "Deformed position of a node this frame.",
@@ -288,9 +314,14 @@ api.functions = {
   { name = "Frame:max_displacement", summary = "Largest displacement magnitude over a node set.",
     positional = { F("nodes", "Selection", "node set", { required = true }) }, fields = {}, returns = "number",
     example = "if f:max_displacement(softcut.select.all()) > 0.02 then f:stop() end" },
-  { name = "Frame:tool", summary = "A tool's state: tip (m), engaged, num_nodes, force (N, total).",
+  { name = "Frame:tool", summary = "A tool's state: tip (m), engaged, num_nodes, force (N, total); "
+      .. "a scalpel also pressure (Pa) and cutting (it cut this frame).",
     positional = { F("name", "string", "tool name", { required = true }) }, fields = {}, returns = "table",
     example = "local jaw = f:tool(\"jaw\")" },
+  { name = "Frame:cutting", summary = "Cutting so far: events (frames in which a blade changed the mesh), "
+      .. "nodes_added, nodes, tets (of the current mesh), components (connected pieces).",
+    positional = {}, fields = {}, returns = "table",
+    example = "if f:cutting().components == 2 then f:stop() end" },
   { name = "Frame:move_tool", summary = "Places a tool's tip for the next frames (overrides its path); nil returns it to the path.",
     positional = { F("name", "string", "tool name", { required = true }), F("point", "vec3", "tip position", { unit = "m" }) },
     fields = {}, example = "f:move_tool(\"tip\", { 0.05, 0.02, 0.045 })" },

@@ -159,6 +159,21 @@ local function tool(s, kind, args)
   s._tools[#s._tools + 1] = t
 end
 function Scenario:probe(args) tool(self, "probe", args) end
+function Scenario:scalpel(args)
+  editable(self, "scalpel")
+  local a = check.args("Scenario:scalpel", args)
+  local t = { name = unique_name(self, self._tools, "scalpel", a.name), where = check.where(), kind = "scalpel",
+              drive = a.stiffness and "spring" or "force", path = M.as_path(a.path), radius = a.radius,
+              force = a.force and M.scaled_ramp(a.force, 1) or nil, direction = a.direction, stiffness = a.stiffness,
+              start = a.start, stop = a.stop, length = a.length, axis = a.axis, cut_pressure = a.cut_pressure,
+              back = a.back }
+  if a.stop and a.stop <= a.start then check.fail("scalpel", "stop = %g must be after start = %g", a.stop, a.start) end
+  self._tools[#self._tools + 1] = t
+end
+function Scenario:cutting(args)
+  editable(self, "cutting")
+  self._cutting = check.args("Scenario:cutting", args)
+end
 function Scenario:grasper(args) tool(self, "grasper", args) end
 
 function Scenario:output(args)
@@ -255,6 +270,7 @@ function Frame:set_load(name, args)
   check.fail("set_load", "no load '%s'%s", name, #names > 0 and check.suggest(name, names) or " (the scenario has no loads)")
 end
 function Frame:stop() internal.frame_stop(self._ctx) end
+function Frame:cutting() return internal.frame_cutting(self._ctx) end
 
 -- Called by the C++ run loop after every frame with a context handle; runs
 -- due expectations, then the on_frame functions. Returns false to stop.

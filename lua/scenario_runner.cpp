@@ -113,7 +113,10 @@ sim::ScenarioSpec spec_from_table(lua_State* L, int s, const fs::path& source) {
     tools::ToolSpec ts;
     ts.name = get_string(L, t, "name");
     ts.where = get_string(L, t, "where");
-    ts.kind = get_string(L, t, "kind") == "grasper" ? tools::ToolSpec::Kind::grasper : tools::ToolSpec::Kind::probe;
+    const std::string kind = get_string(L, t, "kind");
+    ts.kind = kind == "grasper"   ? tools::ToolSpec::Kind::grasper
+              : kind == "scalpel" ? tools::ToolSpec::Kind::scalpel
+                                  : tools::ToolSpec::Kind::probe;
     ts.drive = get_string(L, t, "drive") == "spring" ? tools::ToolSpec::Drive::spring : tools::ToolSpec::Drive::force;
     push_field(L, t, "path");
     ts.path = to_path(L, -1);
@@ -126,6 +129,10 @@ sim::ScenarioSpec spec_from_table(lua_State* L, int s, const fs::path& source) {
     ts.active_from = get_number(L, t, "start", 0.0);
     ts.active_until = get_number(L, t, "stop", std::numeric_limits<double>::infinity());
     ts.implicit = get_bool(L, t, "implicit", ts.implicit);
+    ts.blade_length = get_number(L, t, "length", ts.blade_length);
+    ts.blade_axis = get_vec3(L, t, "axis", ts.blade_axis);
+    ts.cut_pressure = get_number(L, t, "cut_pressure", ts.cut_pressure);
+    ts.blade_back = get_vec3(L, t, "back", ts.blade_back);
     spec.tools.push_back(ts);
   });
 
@@ -173,6 +180,12 @@ sim::ScenarioSpec spec_from_table(lua_State* L, int s, const fs::path& source) {
     spec.solver.backend = get_string(L, v, "backend", spec.solver.backend);
     spec.solver.mode = get_string(L, v, "mode", spec.solver.mode);
     spec.solver.gpu_fp64 = get_bool(L, v, "gpu_fp64", spec.solver.gpu_fp64);
+  }
+  lua_pop(L, 1);
+  if (push_field(L, s, "_cutting") == LUA_TTABLE) {
+    const int v = lua_gettop(L);
+    spec.cutting.snap_fraction = get_number(L, v, "snap_fraction", spec.cutting.snap_fraction);
+    spec.cutting.min_dihedral_deg = get_number(L, v, "min_dihedral", spec.cutting.min_dihedral_deg);
   }
   lua_pop(L, 1);
   return spec;
@@ -305,7 +318,7 @@ RunOutcome run_scenario(const RunRequest& req) {
     lua_pushinteger(L, st.frame);
     lua_pushnumber(L, st.time);
     lua_pushnumber(L, m.dt);
-    lua_pushinteger(L, m.mesh.num_nodes());
+    lua_pushinteger(L, lua_Integer(st.displacement.rows()));  // grows when cutting adds nodes
     rt.call(6, 1);
     const bool go_on = lua_toboolean(L, -1);
     lua_pop(L, 1);

@@ -21,8 +21,8 @@ FrameContext& ctx(lua_State* L) {
 
 int node_of(lua_State* L, const FrameContext& c, int idx) {
   const lua_Integer n = luaL_checkinteger(L, idx);
-  if (n < 0 || n >= c.model->mesh.num_nodes())
-    fail("node ", n, " out of range (the mesh has ", c.model->mesh.num_nodes(), " nodes)");
+  const lua_Integer nn = c.state->displacement.rows();  // grows when cutting adds nodes
+  if (n < 0 || n >= nn) fail("node ", n, " out of range (the mesh has ", nn, " nodes now)");
   return int(n);
 }
 
@@ -54,7 +54,7 @@ int frame_position(lua_State* L) {
   return protect(L, [L] {
     FrameContext& c = ctx(L);
     const int n = node_of(L, c, 2);
-    push_vec3(L, (c.model->mesh.nodes.row(n) + c.state->displacement.row(n)).transpose());
+    push_vec3(L, (sim::current_mesh(*c.model, *c.state).nodes.row(n) + c.state->displacement.row(n)).transpose());
     return 1;
   });
 }
@@ -107,6 +107,31 @@ int frame_tool(lua_State* L) {
     lua_setfield(L, -2, "num_nodes");
     push_vec3(L, t.total_force);
     lua_setfield(L, -2, "force");
+    lua_pushnumber(L, t.pressure);
+    lua_setfield(L, -2, "pressure");
+    lua_pushboolean(L, t.cutting);
+    lua_setfield(L, -2, "cutting");
+    return 1;
+  });
+}
+
+int frame_cutting(lua_State* L) {
+  return protect(L, [L] {
+    FrameContext& c = ctx(L);
+    const mesh::TetMesh& mesh = sim::current_mesh(*c.model, *c.state);
+    int added = 0;
+    for (const auto& e : c.state->cut_events) added += e.nodes_added;
+    lua_createtable(L, 0, 5);
+    lua_pushinteger(L, lua_Integer(c.state->cut_events.size()));
+    lua_setfield(L, -2, "events");
+    lua_pushinteger(L, added);
+    lua_setfield(L, -2, "nodes_added");
+    lua_pushinteger(L, mesh.num_nodes());
+    lua_setfield(L, -2, "nodes");
+    lua_pushinteger(L, mesh.num_tets());
+    lua_setfield(L, -2, "tets");
+    lua_pushinteger(L, sim::count_components(mesh));
+    lua_setfield(L, -2, "components");
     return 1;
   });
 }
@@ -171,6 +196,7 @@ const luaL_Reg kFrameFunctions[] = {
     {"frame_max_displacement", frame_max_displacement},
     {"frame_max_component", frame_max_component},
     {"frame_tool", frame_tool},
+    {"frame_cutting", frame_cutting},
     {"frame_move_tool", frame_move_tool},
     {"frame_enable_tool", frame_enable_tool},
     {"frame_set_load", frame_set_load},

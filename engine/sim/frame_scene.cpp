@@ -1,6 +1,7 @@
 #include "sim/frame_scene.hpp"
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cstdio>
 
 namespace softcut::sim {
@@ -8,7 +9,8 @@ namespace softcut::sim {
 render::SceneContent scene_content(const Model& m, const State& s) {
   const RenderSettings& rs = m.spec.outputs.render;
   render::SceneContent c;
-  c.operational = m.partition.operational_tet;
+  c.operational = s.cut ? s.cut->operational_tet : m.partition.operational_tet;
+  if (s.cut) c.cut_faces = s.cut->cut_face;
   if (rs.show_interface) c.interface_nodes = m.partition.interface;
   for (size_t k = 0; k < s.tools.size() && k < s.tool_specs.size(); ++k) {
     const tools::ToolSpec& spec = s.tool_specs[k];
@@ -16,7 +18,19 @@ render::SceneContent scene_content(const Model& m, const State& s) {
     if (!spec.enabled) continue;
     if (rs.show_forces)
       for (int n : ts.nodes) c.manipulated.push_back({n, ts.tip});
-    if (spec.kind == tools::ToolSpec::Kind::probe) {
+    if (spec.kind == tools::ToolSpec::Kind::scalpel) {
+      // Blade behind its edge: against the pressing direction when one is
+      // given (the blade then lies in the cut plane), else toward `up`.
+      render::ScalpelShape b;
+      b.edge_a = ts.blade_a, b.edge_b = ts.blade_b;
+      const Eigen::Vector3d up = spec.direction.squaredNorm() > 0 ? Eigen::Vector3d(-spec.direction.normalized())
+                                                                  : Eigen::Vector3d(rs.up.normalized());
+      const double h = std::max(0.25 * spec.blade_length, 2 * spec.radius);
+      b.spine = spec.blade_back.squaredNorm() > 0 ? ts.blade_c : Eigen::Vector3d(ts.blade_b + h * up);
+      b.handle_end = b.spine + 0.5 * (ts.blade_b - ts.blade_a) + 2.5 * h * up;
+      b.handle_radius = 0.12 * h;
+      c.tools.push_back(b);
+    } else if (spec.kind == tools::ToolSpec::Kind::probe) {
       render::ProbeShape p;
       p.tip = ts.tip;
       p.axis = rs.up.normalized();

@@ -128,7 +128,9 @@ State make_state(const Model& m) {
   return s;
 }
 
-Eigen::MatrixX3d deformed_positions(const Model& m, const State& s) { return m.mesh.nodes + s.displacement; }
+Eigen::MatrixX3d deformed_positions(const Model& m, const State& s) {
+  return current_mesh(m, s).nodes + s.displacement;
+}
 
 std::vector<int> select_nodes(const Model& m, const NodeSelector& sel, const std::string& where) {
   return select_nodes(sel, context(m), where);

@@ -12,6 +12,7 @@
 #include "hybrid/partition.hpp"
 #include "mesh/surface.hpp"
 #include "mesh/tet_mesh.hpp"
+#include "sim/cutting.hpp"
 #include "sim/scenario_spec.hpp"
 #include "sim/solver.hpp"
 #include "tools/tool.hpp"
@@ -107,11 +108,16 @@ struct State {
   RunStatistics stats;
   std::vector<std::string> warnings;  // runtime, deduplicated by the writer
   bool stop_requested = false;        // set by the script: finish after this frame
+  // Cutting (sim/cutting.hpp): the current mesh once a scalpel cut (null
+  // before; then displacement/forces have its node count), and every cut event.
+  // Copying a State shares `cut` like `warm`: use make_state() for a new run.
+  std::shared_ptr<CutMesh> cut;
+  std::vector<CutEvent> cut_events;
 };
 
 State make_state(const Model& m);
 
-// Deformed positions rest + displacement, (nnode x 3), m.
+// Deformed positions rest + displacement of the current (possibly cut) mesh, (nnode x 3), m.
 Eigen::MatrixX3d deformed_positions(const Model& m, const State& s);
 // Nodes of a selector on the compiled model (e.g. for expectations).
 std::vector<int> select_nodes(const Model& m, const NodeSelector& sel, const std::string& where);

@@ -51,6 +51,42 @@ std::string vtu_name(int frame) {
   return buf;
 }
 
+// "cutting": totals and one entry per cut event (docs/summary-schema.md).
+std::string cutting_json(const Model& m, const State& s) {
+  int scalpels = 0;
+  for (const auto& t : s.tool_specs) scalpels += t.kind == tools::ToolSpec::Kind::scalpel;
+  const mesh::TetMesh& cur = current_mesh(m, s);
+  int nodes_added = 0, tets_split = 0;
+  double worst = 180;
+  for (const CutEvent& e : s.cut_events) {
+    nodes_added += e.nodes_added, tets_split += e.tets_split;
+    worst = std::min(worst, e.worst_dihedral_deg);
+  }
+  std::string j = "  \"cutting\": {\"scalpels\": " + std::to_string(scalpels) + ", \"events\": " +
+                  std::to_string(s.cut_events.size()) + ", \"nodes_added\": " + std::to_string(nodes_added) +
+                  ", \"tets_split\": " + std::to_string(tets_split) + ", \"nodes\": " +
+                  std::to_string(cur.num_nodes()) + ", \"tets\": " + std::to_string(cur.num_tets()) +
+                  ", \"components\": " + std::to_string(s.cut ? count_components(cur) : count_components(m.mesh)) +
+                  ", \"worst_dihedral_deg\": " + jnum(worst) + ",\n    \"log\": [";
+  for (size_t k = 0; k < s.cut_events.size(); ++k) {
+    const CutEvent& e = s.cut_events[k];
+    j += std::string(k ? "," : "") + "\n      {\"frame\": " + std::to_string(e.frame) + ", \"time_s\": " + jnum(e.time) +
+         ", \"tool\": " + jstr(e.tool) + ", \"tets_split\": " + std::to_string(e.tets_split) +
+         ", \"nodes_added\": " + std::to_string(e.nodes_added) + ", \"edges_split\": " + std::to_string(e.edges_split) +
+         ", \"nodes_snapped\": " + std::to_string(e.nodes_snapped) + ", \"faces_separated\": " +
+         std::to_string(e.faces_separated) + ", \"faces_pending\": " + std::to_string(e.faces_pending) +
+         ", \"nodes_after\": " + std::to_string(e.nodes_after) + ", \"tets_after\": " + std::to_string(e.tets_after) +
+         ", \"worst_new_dihedral_deg\": " + jnum(e.worst_new_dihedral_deg) + ", \"worst_dihedral_deg\": " +
+         jnum(e.worst_dihedral_deg) + ", \"cut_ms\": " + jms(e.cut_ms) + ", \"rebuild_ms\": " + jms(e.rebuild_ms) +
+         ", \"cg_iterations_before\": " + std::to_string(e.cg_iterations_before) + ", \"cg_iterations_after\": " +
+         std::to_string(e.cg_iterations_after) + ", \"warnings\": [";
+    for (size_t w = 0; w < e.warnings.size(); ++w) j += (w ? ", " : "") + jstr(e.warnings[w]);
+    j += "]}";
+  }
+  j += s.cut_events.empty() ? "]},\n" : "\n    ]},\n";
+  return j;
+}
+
 }  // namespace
 
 Recorder::Recorder(const Model& m, fs::path dir) : dir_(dir.empty() ? m.spec.outputs.dir : std::move(dir)) {
@@ -87,10 +123,16 @@ void Recorder::record(const Model& m, const State& s) {
                                     s.displacement(n, 0), s.displacement(n, 1), s.displacement(n, 2));
       csv_.write(buf, len);
     }
+    // Nodes made by cutting (ids after the rest mesh's), every frame they exist.
+    for (int n = m.mesh.num_nodes(); n < s.displacement.rows(); ++n) {
+      const int len = std::snprintf(buf, sizeof buf, "%d,%.9e,%d,%.9e,%.9e,%.9e\n", s.frame, s.time, n,
+                                    s.displacement(n, 0), s.displacement(n, 1), s.displacement(n, 2));
+      csv_.write(buf, len);
+    }
     if (!csv_) fail("outputs: writing ", csv_tmp_.string(), " failed (disk full?)");
   }
   if (m.spec.outputs.vtu && s.frame % m.spec.outputs.vtu_every == 0) {
-    write_vtu(dir_ / "vtu" / vtu_name(s.frame), m, s.displacement);
+    write_vtu(dir_ / "vtu" / vtu_name(s.frame), m, s);
     vtu_frames_.emplace_back(s.frame, s.time);
   }
   const RenderSettings& rs = m.spec.outputs.render;
@@ -100,7 +142,7 @@ void Recorder::record(const Model& m, const State& s) {
       fs::create_directories(dir_ / "frames", ec);
       if (ec) fail("outputs: cannot create ", (dir_ / "frames").string(), ": ", ec.message());
     }
-    const render::FrameTimings t = renderer_->render_png(m.mesh, deformed_positions(m, s), scene_content(m, s),
+    const render::FrameTimings t = renderer_->render_png(current_mesh(m, s), deformed_positions(m, s), scene_content(m, s),
                                                          render_settings(m, s), frame_png_path(dir_, s.frame));
     render_ms_.add(t.total_ms());
     rendered_++;
@@ -211,6 +253,7 @@ std::string summary_json(const Model& m, const State& s, const RunResult& r, con
        (sp.outputs.vtu ? "\"series.pvd\"" : "null") + ", \"frames_rendered\": " + std::to_string(rendered) +
        ", \"render_ms\": {\"mean\": " + jms(rendered ? rec->render_ms().sum / rendered : 0.0) +
        ", \"max\": " + jms(rec ? rec->render_ms().max : 0.0) + "}},\n";
+  j += cutting_json(m, s);
   std::set<std::string> seen;
   std::vector<std::string> warnings;
   for (const auto* list : {&m.warnings, &s.warnings})
@@ -222,8 +265,10 @@ std::string summary_json(const Model& m, const State& s, const RunResult& r, con
   return j;
 }
 
-void write_vtu(const fs::path& path, const Model& m, const Eigen::MatrixX3d& u) {
-  const mesh::TetMesh& mesh = m.mesh;
+void write_vtu(const fs::path& path, const Model& m, const State& s) {
+  const mesh::TetMesh& mesh = current_mesh(m, s);
+  const Eigen::MatrixX3d& u = s.displacement;
+  const std::vector<char>& operational = s.cut ? s.cut->operational_tet : m.partition.operational_tet;
   write_file_atomic(path, [&](std::ostream& os) {
     char buf[128];
     os << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
@@ -241,12 +286,12 @@ void write_vtu(const fs::path& path, const Model& m, const Eigen::MatrixX3d& u) 
       os << buf;
     }
     os << "        </DataArray>\n        <DataArray type=\"Int32\" Name=\"node_set\" format=\"ascii\">\n";
-    for (int n = 0; n < mesh.num_nodes(); ++n) os << int(m.partition.node_set[n]) << '\n';
+    for (int n = 0; n < mesh.num_nodes(); ++n) os << int(node_set(m, s, n)) << '\n';
     os << "        </DataArray>\n      </PointData>\n      <CellData Scalars=\"label\">\n"
        << "        <DataArray type=\"Int32\" Name=\"label\" format=\"ascii\">\n";
     for (int t = 0; t < mesh.num_tets(); ++t) os << mesh.labels(t) << '\n';
     os << "        </DataArray>\n        <DataArray type=\"Int32\" Name=\"operational\" format=\"ascii\">\n";
-    for (int t = 0; t < mesh.num_tets(); ++t) os << int(m.partition.operational_tet[t]) << '\n';
+    for (int t = 0; t < mesh.num_tets(); ++t) os << int(operational[size_t(t)]) << '\n';
     os << "        </DataArray>\n      </CellData>\n      <Cells>\n"
        << "        <DataArray type=\"Int32\" Name=\"connectivity\" format=\"ascii\">\n";
     for (int t = 0; t < mesh.num_tets(); ++t)

@@ -54,8 +54,9 @@ class Recorder {
 // rendering statistics when given.
 std::string summary_json(const Model& m, const State& s, const RunResult& r, const Recorder* rec = nullptr);
 
-// VTU (XML, ascii) of the mesh with point data "displacement" (nnode x 3),
-// cell data "label" and "operational"; atomic.
-void write_vtu(const std::filesystem::path& path, const Model& m, const Eigen::MatrixX3d& displacement);
+// VTU (XML, ascii) of the current (possibly cut) mesh with point data
+// "displacement" (nnode x 3) and "node_set", cell data "label" and
+// "operational"; atomic.
+void write_vtu(const std::filesystem::path& path, const Model& m, const State& s);
 
 }  // namespace softcut::sim

@@ -70,6 +70,10 @@ void check_spec(const ScenarioSpec& s) {
   if (!backends.count(s.solver.backend))
     fail("solver: unknown backend '", s.solver.backend, "' (use auto, cpu, gpu, direct or monolithic)");
   if (!modes.count(s.solver.mode)) fail("solver: unknown mode '", s.solver.mode, "' (use auto, dense or factor)");
+  if (!(s.cutting.snap_fraction > 0 && s.cutting.snap_fraction < 0.5))
+    fail("cutting: snap_fraction must lie in (0, 0.5), got ", s.cutting.snap_fraction);
+  if (!(s.cutting.min_dihedral_deg >= 0 && s.cutting.min_dihedral_deg < 60))
+    fail("cutting: min_dihedral_deg must lie in [0, 60), got ", s.cutting.min_dihedral_deg);
 }
 
 const char* to_string(LoadSpec::Direction d) { return d == LoadSpec::Direction::world ? "world" : "normal"; }

@@ -110,6 +110,12 @@ struct SolverSpec {
   std::string mode = "auto";    // nonoperational data: "auto", "dense", "factor"
 };
 
+// Cutter options (cut::CutOptions, docs/cutting.md).
+struct CuttingSpec {
+  double snap_fraction = 0.15;    // in (0, 0.5): crossings this close to an edge end snap to the node
+  double min_dihedral_deg = 10.0; // in [0, 60): quality bound for tets made by cutting
+};
+
 struct ScenarioSpec {
   std::string name = "scenario";                 // used for renders/<name>/ and summary.json
   std::filesystem::path source;                  // the .lua file, for messages and the summary
@@ -123,6 +129,7 @@ struct ScenarioSpec {
   Timeline timeline;
   OutputSpec outputs;
   SolverSpec solver;
+  CuttingSpec cutting;
 };
 
 // Checks everything that can be checked without the mesh (numbers, ramps,

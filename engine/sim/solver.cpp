@@ -12,65 +12,106 @@
 #include "hybrid/update.hpp"
 #include "sim/scenario_spec.hpp"
 #include "solve/cholesky.hpp"
+#include "cut/cutter.hpp"
+#include "sim/cutting.hpp"
 
 namespace softcut::sim {
 
 namespace {
 
 // Whole-mesh reference: K u = f over every tet with the fixed DOFs
-// eliminated, one CHOLMOD factor at compile time, one solve per frame.
+// eliminated, one CHOLMOD factor at compile time (and one per cut, kept in the
+// run state), one solve per frame.
+struct MonolithicSystem {
+  int nnode = 0;
+  fem::DofMap map;
+  solve::Cholesky factor;
+  long generation = 0;
+
+  MonolithicSystem(const mesh::TetMesh& m, const std::vector<fem::Material>& tet_material,
+                   const std::vector<char>& node_fixed, long gen,
+                   std::vector<std::pair<std::string, double>>* timings) {
+    nnode = m.num_nodes();
+    generation = gen;
+    Timer t;
+    const fem::SparseMatrix K = fem::assemble_stiffness(m, tet_material);
+    std::vector<char> free(size_t(nnode), 0);
+    for (int e = 0; e < m.num_tets(); ++e)
+      for (int k = 0; k < 4; ++k) free[size_t(m.tets(e, k))] = 1;
+    for (int n = 0; n < nnode; ++n) free[size_t(n)] &= !node_fixed[size_t(n)];
+    map = fem::make_dof_map(free);
+    const fem::SparseMatrix Kf = fem::restrict_matrix(K, map);
+    if (timings) timings->emplace_back("assemble", t.ms());
+    t.reset();
+    factor.factor(Kf, "whole-mesh stiffness (is every part of the body fixed somewhere?)");
+    if (timings) timings->emplace_back("factor", t.ms());
+  }
+};
+
+struct MonolithicRunState final : SolverRunState {
+  std::shared_ptr<const MonolithicSystem> cut;  // system of the cut mesh, null before the first cut
+};
+
 class MonolithicSolver final : public Solver {
  public:
   MonolithicSolver(const mesh::TetMesh& m, const std::vector<fem::Material>& tet_material,
                    const hybrid::Partition& p, BackendChoice choice)
       : choice_(std::move(choice)) {
-    nnode_ = m.num_nodes();
-    Timer t;
-    const fem::SparseMatrix K = fem::assemble_stiffness(m, tet_material);
-    std::vector<char> free(nnode_, 0);
-    for (int n = 0; n < nnode_; ++n)
-      free[n] = p.node_set[n] != hybrid::NodeSet::unused && p.node_set[n] != hybrid::NodeSet::fixed;
-    map_ = fem::make_dof_map(free);
-    const fem::SparseMatrix Kf = fem::restrict_matrix(K, map_);
-    timings_.emplace_back("assemble", t.ms());
-    t.reset();
-    factor_.factor(Kf, "whole-mesh stiffness (is every part of the body fixed somewhere?)");
-    timings_.emplace_back("factor", t.ms());
+    std::vector<char> fixed(size_t(m.num_nodes()), 0);
+    for (int n : p.fixed) fixed[size_t(n)] = 1;
+    rest_ = std::make_shared<const MonolithicSystem>(m, tet_material, fixed, 0, &timings_);
   }
 
   std::string name() const override { return "monolithic (whole-mesh CHOLMOD)"; }
   bool interior_valid() const override { return true; }
   std::vector<std::pair<std::string, double>> precompute_ms() const override { return timings_; }
   const BackendChoice& backend() const override { return choice_; }
-  long system_generation(const SolverWarmStart&) const override { return 0; }
+  long system_generation(const SolverWarmStart& warm) const override { return system(warm).generation; }
 
-  void unit_responses(const std::vector<int>& nodes, SolverWarmStart&, Eigen::MatrixXd& out) const override {
-    Eigen::MatrixXd E = Eigen::MatrixXd::Zero(map_.size(), Eigen::Index(3 * nodes.size()));
+  void apply_cut(const CutMesh& cm, const cut::CutRecord&, SolverWarmStart& warm) const override {
+    auto* rs = dynamic_cast<MonolithicRunState*>(warm.backend.get());
+    if (!rs) {
+      auto fresh = std::make_shared<MonolithicRunState>();
+      warm.backend = fresh;
+      rs = fresh.get();
+    }
+    const long gen = system(warm).generation + 1;
+    rs->cut = std::make_shared<const MonolithicSystem>(cm.mesh, cm.tet_material, cm.node_fixed, gen, nullptr);
+  }
+
+  void unit_responses(const std::vector<int>& nodes, SolverWarmStart& warm, Eigen::MatrixXd& out) const override {
+    const MonolithicSystem& S = system(warm);
+    Eigen::MatrixXd E = Eigen::MatrixXd::Zero(S.map.size(), Eigen::Index(3 * nodes.size()));
     for (size_t j = 0; j < nodes.size(); ++j)
       for (int a = 0; a < 3; ++a) {
-        const int dof = map_.reduced[size_t(3 * nodes[j] + a)];
+        const int dof = S.map.reduced[size_t(3 * nodes[j] + a)];
         if (dof < 0) fail("unit_responses: node ", nodes[j], " is fixed");
         E(dof, Eigen::Index(3 * j + a)) = 1.0;
       }
-    const Eigen::MatrixXd X = factor_.solve(E);
-    out.setZero(3 * Eigen::Index(nnode_), E.cols());
-    for (Eigen::Index c = 0; c < E.cols(); ++c) out.col(c) = fem::expand_vector(X.col(c), map_, nnode_);
+    const Eigen::MatrixXd X = S.factor.solve(E);
+    out.setZero(3 * Eigen::Index(S.nnode), E.cols());
+    for (Eigen::Index c = 0; c < E.cols(); ++c) out.col(c) = fem::expand_vector(X.col(c), S.map, S.nnode);
   }
 
-  void solve(const Eigen::MatrixX3d& forces, Eigen::MatrixX3d& u, SolverWarmStart&, SolveStats& stats) const override {
+  void solve(const Eigen::MatrixX3d& forces, Eigen::MatrixX3d& u, SolverWarmStart& warm,
+             SolveStats& stats) const override {
     Timer t;
-    const Eigen::VectorXd f = fem::restrict_vector(fem::flatten(forces), map_);
-    const Eigen::VectorXd x = f.squaredNorm() > 0 ? factor_.solve(f) : Eigen::VectorXd::Zero(f.size());
-    u = fem::unflatten(fem::expand_vector(x, map_, nnode_));
+    const MonolithicSystem& S = system(warm);
+    const Eigen::VectorXd f = fem::restrict_vector(fem::flatten(forces), S.map);
+    const Eigen::VectorXd x = f.squaredNorm() > 0 ? S.factor.solve(f) : Eigen::VectorXd::Zero(f.size());
+    u = fem::unflatten(fem::expand_vector(x, S.map, S.nnode));
     stats = SolveStats{};
     stats.operational_ms = t.ms();
   }
 
  private:
+  const MonolithicSystem& system(const SolverWarmStart& warm) const {
+    const auto* rs = dynamic_cast<const MonolithicRunState*>(warm.backend.get());
+    return rs && rs->cut ? *rs->cut : *rest_;
+  }
+
   BackendChoice choice_;
-  int nnode_ = 0;
-  fem::DofMap map_;
-  solve::Cholesky factor_;
+  std::shared_ptr<const MonolithicSystem> rest_;
   std::vector<std::pair<std::string, double>> timings_;
 };
 
@@ -123,6 +164,23 @@ class HybridSolver final : public Solver {
     return rs ? rs->state.operational->generation : model_.operational->generation;
   }
 
+  void apply_cut(const CutMesh& cm, const cut::CutRecord& rec, SolverWarmStart& warm) const override {
+    HybridRunState& rs = run_state(warm);
+    std::vector<int> op;
+    for (int t = 0; t < cm.mesh.num_tets(); ++t)
+      if (cm.operational_tet[size_t(t)]) op.push_back(t);
+    hybrid::set_operational_system(
+        rs.state, hybrid::rebuild_operational_system(model_, cm.mesh, cm.tet_material, op, cm.node_fixed));
+    // Warm start and running state onto the new nodes (the next update
+    // gathers the CG start from u because the system generation changed).
+    if (rs.state.u.rows() == rec.nodes_before) rs.state.u = cut::map_node_field(rec, rs.state.u);
+    const Eigen::Index old = rs.state.forces.rows(), nn = cm.mesh.num_nodes();
+    if (old < nn) {
+      rs.state.forces.conservativeResize(nn, 3);
+      rs.state.forces.bottomRows(nn - old).setZero();
+    }
+  }
+
   void unit_responses(const std::vector<int>& nodes, SolverWarmStart& warm, Eigen::MatrixXd& out) const override {
     HybridRunState& rs = run_state(warm);
     if (!rs.unit) rs.unit = std::make_unique<hybrid::State>(hybrid::make_state(model_));
@@ -138,7 +196,8 @@ class HybridSolver final : public Solver {
     out.resize(u_zero.size(), 3 * Eigen::Index(nodes.size()));
     for (size_t j = 0; j < nodes.size(); ++j)
       for (int a = 0; a < 3; ++a) {
-        const hybrid::NodeSet set = model_.partition.node_set[nodes[j]];
+        const hybrid::NodeSet set = nodes[j] < model_.num_nodes ? model_.partition.node_set[size_t(nodes[j])]
+                                                                : hybrid::NodeSet::operational;
         if (set == hybrid::NodeSet::fixed || set == hybrid::NodeSet::interior)
           fail("unit_responses: node ", nodes[j], " is ", set == hybrid::NodeSet::fixed ? "fixed" : "interior");
         hybrid::Load unit{nodes[j], Eigen::Vector3d::Unit(a)};
@@ -153,7 +212,8 @@ class HybridSolver final : public Solver {
     HybridRunState* rs = &run_state(warm);
     rs->loads.clear();
     for (int n = 0; n < forces.rows(); ++n)
-      if (forces.row(n).squaredNorm() > 0 && model_.partition.node_set[n] != hybrid::NodeSet::fixed)
+      if (forces.row(n).squaredNorm() > 0 &&
+          (n >= model_.num_nodes || model_.partition.node_set[size_t(n)] != hybrid::NodeSet::fixed))
         rs->loads.push_back({n, forces.row(n).transpose()});
     hybrid::UpdateOptions opt;
     opt.recover_interior = need_interior_;

@@ -19,9 +19,14 @@ namespace softcut::gpu {
 class EglContext;
 }
 
+namespace softcut::cut {
+struct CutRecord;
+}
+
 namespace softcut::sim {
 
 struct SolverSpec;
+struct CutMesh;
 
 // What the application lends a run. The library never creates an OpenGL
 // context: the CLI makes one (for rendering or the GPU backend) and passes it
@@ -88,6 +93,10 @@ class Solver {
   // Identifies the system solve() uses now (changes when cutting rebuilds
   // the operational system); caches of unit_responses() are keyed by it.
   virtual long system_generation(const SolverWarmStart& warm) const = 0;
+  // After a cut step changed the mesh to `cm` (rec: the change): rebuilds the
+  // run's system (hybrid: only the operational one, K' and the rest stay),
+  // maps the warm start onto the new nodes, bumps system_generation().
+  virtual void apply_cut(const CutMesh& cm, const cut::CutRecord& rec, SolverWarmStart& warm) const = 0;
 };
 
 // tet_material (ntet). need_interior: interior nonoperational rows of u are

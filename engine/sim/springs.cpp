@@ -17,7 +17,7 @@ int solve_implicit_springs(const Model& m, State& s) {
     if (!tools::is_implicit_spring(spec) || ts.nodes.empty()) continue;
     const double kn = spec.stiffness / double(ts.nodes.size());
     for (size_t i = 0; i < ts.nodes.size(); ++i)
-      if (m.partition.node_set[ts.nodes[i]] != hybrid::NodeSet::fixed)
+      if (!is_fixed_node(m, s, ts.nodes[i]))
         terms.push_back({ts.nodes[i], {kn, kn * (ts.tip + ts.offsets[i])}});
   }
   if (terms.empty()) return 0;
@@ -59,7 +59,7 @@ int solve_implicit_springs(const Model& m, State& s) {
   for (size_t j = 0; j < nodes.size(); ++j) {
     const Eigen::Index r = Eigen::Index(3 * j);
     A.diagonal().segment<3>(r).array() += 1.0 / K[j];
-    d.segment<3>(r) = KT[j] / K[j] - m.mesh.node(nodes[j]) - s.displacement.row(nodes[j]).transpose();
+    d.segment<3>(r) = KT[j] / K[j] - current_mesh(m, s).node(nodes[j]) - s.displacement.row(nodes[j]).transpose();
   }
   const Eigen::LLT<Eigen::MatrixXd> llt(A);
   if (llt.info() != Eigen::Success)
@@ -81,8 +81,8 @@ int solve_implicit_springs(const Model& m, State& s) {
     ts.total_force.setZero();
     for (size_t i = 0; i < ts.nodes.size(); ++i) {
       const int n = ts.nodes[i];
-      if (m.partition.node_set[n] == hybrid::NodeSet::fixed) continue;
-      const Eigen::Vector3d x = m.mesh.node(n) + s.displacement.row(n).transpose();
+      if (is_fixed_node(m, s, n)) continue;
+      const Eigen::Vector3d x = current_mesh(m, s).node(n) + s.displacement.row(n).transpose();
       ts.forces[i] = kn * (ts.tip + ts.offsets[i] - x);
       ts.total_force += ts.forces[i];
       s.forces.row(n) += ts.forces[i].transpose();

@@ -9,7 +9,7 @@
 namespace softcut::sim {
 
 Eigen::MatrixX3d load_forces(const Model& m, const State& s, double t) {
-  Eigen::MatrixX3d f = Eigen::MatrixX3d::Zero(m.mesh.num_nodes(), 3);
+  Eigen::MatrixX3d f = Eigen::MatrixX3d::Zero(current_mesh(m, s).num_nodes(), 3);
   for (const auto& l : s.loads) {
     if (!l.enabled) continue;
     const double mag = tools::evaluate(l.spec.magnitude, t) * l.scale;
@@ -34,12 +34,21 @@ void step(const Model& m, State& s) {
   for (const auto& spec : s.tool_specs) any_tool |= spec.enabled;
   if (s.tools.size() != s.tool_specs.size()) s.tools.resize(s.tool_specs.size());
   if (any_tool || !s.tools.empty()) {
+    // After a cut the current mesh's boundary (with the cut faces) is touched.
+    const mesh::TetMesh& mesh = current_mesh(m, s);
+    const mesh::Surface& surface = current_surface(m, s);
     const Eigen::MatrixX3d x = deformed_positions(m, s);
-    const Eigen::MatrixX3d normals = any_tool ? mesh::vertex_normals(m.mesh, m.surface, x) : Eigen::MatrixX3d();
-    const tools::ContactSurface contact{x, m.surface, normals};
+    const Eigen::MatrixX3d normals = any_tool ? mesh::vertex_normals(mesh, surface, x) : Eigen::MatrixX3d();
+    const tools::ContactSurface contact{x, surface, normals};
     for (size_t k = 0; k < s.tools.size(); ++k) tools::update_tool(s.tool_specs[k], s.tools[k], t, contact);
   }
   ft.collision = timer.ms();
+
+  // Cutting: scalpels at or above their pressure cut what they swept since
+  // the last frame; the mesh, the solver's system and the fields grow.
+  timer.reset();
+  std::vector<CutEvent> cuts = cut_stage(m, s, frame, t);
+  ft.cutting = timer.ms();
 
   // Poke / drag: scripted loads plus explicit tool forces (fixed nodes take
   // none); implicit springs are solved after the elastic solve.
@@ -49,11 +58,9 @@ void step(const Model& m, State& s) {
     if (i < s.tool_specs.size() && tools::is_implicit_spring(s.tool_specs[i])) continue;
     const tools::ToolState& ts = s.tools[i];
     for (size_t k = 0; k < ts.nodes.size(); ++k)
-      if (m.partition.node_set[ts.nodes[k]] != hybrid::NodeSet::fixed) s.forces.row(ts.nodes[k]) += ts.forces[k].transpose();
+      if (!is_fixed_node(m, s, ts.nodes[k]) && k < ts.forces.size()) s.forces.row(ts.nodes[k]) += ts.forces[k].transpose();
   }
   double poke_drag_ms = timer.ms();
-
-  ft.cutting = 0.0;  // engine/cut not wired yet
 
   SolveStats st;
   m.solver->solve(s.forces, s.displacement, s.warm, st);
@@ -71,6 +78,8 @@ void step(const Model& m, State& s) {
   s.time = t;
   s.last = ft;
   s.last_cg_iterations = st.cg_iterations;
+  for (size_t k = s.cut_events.size() - cuts.size(); k < s.cut_events.size(); ++k)
+    s.cut_events[k].cg_iterations_after = st.cg_iterations;
   RunStatistics& r = s.stats;
   r.frames++;
   r.collision.add(ft.collision), r.cutting.add(ft.cutting), r.poke_drag.add(ft.poke_drag);

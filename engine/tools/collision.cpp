@@ -1,6 +1,7 @@
 #include "tools/collision.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 namespace softcut::tools {
 
@@ -44,6 +45,42 @@ std::vector<int> nodes_in_sphere(const ContactSurface& s, const Eigen::Vector3d&
   if (best_face < 0) return hit;
   hit = {s.surface.faces(best_face, 0), s.surface.faces(best_face, 1), s.surface.faces(best_face, 2)};
   std::sort(hit.begin(), hit.end());
+  return hit;
+}
+
+Eigen::Vector3d closest_point_on_segment(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  const Eigen::Vector3d ab = b - a;
+  const double len2 = ab.squaredNorm();
+  if (!(len2 > 0)) return a;
+  return a + std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) * ab;
+}
+
+std::vector<int> nodes_near_segment(const ContactSurface& s, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                                    double radius) {
+  std::vector<int> hit;
+  const double r2 = radius * radius;
+  for (int n : s.surface.nodes) {
+    const Eigen::Vector3d x = s.positions.row(n).transpose();
+    if ((closest_point_on_segment(x, a, b) - x).squaredNorm() <= r2) hit.push_back(n);
+  }
+  if (!hit.empty()) return hit;
+  // Edge between nodes (faces larger than the radius): the nodes of every
+  // face the capsule reaches, from samples along the edge at radius / 2.
+  const int samples = 1 + int(std::min(1e4, std::ceil((b - a).norm() / (0.5 * radius))));
+  for (int f = 0; f < s.surface.faces.rows(); ++f) {
+    const Eigen::Vector3d p = s.positions.row(s.surface.faces(f, 0)).transpose();
+    const Eigen::Vector3d q = s.positions.row(s.surface.faces(f, 1)).transpose();
+    const Eigen::Vector3d r = s.positions.row(s.surface.faces(f, 2)).transpose();
+    for (int k = 0; k <= samples; ++k) {
+      const Eigen::Vector3d c = a + (double(k) / samples) * (b - a);
+      if ((closest_point_on_triangle(c, p, q, r) - c).squaredNorm() <= r2) {
+        for (int j = 0; j < 3; ++j) hit.push_back(s.surface.faces(f, j));
+        break;
+      }
+    }
+  }
+  std::sort(hit.begin(), hit.end());
+  hit.erase(std::unique(hit.begin(), hit.end()), hit.end());
   return hit;
 }
 

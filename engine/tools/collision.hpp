@@ -21,6 +21,15 @@ struct ContactSurface {
 // Empty when the sphere misses the surface.
 std::vector<int> nodes_in_sphere(const ContactSurface& s, const Eigen::Vector3d& center, double radius);
 
+// Surface nodes whose deformed position lies within `radius` of the segment
+// a-b (a capsule: the scalpel's contact), sorted by id. When none does (an
+// edge passing between nodes), the nodes of the faces the capsule reaches.
+std::vector<int> nodes_near_segment(const ContactSurface& s, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                                    double radius);
+
+// Closest point to p on the segment a-b.
+Eigen::Vector3d closest_point_on_segment(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b);
+
 // Closest point to p on triangle (a, b, c) (Ericson, Real-Time Collision
 // Detection §5.1.5).
 Eigen::Vector3d closest_point_on_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a,

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <Eigen/Geometry>
+
 #include "core/error.hpp"
 
 namespace softcut::tools {
@@ -23,6 +25,15 @@ void check_tool(const ToolSpec& t, const std::string& where) {
   if (!t.direction.allFinite()) fail(w, ": direction must be finite");
   if (!(t.active_until >= t.active_from) || std::isnan(t.active_from))
     fail(w, ": active_until (", t.active_until, " s) must not be before active_from (", t.active_from, " s)");
+  if (t.kind == ToolSpec::Kind::scalpel) {
+    if (!(t.blade_length > 0) || !std::isfinite(t.blade_length))
+      fail(w, ": blade_length must be > 0 m, got ", t.blade_length);
+    if (!t.blade_axis.allFinite() || !(t.blade_axis.norm() > 0)) fail(w, ": blade axis must be a nonzero vector");
+    if (!(t.cut_pressure > 0)) fail(w, ": cut_pressure must be > 0 Pa, got ", t.cut_pressure);
+    if (!t.blade_back.allFinite()) fail(w, ": blade back must be finite");
+    if (t.blade_back.squaredNorm() > 0 && t.blade_back.cross(t.blade_axis).norm() <= 1e-9 * t.blade_back.norm() * t.blade_axis.norm())
+      fail(w, ": blade back must not lie along the edge (the blade triangle would be flat)");
+  }
   if (t.drive == ToolSpec::Drive::force) {
     check_ramp(t.force, w + " force");
   } else if (!(t.stiffness > 0) || !std::isfinite(t.stiffness)) {
@@ -30,10 +41,25 @@ void check_tool(const ToolSpec& t, const std::string& where) {
   }
 }
 
+void blade_edge(const ToolSpec& spec, const Eigen::Vector3d& center, Eigen::Vector3d& a, Eigen::Vector3d& b) {
+  const Eigen::Vector3d half = 0.5 * spec.blade_length * spec.blade_axis.normalized();
+  a = center - half;
+  b = center + half;
+}
+
 void update_tool(const ToolSpec& spec, ToolState& st, double t, const ContactSurface& s) {
   if (!st.override_tip) st.tip = evaluate(spec.path, t);
   st.forces.clear();
   st.total_force.setZero();
+  const bool scalpel = spec.kind == ToolSpec::Kind::scalpel;
+  if (scalpel) {
+    st.has_prev = st.has_prev || st.blade_a != st.blade_b;  // a previous frame set the edge
+    st.prev_a = st.blade_a, st.prev_b = st.blade_b, st.prev_c = st.blade_c;
+    blade_edge(spec, st.tip, st.blade_a, st.blade_b);
+    st.blade_c = st.tip + spec.blade_back;
+    st.pressure = 0.0;
+    st.cutting = false;
+  }
   const bool active = spec.enabled && t >= spec.active_from && t <= spec.active_until;
   if (!active) {
     st.engaged = false;
@@ -41,7 +67,10 @@ void update_tool(const ToolSpec& spec, ToolState& st, double t, const ContactSur
     st.offsets.clear();
     return;
   }
-  if (spec.kind == ToolSpec::Kind::probe || !st.engaged) {
+  if (scalpel) {
+    st.nodes = nodes_near_segment(s, st.blade_a, st.blade_b, spec.radius);
+    st.engaged = !st.nodes.empty();
+  } else if (spec.kind == ToolSpec::Kind::probe || !st.engaged) {
     // A probe re-detects contact every frame; a grasper closes on first contact.
     st.nodes = nodes_in_sphere(s, st.tip, spec.radius);
     st.engaged = !st.nodes.empty();
@@ -55,7 +84,7 @@ void update_tool(const ToolSpec& spec, ToolState& st, double t, const ContactSur
   if (spec.drive == ToolSpec::Drive::force) {
     Eigen::Vector3d dir = spec.direction;
     if (dir.squaredNorm() == 0) {
-      if (spec.kind == ToolSpec::Kind::probe) {
+      if (spec.kind != ToolSpec::Kind::grasper) {
         for (int n : st.nodes) dir -= s.normals.row(n).transpose();
       } else {
         Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
@@ -73,8 +102,8 @@ void update_tool(const ToolSpec& spec, ToolState& st, double t, const ContactSur
       const Eigen::Vector3d x = s.positions.row(st.nodes[i]).transpose();
       if (spec.kind == ToolSpec::Kind::grasper) {
         st.forces[i] = kn * (st.tip + st.offsets[i] - x);
-      } else {  // probe: penalty pushing the node out to the sphere surface
-        const Eigen::Vector3d d = x - st.tip;
+      } else {  // probe / scalpel: penalty pushing the node out of the sphere / capsule
+        const Eigen::Vector3d d = x - (scalpel ? closest_point_on_segment(x, st.blade_a, st.blade_b) : st.tip);
         const double dn = d.norm();
         Eigen::Vector3d out = dn > 0 ? Eigen::Vector3d(d / dn) : Eigen::Vector3d(s.normals.row(st.nodes[i]).transpose());
         st.forces[i] = kn * std::max(0.0, spec.radius - dn) * out;
@@ -82,13 +111,21 @@ void update_tool(const ToolSpec& spec, ToolState& st, double t, const ContactSur
     }
   }
   for (const auto& f : st.forces) st.total_force += f;
+  if (scalpel) st.pressure = st.total_force.norm() / (spec.blade_length * 2.0 * spec.radius);
 }
 
 bool is_implicit_spring(const ToolSpec& spec) {
   return spec.kind == ToolSpec::Kind::grasper && spec.drive == ToolSpec::Drive::spring && spec.implicit;
 }
 
-const char* to_string(ToolSpec::Kind k) { return k == ToolSpec::Kind::probe ? "probe" : "grasper"; }
+const char* to_string(ToolSpec::Kind k) {
+  switch (k) {
+    case ToolSpec::Kind::probe: return "probe";
+    case ToolSpec::Kind::grasper: return "grasper";
+    case ToolSpec::Kind::scalpel: return "scalpel";
+  }
+  return "?";
+}
 const char* to_string(ToolSpec::Drive d) { return d == ToolSpec::Drive::force ? "force" : "spring"; }
 
 }  // namespace softcut::tools

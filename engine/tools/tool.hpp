@@ -1,7 +1,10 @@
 #pragma once
-// Surgical tools: a probe pokes, a grasper grabs and drags. Each has a sphere
-// tip moving on a Path; collision with the current deformed surface picks the
-// manipulated nodes (either region); the tool then applies nodal forces, N.
+// Surgical tools: a probe pokes, a grasper grabs and drags, a scalpel presses
+// and, above its cutting pressure, cuts. Each moves on a Path; collision with
+// the current deformed surface picks the manipulated nodes (either region;
+// probe/grasper: within the sphere tip, scalpel: within `radius` of the blade
+// edge); the tool then applies nodal forces, N. Cutting itself is done by
+// sim::step (sim/cutting.hpp) from the blade poses kept in ToolState.
 #include <Eigen/Core>
 #include <limits>
 #include <string>
@@ -14,7 +17,7 @@
 namespace softcut::tools {
 
 struct ToolSpec {
-  enum class Kind { probe, grasper };
+  enum class Kind { probe, grasper, scalpel };
   // force: total force magnitude `force(t)` (N), split evenly over the
   //        manipulated nodes, along `direction`.
   // spring: total stiffness `stiffness` (N/m) split evenly over the
@@ -47,6 +50,22 @@ struct ToolSpec {
   // surface, keeps the grasped nodes, opens at active_until.
   double active_from = 0.0;                                        // s
   double active_until = std::numeric_limits<double>::infinity();   // s
+
+  // Scalpel only. The blade edge is the segment of length blade_length
+  // centred on the path point along blade_axis; it touches the nodes within
+  // `radius` of the edge and presses them like a probe (force or spring).
+  // Contact pressure = |total contact force| / (blade_length x 2 radius), Pa
+  // (the contact strip is the blade edge widened by the contact radius on
+  // both sides). From the frame it reaches cut_pressure the tissue yields:
+  // the blade applies no force and the surface it sweeps between frames is cut.
+  double blade_length = 0.02;                                   // m, > 0
+  Eigen::Vector3d blade_axis = Eigen::Vector3d::UnitY();        // any length > 0
+  double cut_pressure = std::numeric_limits<double>::infinity();  // Pa, > 0 (infinity: never cuts)
+  // Zero: the blade is its edge (a segment). Else a triangular blade: the
+  // edge plus a third corner at centre + blade_back, m; the whole triangle
+  // sweeps (a stab or a slice along its plane cuts its full area). Contact
+  // and pressure stay those of the edge.
+  Eigen::Vector3d blade_back = Eigen::Vector3d::Zero();
 };
 
 // Throws softcut::Error naming the tool (and `where`) for bad values.
@@ -60,7 +79,19 @@ struct ToolState {
   std::vector<Eigen::Vector3d> offsets;           // (k) grasper: node minus tip at grasp, m
   std::vector<Eigen::Vector3d> forces;            // (k) force on each node this frame, N
   Eigen::Vector3d total_force = Eigen::Vector3d::Zero();  // N
+  // Scalpel only.
+  Eigen::Vector3d blade_a = Eigen::Vector3d::Zero(), blade_b = Eigen::Vector3d::Zero();  // edge this frame, m
+  Eigen::Vector3d prev_a = Eigen::Vector3d::Zero(), prev_b = Eigen::Vector3d::Zero();    // edge last frame, m
+  Eigen::Vector3d blade_c = Eigen::Vector3d::Zero(), prev_c = Eigen::Vector3d::Zero();   // triangle's third corner, m
+  bool has_prev = false;   // prev_a/prev_b are set (false before the first frame)
+  double pressure = 0.0;   // contact pressure this frame (before cutting), Pa
+  bool cutting = false;    // the blade cut this frame (set by sim::step)
+  bool in_cut = false;     // cutting and still changing the mesh: keeps cutting next frame whatever the pressure
+  int cut_events = 0;      // frames in which this blade changed the mesh
 };
+
+// Scalpel: end points of the blade edge with its centre at `center`.
+void blade_edge(const ToolSpec& spec, const Eigen::Vector3d& center, Eigen::Vector3d& a, Eigen::Vector3d& b);
 
 // One frame of a tool at time t: moves the tip (unless overridden), finds
 // contact on `s`, sets nodes and forces. Deterministic.

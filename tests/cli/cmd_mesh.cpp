@@ -26,7 +26,7 @@ std::string error_of(const cli::Args& args) {
 }  // namespace
 
 TEST_SUITE("cli/cmd_mesh") {
-  TEST_CASE("generate the paper presets, with hole nodes; info and convert read them back") {
+  TEST_CASE("generate the paper presets, with hole nodes - info and convert read them back") {
     const fs::path dir = test::scratch_dir("cmd_mesh");
     const std::string lig = (dir / "lig.vtu").string(), leg = (dir / "leg.msh").string();
     const std::string hole = (dir / "hole.txt").string();

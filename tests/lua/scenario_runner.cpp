@@ -190,4 +190,65 @@ return s
     CHECK(spec.timeline.frame_rate == 10);
     CHECK(spec.fixed.kind == softcut::sim::NodeSelector::Kind::box);
   }
+
+  TEST_CASE("s:scalpel cuts through the Lua API: Frame:cutting, pressure, ids of new nodes - bad blades name the line") {
+    const std::string body = std::string(kBoxHead) + R"(
+s:operational{ box = { min = {0.02, -1, -1}, max = {0.08, 1, 1} } }
+s:scalpel{ name = "blade", length = 0.06, axis = {0, 1, 0}, radius = 0.004, cut_pressure = 100,
+  path = softcut.path.polyline{ times = {0, 0.1, 0.5}, points = {{0.055, 0.02, 0.0425}, {0.055, 0.02, 0.0425}, {0.055, 0.02, 0.02}} },
+  force = softcut.ramp.constant(1) }
+local newest, pressure
+s:on_frame(function(f)
+  local c = f:cutting()
+  if c.nodes > m.num_nodes then newest = f:displacement(c.nodes - 1) end
+  if f.time == 0 then pressure = f:tool("blade").pressure end
+end)
+s:expect{ name = "cut", at = 0.5, check = function(f)
+  local c = f:cutting()
+  return c.events > 0 and c.nodes_added > 0 and c.components == 1 and newest ~= nil, "no cut"
+end }
+s:expect{ name = "pressure", at = 0.5, check = function(f)
+  return math.abs(pressure - 1 / (0.06 * 0.008)) < 1e-9, ("pressure %g"):format(pressure)
+end }
+return s
+)";
+    softcut::lua::RunOutcome out;
+    REQUIRE(scenario_error(write_scenario("runner_scalpel", body), &out) == "");
+    REQUIRE(out.expectations.size() == 2);
+    CHECK(out.expectations[0].ok);
+    CHECK(out.expectations[1].ok);
+    CHECK(contains(slurp(out.out_dir / "summary.json"), "\"cutting\": {\"scalpels\": 1"));
+
+    // Every scalpel field and s:cutting reach the engine's spec.
+    softcut::lua::RunRequest req;
+    req.scenario = write_scenario("runner_scalpel_spec", std::string(kBoxHead) + R"(
+s:operational{ box = { min = {0.02, -1, -1}, max = {0.08, 1, 1} } }
+s:scalpel{ name = "blade", length = 0.03, axis = {0, 0, 2}, radius = 0.002, cut_pressure = 5e3, back = {0, 0.01, 0},
+  path = softcut.path.fixed{ 0.05, 0.02, 0.05 }, stiffness = 50, start = 0.1, stop = 0.4 }
+s:cutting{ snap_fraction = 0.2, min_dihedral = 12 }
+return s
+)");
+    const softcut::sim::ScenarioSpec spec = softcut::lua::load_scenario_spec(req);
+    REQUIRE(spec.tools.size() == 1);
+    const softcut::tools::ToolSpec& t = spec.tools[0];
+    CHECK(t.kind == softcut::tools::ToolSpec::Kind::scalpel);
+    CHECK(t.drive == softcut::tools::ToolSpec::Drive::spring);
+    CHECK(t.blade_length == 0.03);
+    CHECK(t.blade_axis == Eigen::Vector3d(0, 0, 2));
+    CHECK(t.blade_back == Eigen::Vector3d(0, 0.01, 0));
+    CHECK(t.radius == 0.002);
+    CHECK(t.cut_pressure == 5e3);
+    CHECK(t.stiffness == 50);
+    CHECK(t.active_from == 0.1);
+    CHECK(t.active_until == 0.4);
+    CHECK(spec.cutting.snap_fraction == 0.2);
+    CHECK(spec.cutting.min_dihedral_deg == 12);
+
+    const fs::path bad = write_scenario("runner_scalpel_bad", std::string(kBoxHead) + R"(
+s:scalpel{ name = "blade", path = softcut.path.fixed{ 0, 0, 0 }, force = 1 }
+return s
+)");
+    const std::string err = scenario_error(bad);
+    CHECK(contains(err, bad.string() + ":8: scalpel: missing field 'cut_pressure'"));
+  }
 }

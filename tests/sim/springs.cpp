@@ -114,6 +114,9 @@ class GenerationProbe final : public sim::Solver {
     inner_->unit_responses(nodes, w, out);
   }
   long system_generation(const sim::SolverWarmStart&) const override { return generation; }
+  void apply_cut(const sim::CutMesh& cm, const softcut::cut::CutRecord& rec, sim::SolverWarmStart& w) const override {
+    inner_->apply_cut(cm, rec, w);
+  }
 
  private:
   std::unique_ptr<sim::Solver> inner_;

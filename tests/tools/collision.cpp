@@ -63,4 +63,30 @@ TEST_SUITE("tools/collision") {
     for (int n : hit) CHECK(m.nodes(n, 2) == 1.0);
     CHECK(tools::nodes_in_sphere(rest, V(0.3, 0.6, 1.05), 0.02).empty());
   }
+
+  TEST_CASE("nodes near a segment: the capsule around it, else the faces it reaches") {
+    mesh::BoxOptions o;
+    o.nx = o.ny = o.nz = 2;
+    const mesh::TetMesh m = mesh::generate_box(o);
+    const mesh::Surface s = mesh::extract_surface(m);
+    const Eigen::MatrixX3d normals = mesh::vertex_normals(m, s);
+    const tools::ContactSurface rest{m.nodes, s, normals};
+    // Along the top edge row y = 0.5: exactly the three nodes (0|0.5|1, 0.5, 1).
+    std::vector<int> hit = tools::nodes_near_segment(rest, V(-0.1, 0.5, 1.02), V(1.1, 0.5, 1.02), 0.05);
+    REQUIRE(hit.size() == 3);
+    for (int n : hit) CHECK((m.nodes(n, 1) == 0.5 && m.nodes(n, 2) == 1.0));
+    CHECK(std::is_sorted(hit.begin(), hit.end()));
+    // Brute force against dense sampling of the segment.
+    for (int n : s.nodes) {
+      const V x = m.node(n), p = tools::closest_point_on_segment(x, V(0, 0, 0), V(1, 0, 0));
+      double best = 1e9;
+      for (int k = 0; k <= 1000; ++k) best = std::min(best, (V(k / 1000.0, 0, 0) - x).norm());
+      CHECK((p - x).norm() == doctest::Approx(best).epsilon(1e-6));
+    }
+    // Between node rows (y = 0.25): no node within 0.05, the faces under it instead.
+    hit = tools::nodes_near_segment(rest, V(0.1, 0.25, 1.02), V(0.4, 0.25, 1.02), 0.05);
+    CHECK(!hit.empty());
+    for (int n : hit) CHECK(m.nodes(n, 2) == 1.0);
+    CHECK(tools::nodes_near_segment(rest, V(0.1, 0.25, 1.2), V(0.4, 0.25, 1.2), 0.05).empty());
+  }
 }

@@ -121,4 +121,67 @@ TEST_SUITE("tools/tool") {
     spec.kind = tools::ToolSpec::Kind::probe;  // contact set changes every frame: stays explicit
     CHECK(!tools::is_implicit_spring(spec));
   }
+
+  TEST_CASE("scalpel: blade edge centred on the path, probe-like pressing, pressure = |F| / (length x 2 radius)") {
+    BoxContact b;  // unit box, 4 x 4 x 4 cells: top nodes at z = 1 every 0.25
+    tools::ToolSpec spec;
+    spec.name = "blade";
+    spec.kind = tools::ToolSpec::Kind::scalpel;
+    spec.path = tools::Path::fixed_at(V(0.5, 0.5, 1.05));
+    spec.blade_length = 0.6;
+    spec.blade_axis = V(0, 2, 0);  // normalised
+    spec.radius = 0.1;
+    spec.cut_pressure = 1e3;
+    spec.force = tools::Ramp::linear_ramp(0.0, 3.0, 0.0, 1.0);
+    tools::check_tool(spec, "");
+    V a, c;
+    tools::blade_edge(spec, V(0.5, 0.5, 1.05), a, c);
+    CHECK((a - V(0.5, 0.2, 1.05)).norm() < 1e-15);
+    CHECK((c - V(0.5, 0.8, 1.05)).norm() < 1e-15);
+    tools::ToolState st;
+    tools::update_tool(spec, st, 0.5, b.contact());
+    CHECK_FALSE(st.has_prev);  // first frame: no swept surface yet
+    // Top nodes within 0.1 of the edge: x = 0.5, y in {0.25, 0.5, 0.75}.
+    REQUIRE(st.nodes.size() == 3);
+    for (int n : st.nodes) CHECK(b.m.nodes(n, 0) == 0.5);
+    CHECK((st.total_force - V(0, 0, -1.5)).norm() < 1e-12);
+    CHECK(st.pressure == doctest::Approx(1.5 / (0.6 * 0.2)).epsilon(1e-14));
+    tools::update_tool(spec, st, 0.6, b.contact());
+    CHECK(st.has_prev);
+    CHECK((st.prev_a - a).norm() < 1e-15);
+    // A blade between node rows still touches the faces under it.
+    spec.path = tools::Path::fixed_at(V(0.6, 0.5, 1.05));
+    tools::update_tool(spec, st, 0.6, b.contact());
+    CHECK(!st.nodes.empty());
+    // Bad blades are refused naming the tool.
+    spec.blade_length = 0;
+    CHECK_THROWS_WITH_AS(tools::check_tool(spec, ""), doctest::Contains("tool 'blade': blade_length"), softcut::Error);
+    spec.blade_length = 0.6;
+    spec.blade_axis = V::Zero();
+    CHECK_THROWS_AS(tools::check_tool(spec, ""), softcut::Error);
+  }
+
+  TEST_CASE("spring scalpel pushes the nodes out of the capsule around its edge") {
+    BoxContact b;
+    tools::ToolSpec spec;
+    spec.name = "blade";
+    spec.kind = tools::ToolSpec::Kind::scalpel;
+    spec.drive = tools::ToolSpec::Drive::spring;
+    spec.stiffness = 30.0;
+    spec.cut_pressure = 1e9;
+    spec.blade_length = 0.6;
+    spec.blade_axis = V(0, 1, 0);
+    spec.radius = 0.1;
+    spec.path = tools::Path::fixed_at(V(0.5, 0.5, 0.95));  // 0.05 below the top face
+    tools::ToolState st;
+    tools::update_tool(spec, st, 0.0, b.contact());
+    REQUIRE(st.nodes.size() == 3);
+    V sum = V::Zero();
+    for (size_t k = 0; k < st.nodes.size(); ++k) {
+      // Node straight above the edge at distance 0.05: pushed up by k/3 (0.1 - 0.05).
+      CHECK((st.forces[k] - V(0, 0, 10.0 * 0.05)).norm() < 1e-12);
+      sum += st.forces[k];
+    }
+    CHECK(st.pressure == doctest::Approx(sum.norm() / (0.6 * 0.2)).epsilon(1e-14));
+  }
 }

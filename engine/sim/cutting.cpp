@@ -1,0 +1,232 @@
+#include "sim/cutting.hpp"
+
+#include <algorithm>
+#include <array>
+#include <numeric>
+#include <map>
+
+#include <Eigen/Geometry>
+
+#include "core/error.hpp"
+#include "core/timer.hpp"
+#include "cut/blade.hpp"
+#include "cut/rest_map.hpp"
+#include "sim/model.hpp"
+
+namespace softcut::sim {
+
+namespace {
+
+using FaceKey = std::array<int, 3>;
+
+FaceKey sorted_face(int a, int b, int c) {
+  FaceKey k = {a, b, c};
+  std::sort(k.begin(), k.end());
+  return k;
+}
+
+FaceKey local_face(const mesh::TetMesh& m, int t, int lf) {
+  return sorted_face(m.tets(t, mesh::kTetFaces[lf][0]), m.tets(t, mesh::kTetFaces[lf][1]),
+                     m.tets(t, mesh::kTetFaces[lf][2]));
+}
+
+// First cut: the Model's mesh and masks become the State's.
+CutMesh initial_cut_mesh(const Model& m) {
+  CutMesh cm;
+  cm.mesh = m.mesh;
+  cm.surface = m.surface;
+  cm.tet_material = m.tet_material;
+  cm.operational_tet = m.partition.operational_tet;
+  cm.node_fixed.assign(size_t(m.mesh.num_nodes()), 0);
+  for (int n : m.partition.fixed) cm.node_fixed[size_t(n)] = 1;
+  cm.cut_face.assign(size_t(4 * m.mesh.num_tets()), 0);
+  cm.origin_tet.resize(size_t(m.mesh.num_tets()));
+  std::iota(cm.origin_tet.begin(), cm.origin_tet.end(), 0);
+  std::vector<char> locked(size_t(m.mesh.num_nodes()), 0);
+  for (int n : m.partition.interface) locked[size_t(n)] = 1;  // make_cut_state adds nodes of nonoperational tets
+  cm.cut = cut::make_cut_state(cm.mesh, cm.operational_tet, std::move(locked));
+  return cm;
+}
+
+// Grows the per-tet / per-node masks after a cut step and refreshes the
+// boundary; faces of the new boundary that are not rest-surface faces are
+// flagged as cut faces.
+void update_after_cut(const Model& m, CutMesh& cm, const cut::CutRecord& rec) {
+  const int nt = cm.mesh.num_tets(), nn = cm.mesh.num_nodes();
+  std::vector<fem::Material> mat(static_cast<size_t>(nt));
+  std::vector<char> op(static_cast<size_t>(nt));
+  for (int t = 0; t < nt; ++t) {
+    const int parent = rec.tet_parent[size_t(t)];
+    mat[size_t(t)] = cm.tet_material[size_t(parent)];
+    op[size_t(t)] = cm.operational_tet[size_t(parent)];
+  }
+  std::vector<int> origin(static_cast<size_t>(nt));
+  for (int t = 0; t < nt; ++t) origin[size_t(t)] = cm.origin_tet[size_t(rec.tet_parent[size_t(t)])];
+  cm.tet_material = std::move(mat);
+  cm.operational_tet = std::move(op);
+  cm.origin_tet = std::move(origin);
+  cm.node_fixed.resize(size_t(nn), 0);
+  for (const cut::NewNode& v : rec.new_nodes) {
+    bool fixed = true;  // fixed when every contributing parent is (a clamp stays a clamp)
+    for (int k = 0; k < 2; ++k)
+      if (v.parent[size_t(k)] >= 0 && v.weight[size_t(k)] != 0) fixed &= cm.node_fixed[size_t(v.parent[size_t(k)])] != 0;
+    cm.node_fixed[size_t(v.id)] = fixed;
+  }
+  // Cut faces: boundary faces that do not lie on a rest boundary face of the
+  // rest tet they come from (children of split outer faces stay outer faces).
+  cm.surface = mesh::extract_surface(cm.mesh);
+  std::map<int, std::vector<int>> rest_faces;  // rest tet -> its local faces on the rest boundary
+  for (Eigen::Index f = 0; f < m.surface.faces.rows(); ++f) {
+    const int t = m.surface.face_tet(f);
+    const FaceKey key = sorted_face(m.surface.faces(f, 0), m.surface.faces(f, 1), m.surface.faces(f, 2));
+    for (int lf = 0; lf < 4; ++lf)
+      if (local_face(m.mesh, t, lf) == key) rest_faces[t].push_back(lf);
+  }
+  cm.cut_face.assign(size_t(4 * nt), 0);
+  for (Eigen::Index f = 0; f < cm.surface.faces.rows(); ++f) {
+    const int t = cm.surface.face_tet(f);
+    const FaceKey key = sorted_face(cm.surface.faces(f, 0), cm.surface.faces(f, 1), cm.surface.faces(f, 2));
+    bool outer = false;
+    const auto it = rest_faces.find(cm.origin_tet[size_t(t)]);
+    if (it != rest_faces.end())
+      for (int lf : it->second) {
+        const int T = it->first;
+        const Eigen::Vector3d p = m.mesh.node(m.mesh.tets(T, mesh::kTetFaces[lf][0]));
+        const Eigen::Vector3d q = m.mesh.node(m.mesh.tets(T, mesh::kTetFaces[lf][1]));
+        const Eigen::Vector3d r = m.mesh.node(m.mesh.tets(T, mesh::kTetFaces[lf][2]));
+        const Eigen::Vector3d n = (q - p).cross(r - p);
+        const double tol = 1e-9 * n.norm() * std::max({(q - p).norm(), (r - p).norm(), 1e-300});
+        bool on = true;
+        for (int v : key) on &= std::abs(n.dot(cm.mesh.node(v) - p)) <= tol;
+        outer |= on;
+      }
+    if (outer) continue;
+    for (int lf = 0; lf < 4; ++lf)
+      if (local_face(cm.mesh, t, lf) == key) cm.cut_face[size_t(4 * t + lf)] = 1;
+  }
+}
+
+bool blade_in_box(const mesh::TetMesh& mesh, const Eigen::MatrixX3d& u, const tools::ToolState& ts, double radius) {
+  const Eigen::MatrixX3d x = mesh.nodes + u;
+  const Eigen::Vector3d lo = x.colwise().minCoeff().transpose().array() - radius;
+  const Eigen::Vector3d hi = x.colwise().maxCoeff().transpose().array() + radius;
+  for (double a : {0.0, 0.25, 0.5, 0.75, 1.0}) {
+    const Eigen::Vector3d p = ts.blade_a + a * (ts.blade_b - ts.blade_a);
+    if ((p.array() >= lo.array()).all() && (p.array() <= hi.array()).all()) return true;
+  }
+  return false;
+}
+
+bool changed_mesh(const cut::CutRecord& r) {
+  return !r.new_nodes.empty() || !r.changed_tets.empty() || r.nodes_snapped > 0 || r.faces_separated > 0;
+}
+
+}  // namespace
+
+const mesh::TetMesh& current_mesh(const Model& m, const State& s) { return s.cut ? s.cut->mesh : m.mesh; }
+const mesh::Surface& current_surface(const Model& m, const State& s) { return s.cut ? s.cut->surface : m.surface; }
+
+bool is_fixed_node(const Model& m, const State& s, int n) {
+  if (s.cut) return s.cut->node_fixed[size_t(n)] != 0;
+  return m.partition.node_set[size_t(n)] == hybrid::NodeSet::fixed;
+}
+
+hybrid::NodeSet node_set(const Model& m, const State& s, int n) {
+  if (n < m.mesh.num_nodes()) return m.partition.node_set[size_t(n)];
+  return is_fixed_node(m, s, n) ? hybrid::NodeSet::fixed : hybrid::NodeSet::operational;
+}
+
+std::vector<CutEvent> cut_stage(const Model& m, State& s, int frame, double t) {
+  std::vector<CutEvent> events;
+  for (size_t k = 0; k < s.tools.size() && k < s.tool_specs.size(); ++k) {
+    const tools::ToolSpec& spec = s.tool_specs[k];
+    tools::ToolState& ts = s.tools[k];
+    if (spec.kind != tools::ToolSpec::Kind::scalpel) continue;
+    const bool active = spec.enabled && t >= spec.active_from && t <= spec.active_until;
+    const bool pressing = ts.engaged && ts.pressure >= spec.cut_pressure;
+    if (!active || !ts.has_prev || !(pressing || ts.in_cut)) {
+      ts.in_cut = false;
+      continue;
+    }
+    if (!ts.prev_a.allFinite() || !ts.blade_a.allFinite() || !ts.prev_b.allFinite() || !ts.blade_b.allFinite())
+      fail(spec.where.empty() ? "" : spec.where + ": ", "scalpel '", spec.name, "': blade position is not finite at t = ",
+           t, " s");
+    Timer timer;
+    if (!s.cut) s.cut = std::make_shared<CutMesh>(initial_cut_mesh(m));
+    CutMesh& cm = *s.cut;
+    if (!ts.in_cut) cut::begin_stroke(cm.cut);  // the blade enters the tissue: a new cut surface
+    cut::SweptSurface world = cut::sweep_segment(ts.prev_a, ts.prev_b, ts.blade_a, ts.blade_b);
+    if (spec.blade_back.squaredNorm() > 0) {  // triangular blade: its area now and the sweep of its other edges
+      cut::append(world, cut::sweep_triangle(ts.blade_a, ts.blade_b, ts.blade_c));
+      cut::append(world, cut::sweep_segment(ts.prev_b, ts.prev_c, ts.blade_b, ts.blade_c));
+      cut::append(world, cut::sweep_segment(ts.prev_c, ts.prev_a, ts.blade_c, ts.blade_a));
+    }
+    // Through the operational tets only: their nodes (sets 1 and I) are solved
+    // every frame, interior nonoperational rows may be stale.
+    const cut::SweptSurface rest = cut::deformed_to_rest(cm.mesh, s.displacement, world, cm.operational_tet);
+    cut::CutOptions opt;
+    opt.snap_fraction = m.spec.cutting.snap_fraction;
+    opt.min_dihedral_deg = m.spec.cutting.min_dihedral_deg;
+    const cut::CutRecord rec = cut::cut_step(cm.mesh, cm.cut, rest, opt);
+    const bool changed = changed_mesh(rec);
+    // The tissue yields under the blade: no pressing force while cutting.
+    // The stroke goes on while the blade cuts, presses, or stays within the
+    // deformed body's box (a step may cross no edge while inside).
+    ts.cutting = true;
+    ts.in_cut = changed || pressing || blade_in_box(cm.mesh, s.displacement, ts, spec.radius);
+    for (auto& f : ts.forces) f.setZero();
+    ts.total_force.setZero();
+    const double cut_ms = timer.ms();
+
+    CutEvent ev;
+    ev.frame = frame, ev.time = t, ev.tool = spec.name;
+    ev.tets_split = int(rec.split_tets.size());
+    ev.nodes_added = int(rec.new_nodes.size());
+    ev.edges_split = rec.edges_split, ev.nodes_snapped = rec.nodes_snapped;
+    ev.faces_separated = rec.faces_separated, ev.faces_pending = rec.faces_pending;
+    ev.worst_new_dihedral_deg = rec.worst_new_dihedral_deg, ev.worst_dihedral_deg = rec.worst_dihedral_deg;
+    ev.cg_iterations_before = s.last_cg_iterations;
+    for (const auto& w : rec.warnings) {
+      ev.warnings.push_back(w);
+      s.warnings.push_back(cat("frame ", frame, " (t = ", t, " s), scalpel '", spec.name, "': ", w));
+    }
+    timer.reset();
+    if (changed) {
+      update_after_cut(m, cm, rec);
+      s.displacement = cut::map_node_field(rec, s.displacement);
+      const Eigen::Index old = s.forces.rows();
+      s.forces.conservativeResize(cm.mesh.num_nodes(), 3);
+      s.forces.bottomRows(s.forces.rows() - old).setZero();
+      m.solver->apply_cut(cm, rec, s.warm);
+      ts.cut_events++;
+    }
+    ev.nodes_after = cm.mesh.num_nodes(), ev.tets_after = cm.mesh.num_tets();
+    ev.cut_ms = cut_ms, ev.rebuild_ms = timer.ms();
+    if (changed) events.push_back(ev);
+  }
+  for (const auto& e : events) s.cut_events.push_back(e);
+  return events;
+}
+
+int count_components(const mesh::TetMesh& mesh) {
+  std::vector<int> parent(size_t(mesh.num_nodes()));
+  std::iota(parent.begin(), parent.end(), 0);
+  auto find = [&](int v) {
+    while (parent[size_t(v)] != v) v = parent[size_t(v)] = parent[size_t(parent[size_t(v)])];
+    return v;
+  };
+  std::vector<char> used(size_t(mesh.num_nodes()), 0);
+  for (int t = 0; t < mesh.num_tets(); ++t)
+    for (int k = 0; k < 4; ++k) {
+      used[size_t(mesh.tets(t, k))] = 1;
+      if (k > 0) {
+        const int a = find(mesh.tets(t, 0)), b = find(mesh.tets(t, k));
+        if (a != b) parent[size_t(std::max(a, b))] = std::min(a, b);
+      }
+    }
+  int n = 0;
+  for (int v = 0; v < mesh.num_nodes(); ++v) n += used[size_t(v)] && find(v) == v;
+  return n;
+}
+
+}  // namespace softcut::sim

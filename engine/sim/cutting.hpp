@@ -1,0 +1,71 @@
+#pragma once
+// Cutting in a scenario (DESIGN.md §2, docs/outputs.md "Cutting"): scalpel
+// tools whose contact pressure reaches their threshold sweep their blade
+// between the last and the current pose; the swept surface, mapped into the
+// rest configuration, is cut from the operational tets (engine/cut). The
+// current (cut) mesh lives in the State (the Model keeps the rest mesh); the
+// solver rebuilds the operational system and maps its warm start.
+#include <Eigen/Core>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "cut/cutter.hpp"
+#include "fem/material.hpp"
+#include "hybrid/partition.hpp"
+#include "mesh/surface.hpp"
+#include "mesh/tet_mesh.hpp"
+
+namespace softcut::sim {
+
+struct Model;
+struct State;
+
+// The mesh after the first cut. Original nodes keep their ids; nodes made by
+// cutting are appended (ids >= the rest mesh's node count), as are new tets.
+struct CutMesh {
+  mesh::TetMesh mesh;                      // current rest mesh
+  mesh::Surface surface;                   // its boundary, including the cut faces
+  std::vector<fem::Material> tet_material; // (ntet)
+  std::vector<char> operational_tet;       // (ntet) 1: operational (children of operational tets)
+  std::vector<char> node_fixed;            // (nnode) copies/splits of fixed nodes stay fixed
+  std::vector<char> cut_face;              // (4 ntet) face f of tet t is a boundary face made by cutting
+  std::vector<int> origin_tet;             // (ntet) rest-mesh tet each tet comes from
+  cut::CutState cut;                       // masks and stroke data of the cutter
+};
+
+// One frame's cut by one scalpel, as logged in summary.json "cutting.events".
+struct CutEvent {
+  int frame = 0;
+  double time = 0.0;               // s
+  std::string tool;
+  int tets_split = 0, nodes_added = 0, edges_split = 0, nodes_snapped = 0;
+  int faces_separated = 0, faces_pending = 0;
+  int nodes_after = 0, tets_after = 0;
+  double worst_new_dihedral_deg = 180, worst_dihedral_deg = 180;  // element quality after the step
+  double cut_ms = 0, rebuild_ms = 0;  // cut_step (+ rest mapping), system rebuild + field mapping
+  int cg_iterations_before = 0;    // operational CG iterations of the previous frame
+  int cg_iterations_after = 0;     // of this frame (first solve on the cut system)
+  std::vector<std::string> warnings;
+};
+
+// Current mesh and boundary: the cut ones once a cut happened, else the Model's.
+const mesh::TetMesh& current_mesh(const Model& m, const State& s);
+const mesh::Surface& current_surface(const Model& m, const State& s);
+// Node n is fixed (also for nodes made by cutting).
+bool is_fixed_node(const Model& m, const State& s, int n);
+// Node set of n; nodes made by cutting are operational (or fixed).
+hybrid::NodeSet node_set(const Model& m, const State& s, int n);
+
+// The cutting stage of a frame: for every active scalpel that cuts this frame
+// (pressure >= cut_pressure, or still inside the cut it is making), cuts the
+// swept blade surface, rebuilds the solver's system and maps the state's
+// nodal fields; the blade then applies no force. Returns the events (also
+// appended to s.cut_events). Throws softcut::Error on a non-finite blade.
+std::vector<CutEvent> cut_stage(const Model& m, State& s, int frame, double t);
+
+// Connected pieces of a tet mesh (tets joined through shared nodes); unused
+// nodes do not count.
+int count_components(const mesh::TetMesh& mesh);
+
+}  // namespace softcut::sim
