@@ -146,7 +146,13 @@ const FrameReport& update(const Model& M, State& S, std::span<const Load> loads,
   const Eigen::VectorXd AI = S.x_operational.tail(ni3);
   if (dense) {
     Eigen::VectorXd As = S.As_loads;
-    if (ni3 > 0) As.noalias() += M.Kstar_inv_Pstar * AI;
+    if (ni3 > 0 && S.nonoperational_product) {
+      Eigen::VectorXd prod;
+      S.nonoperational_product->apply(AI, prod);
+      As += prod;
+    } else if (ni3 > 0) {
+      As.noalias() += M.Kstar_inv_Pstar * AI;
+    }
     scatter_nodes(As, M.partition.surface, S.u);
     if (opt.recover_interior) recover_interior(M, S);
   } else if (!M.nonop_nodes.empty()) {

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "hybrid/loads.hpp"
+#include "hybrid/nonoperational_product.hpp"
 #include "hybrid/operational_system.hpp"
 #include "hybrid/precompute.hpp"
 
@@ -49,6 +50,9 @@ struct State {
   long x_generation = -1;            // system the warm start belongs to
   long frames = 0;
   FrameReport last;
+  // Dense storage only: computes (K*^-1 P*) AI in stage 5 instead of the CPU
+  // product (e.g. gpu::DeviceDenseProduct for large blocks). Null: CPU.
+  std::shared_ptr<NonoperationalProduct> nonoperational_product;
 
   // Scratch (no allocation per frame).
   Eigen::MatrixX3d forces;           // (nnode x 3) N, operational forces of this frame

@@ -6,6 +6,7 @@
 #include "fem/assembly.hpp"
 #include "fem/dof_map.hpp"
 #include "gpu/egl_context.hpp"
+#include "gpu/dense_product.hpp"
 #include "gpu/operational_gpu_solver.hpp"
 #include "hybrid/loads.hpp"
 #include "hybrid/precompute.hpp"
@@ -141,6 +142,11 @@ class HybridSolver final : public Solver {
       g.max_inner_iterations = spec.cg_max_iterations;
       Timer tg;
       gpu_ = std::make_unique<gpu::OperationalGpuSolver>(*context, g);
+      // Stage 5's dense product on the device too when the block is large
+      // enough for the device to pay off (bandwidth-bound; double precision).
+      if (model_.storage == hybrid::Storage::dense &&
+          double(model_.Kstar_inv_Pstar.size()) >= gpu::DeviceDenseProduct::kWorthwhileEntries)
+        nonop_product_ = std::make_shared<gpu::DeviceDenseProduct>(*context, model_.Kstar_inv_Pstar);
       gpu_ms_ = tg.ms();
     }
     const hybrid::PrecomputeTimings& t = model_.timings;
@@ -229,7 +235,9 @@ class HybridSolver final : public Solver {
 
  private:
   std::string backend_name() const {
-    if (gpu_) return cat("gpu cg, ", spec_.gpu_fp64 ? "fp64" : "fp32 + fp64 refinement");
+    if (gpu_)
+      return cat("gpu cg, ", spec_.gpu_fp64 ? "fp64" : "fp32 + fp64 refinement",
+                 nonop_product_ ? "; (K*^-1 P*) AI on the device" : "");
     return choice_.backend == "direct" ? "cholmod" : "cg";
   }
 
@@ -238,6 +246,7 @@ class HybridSolver final : public Solver {
     if (!rs) {
       auto fresh = std::make_shared<HybridRunState>();
       fresh->state = hybrid::make_state(model_, make_operational_solver());
+      fresh->state.nonoperational_product = nonop_product_;
       warm.backend = fresh;
       rs = fresh.get();
     }
@@ -262,6 +271,7 @@ class HybridSolver final : public Solver {
   bool need_interior_ = false;
   BackendChoice choice_;
   std::unique_ptr<gpu::OperationalGpuSolver> gpu_;  // backend gpu only
+  std::shared_ptr<hybrid::NonoperationalProduct> nonop_product_;  // backend gpu with a large dense K*^-1 P*
   double gpu_ms_ = 0;                               // kernel compile time
   hybrid::Model model_;
   std::vector<std::pair<std::string, double>> timings_;
