@@ -197,5 +197,22 @@ void main() {
 )";
 }
 
+std::string shift_cols() {
+  return "#version 450 core\n" + cg_layout::glsl_defines(false) + R"(
+layout(local_size_x = GROUP_SIZE) in;
+layout(std430, binding = B_COL) buffer Col { uint col[]; };
+uniform uint k_first;
+uniform uint k_last;
+uniform uint threshold;
+uniform uint delta;  // two's complement: a removal wraps around
+void main() {
+  uint k = k_first + gl_GlobalInvocationID.x;
+  if (k >= k_last) return;
+  uint c = col[k];
+  if (c >= threshold) col[k] = c + delta;
+}
+)";
+}
+
 }  // namespace cg_shaders
 }  // namespace softcut::gpu

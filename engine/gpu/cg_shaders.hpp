@@ -13,5 +13,8 @@ std::string update(bool fp64);       // x += a p; r -= a Ap; z = M r; partial r.
 std::string reduce_beta(bool fp64);  // rz_new, rr, beta = rz_new / rz, rz = rz_new
 std::string direction(bool fp64);    // p = z + beta p
 std::string start(bool fp64);        // x = 0; z = M r; p = z; partial r.z, r.r
+// col[k] += delta where col[k] >= threshold, k in [first, last): renumbers the
+// block columns a device-side move kept when rows were inserted or removed.
+std::string shift_cols();
 
 }  // namespace softcut::gpu::cg_shaders

@@ -5,10 +5,12 @@
 
 #include <cmath>
 #include <cstring>
+#include <utility>
 #include <vector>
 
 #include "core/error.hpp"
 #include "core/timer.hpp"
+#include "gpu/block_system_diff.hpp"
 #include "gpu/cg_layout.hpp"
 #include "gpu/cg_shaders.hpp"
 #include "gpu/compute_program.hpp"
@@ -49,9 +51,12 @@ std::uint32_t groups_for(std::uint32_t items) { return (items + L::kGroupSize - 
 struct ComputeCg::Impl {
   bool fp64;
   ComputeProgram spmv, dense, dot_p_ap, reduce_alpha, update, reduce_beta, direction, start;
+  ComputeProgram shift;  // renumbers kept block columns after rows were inserted or removed
   StorageBuffer buf[12];
-  BlockSystem cached;  // what the device holds (values in double)
+  StorageBuffer scratch;  // staging for kept runs that move within a buffer
+  BlockSystem cached;     // what the device holds (values in double)
   bool have_system = false;
+  SystemUpload upload;    // what the last set_system did
 
   std::size_t scalar() const { return fp64 ? 8 : 4; }
 
@@ -65,6 +70,7 @@ struct ComputeCg::Impl {
     reduce_beta = ComputeProgram("cg.reduce_beta", S::reduce_beta(fp64));
     direction = ComputeProgram("cg.direction", S::direction(fp64));
     start = ComputeProgram("cg.start", S::start(fp64));
+    shift = ComputeProgram("cg.shift_cols", S::shift_cols());
   }
 
   void set_sizes() {
@@ -100,34 +106,160 @@ struct ComputeCg::Impl {
     return sent;
   }
 
-  std::size_t set_system(const BlockSystem& s) {
-    const bool same_pattern = have_system && s.row_ptr == cached.row_ptr && s.col == cached.col &&
-                              s.dense_size == cached.dense_size && s.dense_offset == cached.dense_offset;
-    std::size_t sent = 0;
-    if (same_pattern) {
-      sent += upload_changed(buf[L::kValues], cached.values, s.values, 9);
-      sent += upload_changed(buf[L::kDiagInv], cached.diag_inverse, s.diag_inverse, 9);
-      if (s.dense_size > 0) sent += upload_changed(buf[L::kDense], cached.dense, s.dense, std::size_t(s.dense_size));
+  // Room for `bytes`, with 25% spare so that a growing system (cut after
+  // cut) does not reallocate every time; contents are dropped when it grows.
+  void reserve(StorageBuffer& b, std::size_t bytes) {
+    if (b.capacity() < bytes || b.capacity() == 0) {
+      b.allocate(bytes + bytes / 4);
+      upload.reallocated = true;
+    }
+  }
+
+  void upload_full(StorageBuffer& b, const void* data, std::size_t bytes) {
+    reserve(b, bytes);
+    b.upload_range(0, data, bytes);
+    upload.sent_bytes += bytes;
+  }
+
+  // Turns the device array `b` into the new one (new_len units of `unit`
+  // bytes). Kept runs that stay at their offset are left alone; the others
+  // are staged through `scratch` (GL forbids overlapping copies within one
+  // buffer, and runs may move either way), all read before any is written.
+  // When the array outgrows its buffer, every run is copied into a fresh,
+  // larger one instead. The gaps between runs are sent from the host,
+  // `gap(first, count, out)` giving their bytes.
+  template <class Gap>
+  void apply_runs(StorageBuffer& b, std::size_t unit, std::size_t new_len,
+                  const std::vector<BlockSystemDiff::Run>& runs, Gap gap) {
+    if (new_len * unit > b.capacity()) {
+      StorageBuffer grown;
+      grown.allocate(new_len * unit + new_len * unit / 4);
+      for (const auto& r : runs) grown.copy_from(b, r.from * unit, r.to * unit, r.count * unit);
+      for (const auto& r : runs) upload.moved_bytes += r.count * unit;
+      b = std::move(grown);
+      upload.reallocated = true;
     } else {
-      sent += buf[L::kRowPtr].upload(s.row_ptr.data(), 4 * s.row_ptr.size());
-      sent += buf[L::kCol].upload(s.col.data(), 4 * s.col.size());
-      auto v = to_device(s.values.data(), s.values.size(), fp64);
-      sent += buf[L::kValues].upload(v.data(), v.size());
-      v = to_device(s.dense.data(), s.dense.size(), fp64);
-      sent += buf[L::kDense].upload(v.data(), v.size());
-      v = to_device(s.diag_inverse.data(), s.diag_inverse.size(), fp64);
-      sent += buf[L::kDiagInv].upload(v.data(), v.size());
+      std::size_t staged = 0;
+      for (const auto& r : runs) staged += r.from != r.to ? r.count * unit : 0;
+      if (staged > 0) {
+        if (scratch.capacity() < staged) scratch.allocate(staged + staged / 4);
+        std::size_t at = 0;
+        for (const auto& r : runs)
+          if (r.from != r.to) {
+            scratch.copy_from(b, r.from * unit, at, r.count * unit);
+            at += r.count * unit;
+          }
+        at = 0;
+        for (const auto& r : runs)
+          if (r.from != r.to) {
+            b.copy_from(scratch, at, r.to * unit, r.count * unit);
+            at += r.count * unit;
+          }
+        upload.moved_bytes += staged;
+      }
+    }
+    std::vector<unsigned char> bytes;
+    std::size_t next = 0;  // first unit not yet written
+    auto send = [&](std::size_t first, std::size_t count) {
+      if (count == 0) return;
+      gap(first, count, bytes);
+      b.upload_range(first * unit, bytes.data(), bytes.size());
+      upload.sent_bytes += bytes.size();
+    };
+    for (const auto& r : runs) {
+      send(next, r.to - next);
+      next = r.to + r.count;
+    }
+    send(next, new_len - next);
+  }
+
+  // Renumbers every block column of the old array on the device (kept runs
+  // need it; the others are overwritten).
+  void shift_cols(std::size_t count, const BlockSystemDiff& d) {
+    if (count == 0) return;
+    shift.set_uint("k_first", 0);
+    shift.set_uint("k_last", std::uint32_t(count));
+    shift.set_uint("threshold", d.col_threshold);
+    shift.set_uint("delta", std::uint32_t(d.col_shift));  // modulo 2^32: negative shifts wrap
+    buf[L::kCol].bind(L::kCol);
+    shift.dispatch(groups_for(std::uint32_t(count)));
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);  // before the copies read it
+  }
+
+  // Bytes an incremental update sends (row_ptr whole, the gaps; dense as a full upload would).
+  std::size_t incremental_bytes(const BlockSystem& s, const BlockSystemDiff& d) const {
+    return 4 * s.row_ptr.size() + (s.col.size() - d.kept_blocks()) * (4 + 9 * scalar()) +
+           (std::size_t(s.num_blocks) - d.kept_rows()) * 9 * scalar();
+  }
+
+  void set_incremental(const BlockSystem& s, const BlockSystemDiff& d) {
+    upload_full(buf[L::kRowPtr], s.row_ptr.data(), 4 * s.row_ptr.size());
+    if (d.col_shift != 0 && d.col_threshold < std::uint32_t(cached.num_blocks)) shift_cols(cached.col.size(), d);
+    apply_runs(buf[L::kCol], 4, s.col.size(), d.blocks,
+               [&](std::size_t first, std::size_t count, std::vector<unsigned char>& out) {
+                 out.resize(4 * count);
+                 std::memcpy(out.data(), s.col.data() + first, 4 * count);
+               });
+    apply_runs(buf[L::kValues], 9 * scalar(), s.col.size(), d.blocks,
+               [&](std::size_t first, std::size_t count, std::vector<unsigned char>& out) {
+                 out = to_device(s.values.data() + 9 * first, 9 * count, fp64);
+               });
+    apply_runs(buf[L::kDiagInv], 9 * scalar(), std::size_t(s.num_blocks), d.rows,
+               [&](std::size_t first, std::size_t count, std::vector<unsigned char>& out) {
+                 out = to_device(s.diag_inverse.data() + 9 * first, 9 * count, fp64);
+               });
+  }
+
+  std::size_t set_system(const BlockSystem& s) {
+    upload = {};
+    upload.full_bytes = s.bytes(scalar());
+    // K' stays when rows are inserted before it: only its offset (a uniform) moves.
+    const bool same_dense = have_system && s.dense_size == cached.dense_size;
+    const bool same_pattern =
+        same_dense && s.dense_offset == cached.dense_offset && s.row_ptr == cached.row_ptr && s.col == cached.col;
+    if (same_pattern) {
+      upload.sent_bytes += upload_changed(buf[L::kValues], cached.values, s.values, 9);
+      upload.sent_bytes += upload_changed(buf[L::kDiagInv], cached.diag_inverse, s.diag_inverse, 9);
+    } else {
+      bool incremental = false;
+      if (have_system) {
+        const BlockSystemDiff d = diff_block_systems(cached, s);
+        const std::size_t dense_bytes = same_dense ? 0 : s.dense.size() * scalar();
+        incremental = incremental_bytes(s, d) + dense_bytes < upload.full_bytes;
+        if (incremental) set_incremental(s, d);
+      }
+      if (!incremental) {
+        upload_full(buf[L::kRowPtr], s.row_ptr.data(), 4 * s.row_ptr.size());
+        upload_full(buf[L::kCol], s.col.data(), 4 * s.col.size());
+        auto v = to_device(s.values.data(), s.values.size(), fp64);
+        upload_full(buf[L::kValues], v.data(), v.size());
+        v = to_device(s.diag_inverse.data(), s.diag_inverse.size(), fp64);
+        upload_full(buf[L::kDiagInv], v.data(), v.size());
+      }
+      upload.incremental = incremental;
       const std::size_t vec = std::size_t(s.size()) * scalar();
-      for (auto b : {L::kX, L::kR, L::kP, L::kAp, L::kZ}) buf[b].upload(nullptr, vec);
-      buf[L::kPartial].upload(nullptr, 2 * L::kReduceGroups * scalar());
-      const std::vector<double> zeros(L::kNumScalars, 0.0);
-      const auto z = to_device(zeros.data(), zeros.size(), fp64);
-      buf[L::kScalars].upload(z.data(), z.size());
+      for (auto b : {L::kX, L::kR, L::kP, L::kAp, L::kZ}) reserve(buf[b], vec);
+      if (!have_system) {
+        buf[L::kPartial].allocate(2 * L::kReduceGroups * scalar());
+        const std::vector<double> zeros(L::kNumScalars, 0.0);
+        const auto z = to_device(zeros.data(), zeros.size(), fp64);
+        buf[L::kScalars].upload(z.data(), z.size());
+      }
+    }
+    if (s.dense_size > 0) {
+      if (same_dense) {
+        upload.sent_bytes += upload_changed(buf[L::kDense], cached.dense, s.dense, std::size_t(s.dense_size));
+      } else {
+        const auto v = to_device(s.dense.data(), s.dense.size(), fp64);
+        upload_full(buf[L::kDense], v.data(), v.size());
+      }
+    } else {
+      reserve(buf[L::kDense], 16);
     }
     cached = s;
     have_system = true;
     set_sizes();
-    return sent;
+    return upload.sent_bytes;
   }
 
   double read_scalar(L::Scalar slot) const {
@@ -161,6 +293,47 @@ ComputeCg::~ComputeCg() {
 std::size_t ComputeCg::set_system(const BlockSystem& system) {
   context_.make_current();
   return impl_->set_system(system);
+}
+
+const SystemUpload& ComputeCg::last_upload() const { return impl_->upload; }
+
+BlockSystem ComputeCg::device_system() const {
+  if (!impl_->have_system) fail("GPU solver: device_system before set_system");
+  context_.make_current();
+  const Impl& m = *impl_;
+  BlockSystem s;
+  s.num_blocks = m.cached.num_blocks;
+  s.dense_offset = m.cached.dense_offset;
+  s.dense_size = m.cached.dense_size;
+  s.row_ptr.resize(m.cached.row_ptr.size());
+  m.buf[L::kRowPtr].download(s.row_ptr.data(), 4 * s.row_ptr.size());
+  s.col.resize(m.cached.col.size());
+  m.buf[L::kCol].download(s.col.data(), 4 * s.col.size());
+  auto read = [&](L::Binding b, std::size_t count) {
+    std::vector<unsigned char> bytes(count * m.scalar());
+    m.buf[b].download(bytes.data(), bytes.size());
+    return from_device(bytes, m.fp64);
+  };
+  s.values = read(L::kValues, m.cached.values.size());
+  s.dense = read(L::kDense, m.cached.dense.size());
+  s.diag_inverse = read(L::kDiagInv, m.cached.diag_inverse.size());
+  return s;
+}
+
+void ComputeCg::apply_device(const Eigen::VectorXd& x, Eigen::VectorXd& y) {
+  if (!impl_->have_system) fail("GPU solver: apply_device before set_system");
+  Impl& m = *impl_;
+  const int n = m.cached.size();
+  if (x.size() != n) fail("GPU solver: vector of size ", x.size(), " for a system of size ", n);
+  context_.make_current();
+  m.bind_all();
+  const auto xb = to_device(x.data(), std::size_t(n), m.fp64);
+  m.buf[L::kP].upload_range(0, xb.data(), xb.size());
+  m.spmv_p();
+  std::vector<unsigned char> yb(std::size_t(n) * m.scalar());
+  m.buf[L::kAp].download(yb.data(), yb.size());
+  const auto yd = from_device(yb, m.fp64);
+  y = Eigen::Map<const Eigen::VectorXd>(yd.data(), n);
 }
 
 int ComputeCg::solve_device(const Eigen::VectorXd& r, Eigen::VectorXd& d, double tolerance) {

@@ -40,6 +40,15 @@ struct ComputeCgReport {
   std::size_t uploaded_bytes = 0; // matrix bytes sent by the last set_system()
 };
 
+// What the last set_system() did to the device copy of the matrix.
+struct SystemUpload {
+  std::size_t sent_bytes = 0;   // host -> device
+  std::size_t moved_bytes = 0;  // device -> device (kept rows copied to their new place)
+  std::size_t full_bytes = 0;   // what a full upload of the new system sends
+  bool incremental = false;     // kept the shared rows of a changed pattern
+  bool reallocated = false;     // some device buffer was (re)allocated
+};
+
 class ComputeCg {
  public:
   // Compiles the kernels in `context` (made current). Throws softcut::Error
@@ -51,8 +60,20 @@ class ComputeCg {
 
   // Uploads a system. When the block pattern is unchanged (e.g. a cut that
   // only changed values, or the same system again) only the changed byte
-  // ranges of the values and the dense block are sent. Returns bytes sent.
+  // ranges of the values and the dense block are sent. When it changed (a cut
+  // appends nodes before the interface nodes and rewrites the rows near the
+  // cut), the block rows both systems share (diff_block_systems) stay on
+  // the device: those whose offset changed are moved through a scratch
+  // buffer, their block columns renumbered by a kernel; only row_ptr and the
+  // other rows are sent, and K' stays. Buffers grow with 25% spare capacity. A
+  // full upload is made when that is not cheaper. Returns bytes sent.
   std::size_t set_system(const BlockSystem& system);
+  const SystemUpload& last_upload() const;
+
+  // Debug read-backs: the matrix as the device holds it (values in device
+  // precision, converted to double), and y = A x by the device kernels.
+  BlockSystem device_system() const;
+  void apply_device(const Eigen::VectorXd& x, Eigen::VectorXd& y);
 
   // Solves A x = b starting from x (warm start). `exact` applies A in double
   // for the refinement residual (e.g. BlockSystem::apply or the operational

@@ -105,6 +105,25 @@ void StorageBuffer::upload_range(std::size_t offset, const void* data, std::size
   glNamedBufferSubData(id_, GLintptr(offset), GLsizeiptr(bytes), data);
 }
 
+void StorageBuffer::allocate(std::size_t bytes) {
+  bytes = std::max<std::size_t>(bytes, 16);
+  if (id_) glDeleteBuffers(1, &id_);
+  glCreateBuffers(1, &id_);
+  glNamedBufferData(id_, GLsizeiptr(bytes), nullptr, GL_DYNAMIC_DRAW);
+  capacity_ = bytes;
+}
+
+void StorageBuffer::copy_from(const StorageBuffer& src, std::size_t src_offset, std::size_t dst_offset,
+                              std::size_t bytes) {
+  if (!bytes) return;
+  if (src_offset + bytes > src.capacity_ || dst_offset + bytes > capacity_)
+    fail("StorageBuffer::copy_from past the allocation");
+  if (&src == this && src_offset < dst_offset + bytes && dst_offset < src_offset + bytes)
+    fail("StorageBuffer::copy_from with overlapping ranges of one buffer");
+  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+  glCopyNamedBufferSubData(src.id_, id_, GLintptr(src_offset), GLintptr(dst_offset), GLsizeiptr(bytes));
+}
+
 void StorageBuffer::download(void* data, std::size_t bytes, std::size_t offset) const {
   if (offset + bytes > capacity_) fail("StorageBuffer::download past the allocation");
   if (!bytes) return;

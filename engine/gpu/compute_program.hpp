@@ -41,6 +41,13 @@ class StorageBuffer {
   std::size_t upload(const void* data, std::size_t bytes);
   // Uploads [offset, offset + bytes) into an existing allocation.
   void upload_range(std::size_t offset, const void* data, std::size_t bytes);
+  // Fresh allocation of `bytes` (at least 16), contents undefined; the old
+  // contents are dropped.
+  void allocate(std::size_t bytes);
+  // Device-side copy of src[src_offset, + bytes) to [dst_offset, + bytes).
+  // Throws on ranges past either allocation or overlapping ranges of one
+  // buffer (GL forbids them; go through a scratch buffer).
+  void copy_from(const StorageBuffer& src, std::size_t src_offset, std::size_t dst_offset, std::size_t bytes);
   void download(void* data, std::size_t bytes, std::size_t offset = 0) const;
   void bind(std::uint32_t binding) const;
   std::size_t capacity() const { return capacity_; }
