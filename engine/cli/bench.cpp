@@ -7,6 +7,7 @@ int bench_assembly(const Args& args);  // bench_assembly.cpp
 int bench_gpu(const Args& args);  // bench_gpu.cpp
 int bench_render(const Args& args);  // bench_render.cpp
 int bench_springs(const Args& args);  // bench_springs.cpp
+int bench_cut(const Args& args);  // bench_cut.cpp
 
 // Add a line here when a bench_<name>.cpp lands.
 const std::vector<Benchmark>& benchmarks() {
@@ -17,6 +18,7 @@ const std::vector<Benchmark>& benchmarks() {
       {"render", "off-screen frame cost (extract, draw, read back, PNG) against the simulated frame", bench_render},
       {"springs", "implicit grasper springs per frame: explicit vs implicit with and without the compliance cache",
        bench_springs},
+      {"cut", "cutting in the operational region: cut, rebuild and warm/cold frame vs region size (paper Fig. 8)", bench_cut},
   };
   return all;
 }
