@@ -7,6 +7,7 @@ pkgs=(
   libeigen3-dev libsuitesparse-dev liblua5.4-dev lua5.4
   libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri
   libstb-dev doctest-dev zlib1g-dev
+  libopenblas0-pthread  # optimised BLAS/LAPACK behind CHOLMOD's supernodal factor (reference BLAS is ~10x slower)
 )
 missing=()
 for p in "${pkgs[@]}"; do
