@@ -4,11 +4,9 @@
 
 namespace softcut::solve {
 
-Cholesky::Cholesky(const Eigen::SparseMatrix<double>& A, const std::string& what, bool many_rhs) {
-  factor(A, what, many_rhs);
-}
+Cholesky::Cholesky(const Eigen::SparseMatrix<double>& A, const std::string& what) { factor(A, what); }
 
-void Cholesky::factor(const Eigen::SparseMatrix<double>& A, const std::string& what, bool many_rhs) {
+void Cholesky::factor(const Eigen::SparseMatrix<double>& A, const std::string& what) {
   if (A.rows() != A.cols()) fail(what, ": Cholesky needs a square matrix, got ", A.rows(), "x", A.cols());
   llt_.reset();  // a failed factor() leaves the object unfactored, not holding a stale factor
   rows_ = 0;
@@ -20,7 +18,6 @@ void Cholesky::factor(const Eigen::SparseMatrix<double>& A, const std::string& w
   // simplicial and the supernodal path (tested).
   llt->cholmod().final_asis = 0;
   llt->cholmod().final_ll = 1;
-  if (many_rhs) llt->cholmod().supernodal = CHOLMOD_SUPERNODAL;
   llt->compute(A);
   if (llt->info() != Eigen::Success)
     fail(what, ": the stiffness matrix is singular or not positive definite; every connected part of "

@@ -16,12 +16,8 @@ class Cholesky {
   // Factors the symmetric positive definite A (lower triangle is read).
   // Throws softcut::Error naming `what` when A is not positive definite
   // (e.g. a part of the body without fixed nodes).
-  // `many_rhs`: force CHOLMOD's supernodal factor, whose solves with many
-  // right-hand sides run as BLAS-3 (about 2x faster for the hybrid
-  // precompute's K*^-1 on paper-size meshes than the simplicial factor
-  // CHOLMOD picks by itself for small matrices).
-  explicit Cholesky(const Eigen::SparseMatrix<double>& A, const std::string& what = "matrix", bool many_rhs = false);
-  void factor(const Eigen::SparseMatrix<double>& A, const std::string& what = "matrix", bool many_rhs = false);
+  explicit Cholesky(const Eigen::SparseMatrix<double>& A, const std::string& what = "matrix");
+  void factor(const Eigen::SparseMatrix<double>& A, const std::string& what = "matrix");
 
   Eigen::VectorXd solve(const Eigen::VectorXd& b) const;
   Eigen::MatrixXd solve(const Eigen::MatrixXd& B) const;  // one column per right-hand side
