@@ -5,3 +5,7 @@ if(TARGET test_cli)
   add_dependencies(test_cli softcut)
 endif()
 add_test(NAME "cli: softcut check scenarios" COMMAND softcut check ${PROJECT_SOURCE_DIR}/scenarios)
+# The operational CG in compute shaders (llvmpipe here) must reproduce the
+# reference log recorded with the CPU solver, through cuts (issue: GPU CG).
+add_test(NAME "cli: softcut check --backend gpu through_cut"
+         COMMAND softcut check --backend gpu ${PROJECT_SOURCE_DIR}/scenarios/through_cut.lua)
