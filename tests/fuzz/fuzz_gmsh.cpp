@@ -1,0 +1,6 @@
+// libFuzzer target: the gmsh reader (.msh) on arbitrary bytes.
+#include "mesh_fuzz.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  return softcut::fuzz::fuzz_mesh_reader(softcut::mesh::io::read_gmsh, "fuzz.msh", data, size);
+}

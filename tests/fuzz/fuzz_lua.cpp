@@ -1,0 +1,19 @@
+// libFuzzer target: the scenario loader. The input is a scenario script,
+// written to scratch()/scenario.lua and loaded in the sandbox (no --trust)
+// with tight budgets, so an endless loop or a memory hog ends with
+// softcut::Error instead of a libFuzzer timeout / OOM. Only the script part
+// runs (load_scenario_spec): no model compile, no outputs.
+#include "fuzz_support.hpp"
+#include "scenario_runner.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  using namespace softcut;
+  lua::RunRequest req;
+  req.scenario = fuzz::put_file("scenario.lua", fuzz::as_text(data, size));
+  req.out_dir = fuzz::scratch() / "out";
+  req.render = false;
+  req.instruction_budget = 2'000'000;
+  req.memory_budget = 16u << 20;
+  fuzz::expect_clean([&] { lua::load_scenario_spec(req); });
+  return 0;
+}

@@ -1,0 +1,83 @@
+// Every input in tests/fuzz/regressions/<target>/ (crashes the fuzzers found,
+// kept after the fix) goes through the normal build's entry points, the way a
+// user's file would: it must read cleanly or fail with softcut::Error.
+#include <doctest/doctest.h>
+
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "hardening_support.hpp"
+#include "mesh/io/mesh_io.hpp"
+#include "mesh/volume/label_volume.hpp"
+#include "mesh/volume/nrrd.hpp"
+#include "scenario_runner.hpp"
+
+namespace fs = std::filesystem;
+using softcut::hardening::put_file;
+
+namespace {
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+std::vector<fs::path> inputs(const std::string& target) {
+  std::vector<fs::path> v;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(fs::path(SOFTCUT_FUZZ_REGRESSIONS) / target, ec))
+    if (e.is_regular_file() && e.path().filename().string()[0] != '.') v.push_back(e.path());
+  std::sort(v.begin(), v.end());
+  return v;
+}
+
+// Feeds one input the way its fuzz target does (see tests/fuzz/fuzz_<target>.cpp).
+void feed(const std::string& target, const std::string& bytes, const fs::path& dir) {
+  softcut::Diagnostics diag;
+  if (target == "tetgen") {
+    const std::size_t cut = bytes.find('\0');
+    put_file(dir / "in.node", bytes.substr(0, cut));
+    put_file(dir / "in.ele", cut == std::string::npos ? "" : bytes.substr(cut + 1));
+    softcut::mesh::read_mesh(dir / "in.node", diag);
+  } else if (target == "nrrd") {
+    const auto v = softcut::mesh::read_nrrd_labels(put_file(dir / "in.nrrd", bytes), diag);
+    if (v.num_voxels() <= 256) {
+      softcut::mesh::VoxelMeshOptions opt;
+      opt.smooth_iterations = 1;
+      softcut::mesh::mesh_label_volume(v, opt, diag);
+    }
+  } else if (target == "lua") {
+    softcut::lua::RunRequest req;
+    req.scenario = put_file(dir / "scenario.lua", bytes);
+    req.render = false;
+    req.instruction_budget = 2'000'000;
+    req.memory_budget = 16u << 20;
+    softcut::lua::load_scenario_spec(req);
+  } else {
+    const char* ext = target == "gmsh" ? ".msh" : target == "medit" ? ".mesh" : target == "vtk" ? ".vtk" : ".vtu";
+    softcut::mesh::read_mesh(put_file(dir / (std::string("in") + ext), bytes), diag);
+  }
+}
+
+}  // namespace
+
+TEST_SUITE("hardening/fuzz_regressions") {
+  TEST_CASE("every saved fuzz finding reads cleanly or fails with softcut::Error") {
+    const fs::path dir = softcut::test::scratch_dir("hardening_fuzz_regressions");
+    int n = 0;
+    for (const std::string target : {"gmsh", "medit", "vtk", "vtu", "tetgen", "nrrd", "lua"})
+      for (const fs::path& p : inputs(target)) {
+        CAPTURE(p.string());
+        ++n;
+        try {
+          feed(target, slurp(p), dir);
+        } catch (const softcut::Error&) {
+        }
+      }
+    MESSAGE(n, " saved fuzz inputs replayed");
+  }
+}
