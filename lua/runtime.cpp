@@ -453,6 +453,11 @@ void Runtime::run_file(const fs::path& path, int nresults) {
   if (luaL_loadbufferx(L_, text.data(), text.size(), chunk.c_str(), opt_.trusted ? "bt" : "t") != LUA_OK) {
     std::string msg = lua_tostring(L_, -1);
     lua_pop(L_, 1);
+    // Errors raised outside the parser's position tracking (nesting deeper
+    // than Lua's C-level limit) come without the file: name it.
+    if (msg.rfind(path.string(), 0) != 0)
+      msg = cat(path.string(), ": ", msg,
+                msg.find("C stack overflow") != std::string::npos ? " (the script nests too deeply; flatten it)" : "");
     throw Error(msg);
   }
   call(0, nresults);

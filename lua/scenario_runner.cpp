@@ -269,7 +269,13 @@ RunOutcome run_scenario(const RunRequest& req) {
   out.description = get_string(L, s, "description");
   out.tolerance = get_number(L, s, "tolerance", 1e-6);
   out.out_dir = req.out_dir.empty() ? fs::path("renders") / spec.name : req.out_dir;
-  fs::create_directories(out.out_dir);
+  {
+    std::error_code ec;
+    fs::create_directories(out.out_dir, ec);
+    if (ec)
+      fail(out.out_dir.string(), ": cannot create the output folder (", ec.message(),
+           "); choose another with --out or fix the path");
+  }
   rt.set_write_dir(fs::absolute(out.out_dir));
   spec.outputs.dir = out.out_dir;
   if (!req.render) spec.outputs.render.enabled = false;

@@ -28,7 +28,7 @@ int parse_count(const std::string& text, const char* option) {
   } catch (...) {
     used = 0;
   }
-  if (used != text.size() || v < 0 || v > 100000000) fail(option, " ", text, ": expected a whole number >= 0");
+  if (used != text.size() || v < 0 || v > 100000000) fail(option, " ", text, ": expected a whole number from 0 to 100000000");
   return int(v);
 }
 

@@ -24,7 +24,10 @@ void check_spec(const ScenarioSpec& s) {
     fail("timeline: duration must be a finite number >= 0 s, got ", tl.duration);
   if (!(tl.frame_rate > 0) || !std::isfinite(tl.frame_rate))
     fail("timeline: frame_rate must be > 0 Hz, got ", tl.frame_rate);
-  if (tl.duration * tl.frame_rate > 1e7) fail("timeline: ", tl.duration * tl.frame_rate, " frames is too many");
+  if (tl.duration * tl.frame_rate > 1e7)
+    fail(s.source.empty() ? std::string() : s.source.filename().string() + ": ", "timeline: ",
+         tl.duration * tl.frame_rate, " frames (duration x frame rate) is too many; the limit is 10000000, "
+         "shorten the duration or lower the frame rate");
 
   for (const auto& m : s.materials) {
     const std::string w = prefixed(m.where, "material '" + m.name + "'");

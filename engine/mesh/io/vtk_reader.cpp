@@ -103,8 +103,9 @@ struct VtkFile {
     const auto& t = r.tokens();
     if (t.size() < 5) r.fail_here("missing version number after '# vtk DataFile Version'");
     const std::string_view v = t[4];
-    major = int(r.to_double(v, "the file version"));
-    if (major < 1 || major > 5) r.fail_here("unsupported legacy VTK version ", v);
+    const double version = r.to_double(v, "the file version");
+    if (!(version >= 1 && version < 6)) r.fail_here("unsupported legacy VTK version ", v, " (1.0 to 5.x are read)");
+    major = int(version);  // in range: no overflow
     if (!r.next_raw_line()) r.fail_here("file ends before the title line");
     if (!r.next_line()) r.fail_here("file ends before the ASCII/BINARY line");
     const std::string mode = lower(r.tokens()[0]);
