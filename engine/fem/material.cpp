@@ -25,14 +25,4 @@ Eigen::Matrix<double, 6, 6> elasticity_matrix(const Material& mat) {
   return D;
 }
 
-std::vector<Material> materials_by_label(const mesh::TetMesh& m, const std::map<int, Material>& by_label,
-                                         const Material& fallback) {
-  std::vector<Material> out(size_t(m.num_tets()), fallback);
-  for (int t = 0; t < m.num_tets(); ++t) {
-    auto it = by_label.find(m.labels(t));
-    if (it != by_label.end()) out[size_t(t)] = it->second;
-  }
-  return out;
-}
-
 }  // namespace softcut::fem

@@ -1,7 +1,6 @@
 #pragma once
 // Isotropic linear elastic material (small strain), SI units.
 #include <Eigen/Core>
-#include <map>
 #include <string>
 #include <vector>
 
@@ -20,10 +19,5 @@ void check_material(const Material& mat, const std::string& where);
 // Voigt elasticity matrix D (6x6), strain order [xx yy zz yz zx xy] with
 // engineering shear strains (gamma = 2 eps), stress in Pa.
 Eigen::Matrix<double, 6, 6> elasticity_matrix(const Material& mat);
-
-// Per-tet materials (ntet) from a label -> material table; labels missing from
-// the table get `fallback`.
-std::vector<Material> materials_by_label(const mesh::TetMesh& m, const std::map<int, Material>& by_label,
-                                         const Material& fallback);
 
 }  // namespace softcut::fem
