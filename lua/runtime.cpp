@@ -122,10 +122,10 @@ int sandboxed_open(lua_State* L) {
   const bool write = !lines && (std::strpbrk(mode, "wa+") != nullptr);
   const SandboxOptions& opt = options_of(L);
   const fs::path& dir = write ? opt.write_dir : opt.read_dir;
-  fs::path p(name);
-  if (p.is_relative() && !dir.empty()) p = dir / p;
   bool ok = false;
   {
+    fs::path p(name);
+    if (p.is_relative() && !dir.empty()) p = dir / p;
     std::string out;
     if (inside(p, dir)) {
       ok = true;
@@ -137,7 +137,7 @@ int sandboxed_open(lua_State* L) {
                 "run with --trust to lift this)");
     }
     lua_pushlstring(L, out.data(), out.size());
-  }  // C++ strings gone before anything below can longjmp
+  }  // C++ strings and paths gone before anything below can longjmp
   if (!ok) {
     luaL_where(L, 1);
     lua_insert(L, -2);
@@ -276,10 +276,17 @@ int embedded_require(lua_State* L) {
     lua_setfield(L, -3, name);
     return 1;
   }
-  std::string names;
-  for (const EmbeddedScript& s : embedded_scripts()) names += cat(names.empty() ? "" : ", ", s.name);
-  return luaL_error(L, "require: no module '%s' (the sandbox loads only the embedded library: %s; "
+  {
+    // Lua raises errors with longjmp: no C++ object may be alive across
+    // lua_error, so the message is pushed from a scope that has ended.
+    std::string names;
+    for (const EmbeddedScript& s : embedded_scripts()) names += cat(names.empty() ? "" : ", ", s.name);
+    luaL_where(L, 1);
+    lua_pushfstring(L, "require: no module '%s' (the sandbox loads only the embedded library: %s; "
                        "run with --trust to use package.path)", name, names.c_str());
+    lua_concat(L, 2);
+  }
+  return lua_error(L);
 }
 
 int where_binding(lua_State* L) {

@@ -82,16 +82,18 @@ StorageBuffer& StorageBuffer::operator=(StorageBuffer&& o) noexcept {
 }
 
 std::size_t StorageBuffer::upload(const void* data, std::size_t bytes) {
-  bytes = std::max<std::size_t>(bytes, 16);  // never a zero-size buffer
-  if (!id_ || bytes > capacity_) {
+  // The allocation is never zero-sized, but only `bytes` are read from `data`
+  // (a 1x1 matrix is 8 bytes: reading 16 overran the host array, found by ASan).
+  const std::size_t alloc = std::max<std::size_t>(bytes, 16);
+  if (!id_ || alloc > capacity_) {
     if (id_) glDeleteBuffers(1, &id_);
     glCreateBuffers(1, &id_);
-    glNamedBufferData(id_, GLsizeiptr(bytes), data, GL_DYNAMIC_DRAW);
-    capacity_ = bytes;
-  } else if (data) {
+    glNamedBufferData(id_, GLsizeiptr(alloc), nullptr, GL_DYNAMIC_DRAW);
+    capacity_ = alloc;
+  } else if (data && bytes) {
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-    glNamedBufferSubData(id_, 0, GLsizeiptr(bytes), data);
   }
+  if (data && bytes) glNamedBufferSubData(id_, 0, GLsizeiptr(bytes), data);
   return data ? bytes : 0;
 }
 
