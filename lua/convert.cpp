@@ -179,6 +179,21 @@ tools::Path to_path(lua_State* L, int idx) {
   return p;
 }
 
+// The fields node and tet selectors share (a box, sphere, half-space, label
+// or id list, and where the user wrote it).
+template <class Selector>
+void read_shape_fields(lua_State* L, int idx, Selector& s) {
+  s.where = get_string(L, idx, "where");
+  s.lo = get_vec3(L, idx, "lo", s.lo);
+  s.hi = get_vec3(L, idx, "hi", s.hi);
+  s.center = get_vec3(L, idx, "center", s.center);
+  s.radius = get_number(L, idx, "radius", 0.0);
+  s.point = get_vec3(L, idx, "point", s.point);
+  s.normal = get_vec3(L, idx, "normal", s.normal);
+  s.label = get_int(L, idx, "label", -1);
+  s.ids = get_ints(L, idx, "ids");
+}
+
 sim::NodeSelector to_node_selector(lua_State* L, int idx) {
   using K = sim::NodeSelector::Kind;
   idx = lua_absindex(L, idx);
@@ -193,15 +208,7 @@ sim::NodeSelector to_node_selector(lua_State* L, int idx) {
   for (const auto& [name, k] : kinds)
     if (kind == name) s.kind = k, found = true;
   if (!found) fail("unknown selection kind '", kind, "'");
-  s.where = get_string(L, idx, "where");
-  s.lo = get_vec3(L, idx, "lo", s.lo);
-  s.hi = get_vec3(L, idx, "hi", s.hi);
-  s.center = get_vec3(L, idx, "center", s.center);
-  s.radius = get_number(L, idx, "radius", 0.0);
-  s.point = get_vec3(L, idx, "point", s.point);
-  s.normal = get_vec3(L, idx, "normal", s.normal);
-  s.label = get_int(L, idx, "label", -1);
-  s.ids = get_ints(L, idx, "ids");
+  read_shape_fields(L, idx, s);
   s.name = get_string(L, idx, "name");
   if (field(L, idx, "children") == LUA_TTABLE) {
     const lua_Integer n = luaL_len(L, -1);
@@ -230,15 +237,7 @@ sim::TetSelector to_tet_selector(lua_State* L, int idx) {
   for (const auto& [name, k] : kinds)
     if (kind == name) s.kind = k, found = true;
   if (!found) fail("unknown region kind '", kind, "'");
-  s.where = get_string(L, idx, "where");
-  s.lo = get_vec3(L, idx, "lo", s.lo);
-  s.hi = get_vec3(L, idx, "hi", s.hi);
-  s.center = get_vec3(L, idx, "center", s.center);
-  s.radius = get_number(L, idx, "radius", 0.0);
-  s.point = get_vec3(L, idx, "point", s.point);
-  s.normal = get_vec3(L, idx, "normal", s.normal);
-  s.label = get_int(L, idx, "label", -1);
-  s.ids = get_ints(L, idx, "ids");
+  read_shape_fields(L, idx, s);
   return s;
 }
 
