@@ -28,6 +28,30 @@ TEST_SUITE("cli/cmd_run") {
     CHECK(slurp(out / "displacements.csv").rfind("frame,time,node,ux,uy,uz\n", 0) == 0);
   }
 
+  TEST_CASE("a rendering scenario writes frames and a contact sheet, --no-render writes neither") {
+    const fs::path dir = softcut::test::scratch_dir("cli_run_render");
+    const std::string flagship = softcut::test::source("scenarios/incision_drag_poke.lua");
+    const auto r = run_cli("run " + flagship + " --out " + (dir / "on").string() + " --quiet --frames 5");
+    CHECK(r.status == 0);
+    CHECK(fs::exists(dir / "on" / "frames" / "frame_000000.png"));
+    CHECK(fs::exists(dir / "on" / "frames" / "frame_000004.png"));  // every 2nd frame: 0, 2, 4
+    CHECK_FALSE(fs::exists(dir / "on" / "frames" / "frame_000001.png"));
+    CHECK(fs::exists(dir / "on" / "contact_sheet.png"));
+    CHECK(contains(slurp(dir / "on" / "summary.json"), "\"frames_rendered\": 3"));
+    const auto off = run_cli("run " + flagship + " --out " + (dir / "off").string() + " --quiet --frames 5 --no-render");
+    CHECK(off.status == 0);
+    CHECK(fs::exists(dir / "off" / "summary.json"));
+    CHECK_FALSE(fs::exists(dir / "off" / "frames"));
+    CHECK_FALSE(fs::exists(dir / "off" / "contact_sheet.png"));
+    CHECK(contains(slurp(dir / "off" / "summary.json"), "\"frames_rendered\": 0"));
+  }
+
+  TEST_CASE("--frames out of range names the accepted range") {
+    const auto r = run_cli("run " + softcut::test::source("scenarios/upper_leg.lua") + " --frames 99999999999");
+    CHECK(r.status == 1);
+    CHECK(contains(r.output, "expected a whole number from 0 to 100000000"));
+  }
+
   TEST_CASE("plain progress lines when not on a terminal - --frames - --set") {
     const fs::path dir = softcut::test::scratch_dir("cli_run_lines");
     const auto r = run_cli("run " + softcut::test::source("scenarios/knee_ligament.lua") + " --out " + (dir / "a").string() +
