@@ -10,6 +10,7 @@
 #include "core/error.hpp"
 #include "core/timer.hpp"
 #include "cut/blade.hpp"
+#include "cut/detached.hpp"
 #include "cut/rest_map.hpp"
 #include "sim/model.hpp"
 
@@ -37,8 +38,12 @@ CutMesh initial_cut_mesh(const Model& m) {
   cm.surface = m.surface;
   cm.tet_material = m.tet_material;
   cm.operational_tet = m.partition.operational_tet;
-  cm.node_fixed.assign(size_t(m.mesh.num_nodes()), 0);
-  for (int n : m.partition.fixed) cm.node_fixed[size_t(n)] = 1;
+  cm.node_clamped.assign(size_t(m.mesh.num_nodes()), 0);
+  for (int n : m.partition.fixed) cm.node_clamped[size_t(n)] = 1;
+  cm.node_fixed = cm.node_clamped;
+  cm.node_held.assign(size_t(m.mesh.num_nodes()), 0);
+  cm.held_displacement = Eigen::MatrixX3d::Zero(m.mesh.num_nodes(), 3);
+  cm.tet_detached.assign(size_t(m.mesh.num_tets()), 0);
   cm.cut_face.assign(size_t(4 * m.mesh.num_tets()), 0);
   cm.origin_tet.resize(size_t(m.mesh.num_tets()));
   std::iota(cm.origin_tet.begin(), cm.origin_tet.end(), 0);
@@ -65,12 +70,13 @@ void update_after_cut(const Model& m, CutMesh& cm, const cut::CutRecord& rec) {
   cm.tet_material = std::move(mat);
   cm.operational_tet = std::move(op);
   cm.origin_tet = std::move(origin);
-  cm.node_fixed.resize(size_t(nn), 0);
+  cm.node_clamped.resize(size_t(nn), 0);
   for (const cut::NewNode& v : rec.new_nodes) {
     bool fixed = true;  // fixed when every contributing parent is (a clamp stays a clamp)
     for (int k = 0; k < 2; ++k)
-      if (v.parent[size_t(k)] >= 0 && v.weight[size_t(k)] != 0) fixed &= cm.node_fixed[size_t(v.parent[size_t(k)])] != 0;
-    cm.node_fixed[size_t(v.id)] = fixed;
+      if (v.parent[size_t(k)] >= 0 && v.weight[size_t(k)] != 0)
+        fixed &= cm.node_clamped[size_t(v.parent[size_t(k)])] != 0;
+    cm.node_clamped[size_t(v.id)] = fixed;
   }
   // Cut faces: boundary faces that do not lie on a rest boundary face of the
   // rest tet they come from (children of split outer faces stay outer faces).
@@ -106,6 +112,39 @@ void update_after_cut(const Model& m, CutMesh& cm, const cut::CutRecord& rec) {
   }
 }
 
+// After a step (u: displacements already mapped onto the new nodes): finds
+// the parts that nothing anchors, holds their unclamped nodes (at their held
+// value if they were held before, else at u: where they were when they
+// separated) and refreshes node_fixed. Returns the pieces this step cut free
+// (a piece is new when one of its tets comes from a tet that was attached).
+std::vector<cut::DetachedPiece> update_detached(CutMesh& cm, const cut::CutRecord& rec, const Eigen::MatrixX3d& u) {
+  const int nn = cm.mesh.num_nodes(), nt = cm.mesh.num_tets();
+  const std::vector<char> was_detached = std::move(cm.tet_detached);  // (pre-step ntet)
+  const std::vector<char> was_held = std::move(cm.node_held);         // (pre-step nnode)
+  const Eigen::MatrixX3d old_held = std::move(cm.held_displacement);
+  cm.tet_detached.assign(size_t(nt), 0);
+  cm.node_held.assign(size_t(nn), 0);
+  cm.held_displacement = Eigen::MatrixX3d::Zero(nn, 3);
+  std::vector<cut::DetachedPiece> fresh;
+  for (cut::DetachedPiece& piece : cut::find_detached(cm.mesh, cm.node_clamped)) {
+    bool is_new = false;
+    for (int t : piece.tets) {
+      cm.tet_detached[size_t(t)] = 1;
+      is_new |= !was_detached[size_t(rec.tet_parent[size_t(t)])];
+    }
+    for (int v : piece.nodes) {
+      if (cm.node_clamped[size_t(v)]) continue;
+      cm.node_held[size_t(v)] = 1;
+      const bool before = size_t(v) < was_held.size() && was_held[size_t(v)];
+      cm.held_displacement.row(v) = before ? old_held.row(v) : u.row(v);
+    }
+    if (is_new) fresh.push_back(std::move(piece));
+  }
+  cm.node_fixed.resize(size_t(nn));
+  for (int v = 0; v < nn; ++v) cm.node_fixed[size_t(v)] = cm.node_clamped[size_t(v)] || cm.node_held[size_t(v)];
+  return fresh;
+}
+
 bool blade_in_box(const mesh::TetMesh& mesh, const Eigen::MatrixX3d& u, const tools::ToolState& ts, double radius) {
   const Eigen::MatrixX3d x = mesh.nodes + u;
   const Eigen::Vector3d lo = x.colwise().minCoeff().transpose().array() - radius;
@@ -129,6 +168,10 @@ const mesh::Surface& current_surface(const Model& m, const State& s) { return s.
 bool is_fixed_node(const Model& m, const State& s, int n) {
   if (s.cut) return s.cut->node_fixed[size_t(n)] != 0;
   return m.partition.node_set[size_t(n)] == hybrid::NodeSet::fixed;
+}
+
+bool is_held_node(const State& s, int n) {
+  return s.cut && n >= 0 && size_t(n) < s.cut->node_held.size() && s.cut->node_held[size_t(n)];
 }
 
 hybrid::NodeSet node_set(const Model& m, const State& s, int n) {
@@ -197,6 +240,24 @@ std::vector<CutEvent> cut_stage(const Model& m, State& s, int frame, double t) {
       const Eigen::Index old = s.forces.rows();
       s.forces.conservativeResize(cm.mesh.num_nodes(), 3);
       s.forces.bottomRows(s.forces.rows() - old).setZero();
+      // Pieces cut free are held where they are (DESIGN.md invariants: the
+      // rest stays exact; a floating piece would make the system singular).
+      for (const cut::DetachedPiece& piece : update_detached(cm, rec, s.displacement)) {
+        ++cm.detached_pieces;
+        ++ev.pieces_freed;
+        ev.tets_freed += int(piece.tets.size());
+        ev.nodes_freed += int(piece.nodes.size());
+        const std::string pinned =
+            piece.fixed_nodes > 0 ? cat(" (its ", piece.fixed_nodes, " fixed nodes lie at one point or on one line)")
+                                  : std::string();
+        const std::string w =
+            cat("piece of ", piece.tets.size(), " tets / ", piece.nodes.size(), " nodes (smallest node id ",
+                piece.nodes.front(), ") cut free at frame ", frame, pinned,
+                "; held at its displacement at separation (no rigid-body motion is simulated); loads and tool "
+                "forces on it are ignored");
+        ev.warnings.push_back(w);
+        s.warnings.push_back(cat("frame ", frame, " (t = ", t, " s), scalpel '", spec.name, "': ", w));
+      }
       m.solver->apply_cut(cm, rec, s.warm);
       ts.cut_events++;
     }
@@ -206,6 +267,58 @@ std::vector<CutEvent> cut_stage(const Model& m, State& s, int frame, double t) {
   }
   for (const auto& e : events) s.cut_events.push_back(e);
   return events;
+}
+
+void drop_loads_on_held(State& s, int frame, double t) {
+  if (!s.cut || s.cut->detached_pieces == 0) return;
+  CutMesh& cm = *s.cut;
+  auto warn_once = [&](const std::string& key, const std::string& what) {
+    if (std::find(cm.ignored_on_held.begin(), cm.ignored_on_held.end(), key) != cm.ignored_on_held.end()) return;
+    cm.ignored_on_held.push_back(key);
+    s.warnings.push_back(cat("frame ", frame, " (t = ", t, " s), ", what,
+                             " acts on a piece cut free; its force there is ignored (the piece is held)"));
+  };
+  // Tool forces on fixed (and so held) nodes never reach s.forces (step());
+  // rows of held nodes that carry a force come from loads.
+  for (const ActiveLoad& l : s.loads)
+    for (int n : l.nodes)
+      if (is_held_node(s, n) && s.forces.row(n).squaredNorm() > 0) {
+        warn_once("load:" + l.spec.name, cat("load '", l.spec.name, "'"));
+        break;
+      }
+  for (size_t i = 0; i < s.tools.size() && i < s.tool_specs.size(); ++i) {
+    const tools::ToolState& ts = s.tools[i];
+    const bool spring = tools::is_implicit_spring(s.tool_specs[i]);
+    for (size_t k = 0; k < ts.nodes.size(); ++k)
+      if (is_held_node(s, ts.nodes[k]) && (spring || (k < ts.forces.size() && ts.forces[k].squaredNorm() > 0))) {
+        warn_once("tool:" + s.tool_specs[i].name, cat("tool '", s.tool_specs[i].name, "'"));
+        break;
+      }
+  }
+  for (int v = 0; v < int(cm.node_held.size()) && v < s.forces.rows(); ++v)
+    if (cm.node_held[size_t(v)]) s.forces.row(v).setZero();
+}
+
+void hold_detached(State& s) {
+  if (!s.cut || s.cut->detached_pieces == 0) return;
+  const CutMesh& cm = *s.cut;
+  for (int v = 0; v < int(cm.node_held.size()) && v < s.displacement.rows(); ++v)
+    if (cm.node_held[size_t(v)]) s.displacement.row(v) = cm.held_displacement.row(v);
+}
+
+DetachedCounts detached_counts(const State& s) {
+  DetachedCounts c;
+  if (!s.cut) return c;
+  const CutMesh& cm = *s.cut;
+  c.pieces = cm.detached_pieces;
+  std::vector<char> node(size_t(cm.mesh.num_nodes()), 0);
+  for (int t = 0; t < cm.mesh.num_tets(); ++t) {
+    if (!cm.tet_detached[size_t(t)]) continue;
+    ++c.tets;
+    for (int k = 0; k < 4; ++k) node[size_t(cm.mesh.tets(t, k))] = 1;
+  }
+  for (char v : node) c.nodes += v;
+  return c;
 }
 
 int count_components(const mesh::TetMesh& mesh) {

@@ -28,7 +28,18 @@ struct CutMesh {
   mesh::Surface surface;                   // its boundary, including the cut faces
   std::vector<fem::Material> tet_material; // (ntet)
   std::vector<char> operational_tet;       // (ntet) 1: operational (children of operational tets)
-  std::vector<char> node_fixed;            // (nnode) copies/splits of fixed nodes stay fixed
+  // Nodes the elastic solve does not solve for (what Solver::apply_cut
+  // eliminates): node_clamped or node_held.
+  std::vector<char> node_fixed;            // (nnode)
+  std::vector<char> node_clamped;          // (nnode) zero displacement: fixed nodes, copies/splits of fixed nodes only
+  // Pieces cut free (docs/cutting.md "Pieces cut free"): a connected part
+  // without clamped nodes that pin its rigid motions is held where it was
+  // when it separated; loads and tool forces on it are ignored.
+  std::vector<char> node_held;             // (nnode) unclamped node of a detached piece
+  Eigen::MatrixX3d held_displacement;      // (nnode x 3) m, displacement of held nodes at separation, else 0
+  std::vector<char> tet_detached;          // (ntet) tet of a detached piece
+  int detached_pieces = 0;                 // pieces cut free so far, each counted once, when it separated
+  std::vector<std::string> ignored_on_held;  // loads / tools already warned about acting on a held piece
   std::vector<char> cut_face;              // (4 ntet) face f of tet t is a boundary face made by cutting
   std::vector<int> origin_tet;             // (ntet) rest-mesh tet each tet comes from
   cut::CutState cut;                       // masks and stroke data of the cutter
@@ -46,15 +57,19 @@ struct CutEvent {
   double cut_ms = 0, rebuild_ms = 0;  // cut_step (+ rest mapping), system rebuild + field mapping
   int cg_iterations_before = 0;    // operational CG iterations of the previous frame
   int cg_iterations_after = 0;     // of this frame (first solve on the cut system)
+  int pieces_freed = 0, tets_freed = 0, nodes_freed = 0;  // pieces this step cut free (see CutMesh::node_held)
   std::vector<std::string> warnings;
 };
 
 // Current mesh and boundary: the cut ones once a cut happened, else the Model's.
 const mesh::TetMesh& current_mesh(const Model& m, const State& s);
 const mesh::Surface& current_surface(const Model& m, const State& s);
-// Node n is fixed (also for nodes made by cutting).
+// Node n takes no load and is not solved for: fixed (also nodes made by
+// cutting from fixed nodes) or held in a piece cut free.
 bool is_fixed_node(const Model& m, const State& s, int n);
-// Node set of n; nodes made by cutting are operational (or fixed).
+// Node n belongs to a piece cut free (held at its displacement at separation).
+bool is_held_node(const State& s, int n);
+// Node set of n; nodes made by cutting are operational (or fixed, also when held).
 hybrid::NodeSet node_set(const Model& m, const State& s, int n);
 
 // The cutting stage of a frame: for every active scalpel that cuts this frame
@@ -63,6 +78,21 @@ hybrid::NodeSet node_set(const Model& m, const State& s, int n);
 // nodal fields; the blade then applies no force. Returns the events (also
 // appended to s.cut_events). Throws softcut::Error on a non-finite blade.
 std::vector<CutEvent> cut_stage(const Model& m, State& s, int frame, double t);
+
+// Loads and tool forces on pieces cut free: zeroes their rows of s.forces
+// and warns once per load or tool (summary.json "warnings"). Call after the
+// forces of the frame are summed, before the solve.
+void drop_loads_on_held(State& s, int frame, double t);
+// Writes the held displacement into the rows of held nodes of s.displacement
+// (the solve leaves them unknown: zero, or whatever the decoupled block gave).
+void hold_detached(State& s);
+
+// For summary.json "cutting": pieces cut free during the run, and the tets /
+// nodes of the current mesh that lie in detached pieces.
+struct DetachedCounts {
+  int pieces = 0, tets = 0, nodes = 0;
+};
+DetachedCounts detached_counts(const State& s);
 
 // Connected pieces of a tet mesh (tets joined through shared nodes); unused
 // nodes do not count.

@@ -60,6 +60,7 @@ void step(const Model& m, State& s) {
     for (size_t k = 0; k < ts.nodes.size(); ++k)
       if (!is_fixed_node(m, s, ts.nodes[k]) && k < ts.forces.size()) s.forces.row(ts.nodes[k]) += ts.forces[k].transpose();
   }
+  drop_loads_on_held(s, frame, t);  // pieces cut free take no load
   double poke_drag_ms = timer.ms();
 
   SolveStats st;
@@ -67,6 +68,7 @@ void step(const Model& m, State& s) {
   timer.reset();
   const bool springs = solve_implicit_springs(m, s) > 0;
   const double springs_ms = timer.ms();
+  hold_detached(s);  // pieces cut free stay where they separated
   poke_drag_ms += springs_ms;
   if (!s.displacement.allFinite()) fail("frame ", frame, " (t = ", t, " s): the solve produced non-finite displacements");
   ft.poke_drag = poke_drag_ms + st.loads_ms;
