@@ -8,7 +8,7 @@
 #include "convert.hpp"
 #include "core/error.hpp"
 #include "gpu/egl_context.hpp"
-#include "render/renderer.hpp"
+#include "render/frame_writer.hpp"
 #include "runtime.hpp"
 #include "sim/model.hpp"
 #include "sim/outputs.hpp"
@@ -294,8 +294,14 @@ RunOutcome run_scenario(const RunRequest& req) {
     }
   }
   const sim::Model model = sim::compile(spec, sim::RunResources{context.get()});
-  std::unique_ptr<render::Renderer> renderer;
-  if (spec.outputs.render.enabled) renderer = std::make_unique<render::Renderer>(*context);
+  // Frames are drawn on a worker thread while the next frame is simulated,
+  // unless the GPU solver needs the shared context on this thread.
+  std::unique_ptr<render::FrameWriter> frames;
+  if (spec.outputs.render.enabled) {
+    const bool solver_on_gpu = model.solver->backend().backend == "gpu";
+    frames = std::make_unique<render::FrameWriter>(
+        *context, solver_on_gpu ? render::FrameWriter::Mode::inline_draw : render::FrameWriter::Mode::worker);
+  }
   out.num_frames = model.num_frames;
   sim::State state = sim::make_state(model);
 
@@ -333,7 +339,7 @@ RunOutcome run_scenario(const RunRequest& req) {
 
   rt.set_interruptible(false);  // from here on the frame loop polls the flag
   sim::Recorder rec(model, out.out_dir);
-  if (renderer) rec.set_renderer(renderer.get());
+  if (frames) rec.set_frame_writer(frames.get());
   out.result = sim::run(model, state, rec, hooks);
   out.warnings.insert(out.warnings.end(), model.warnings.begin(), model.warnings.end());
   out.warnings.insert(out.warnings.end(), state.warnings.begin(), state.warnings.end());

@@ -310,6 +310,10 @@ void EglContext::make_current() const {
          " (is it current on another thread?)");
 }
 
+void EglContext::release_current() const {
+  if (is_current()) eglMakeCurrent(impl_->display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+}
+
 std::vector<DebugMessage> EglContext::take_messages() {
   std::lock_guard lock(impl_->mutex);
   std::vector<DebugMessage> out;

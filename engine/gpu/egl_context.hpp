@@ -92,6 +92,9 @@ class EglContext {
   // Makes the context current on the calling thread (no-op if it already is).
   void make_current() const;
   bool is_current() const;
+  // Detaches the context from the calling thread (no-op if it is not current
+  // there), so that another thread can make it current.
+  void release_current() const;
 
   // Debug messages captured since the last take_messages() (notifications are
   // filtered out at the source). Capped at 1000; later ones are counted only.

@@ -60,35 +60,113 @@ int local_face(const mesh::TetMesh& m, int t, int a, int b, int c) {
   return 0;
 }
 
+enum FaceKind : unsigned char { kOperational, kNonoperational, kCut };
+
 }  // namespace
+
+// What a frame's scene needs from the topology alone (see SceneExtractor).
+struct SceneExtractor::Topology {
+  // The key: the topology and flags these were built from.
+  int nnode = -1;
+  Eigen::MatrixX4i tets;  // (ntet x 4)
+  std::vector<char> operational, cut_faces;
+
+  mesh::Surface surf;
+  std::vector<unsigned char> kind;  // (nface) FaceKind
+  int count[3] = {0, 0, 0};         // faces per FaceKind
+  std::vector<int> start, adj;      // node -> surface faces (CSR: start (nnode + 1), adj (3 nface))
+  std::vector<std::array<int, 3>> edges;  // unique surface edges (lo node, hi node, first face); on demand
+  bool have_edges = false;
+  int builds = 0;
+
+  bool matches(const mesh::TetMesh& m, const SceneContent& c) const {
+    return nnode == m.num_nodes() && tets.rows() == m.tets.rows() && tets == m.tets && operational == c.operational &&
+           cut_faces == c.cut_faces;
+  }
+
+  void build(const mesh::TetMesh& m, const SceneContent& c) {
+    nnode = m.num_nodes();
+    tets = m.tets;
+    operational = c.operational;
+    cut_faces = c.cut_faces;
+    surf = mesh::extract_surface(m);
+    const int nface = int(surf.faces.rows());
+    kind.assign(size_t(nface), kOperational);
+    count[0] = count[1] = count[2] = 0;
+    for (int f = 0; f < nface; ++f) {
+      const int t = surf.face_tet(f);
+      const bool op = c.operational.empty() || c.operational[size_t(t)];
+      const bool cut = !c.cut_faces.empty() &&
+                       c.cut_faces[size_t(4 * t + local_face(m, t, surf.faces(f, 0), surf.faces(f, 1), surf.faces(f, 2)))];
+      kind[size_t(f)] = cut ? kCut : op ? kOperational : kNonoperational;
+      ++count[kind[size_t(f)]];
+    }
+    start.assign(size_t(nnode) + 1, 0);
+    adj.resize(size_t(3 * nface));
+    for (int f = 0; f < nface; ++f)
+      for (int k = 0; k < 3; ++k) ++start[size_t(surf.faces(f, k)) + 1];
+    for (size_t i = 1; i < start.size(); ++i) start[i] += start[i - 1];
+    std::vector<int> fill(start.begin(), start.end() - 1);
+    for (int f = 0; f < nface; ++f)
+      for (int k = 0; k < 3; ++k) adj[size_t(fill[size_t(surf.faces(f, k))]++)] = f;
+    edges.clear();
+    have_edges = false;
+    ++builds;
+  }
+
+  // Each surface edge once, with the first face that holds it (its colour).
+  const std::vector<std::array<int, 3>>& surface_edges() {
+    if (have_edges) return edges;
+    const int nface = int(surf.faces.rows());
+    std::vector<std::array<int, 3>> all;
+    all.reserve(size_t(3 * nface));
+    for (int f = 0; f < nface; ++f)
+      for (int k = 0; k < 3; ++k) {
+        const int a = surf.faces(f, k), b = surf.faces(f, (k + 1) % 3);
+        all.push_back({std::min(a, b), std::max(a, b), f});
+      }
+    std::sort(all.begin(), all.end());
+    for (size_t i = 0; i < all.size(); ++i)
+      if (i == 0 || all[i][0] != all[i - 1][0] || all[i][1] != all[i - 1][1]) edges.push_back(all[i]);
+    have_edges = true;
+    return edges;
+  }
+};
+
+SceneExtractor::SceneExtractor() = default;
+SceneExtractor::~SceneExtractor() = default;
+SceneExtractor::SceneExtractor(SceneExtractor&&) noexcept = default;
+SceneExtractor& SceneExtractor::operator=(SceneExtractor&&) noexcept = default;
+
+int SceneExtractor::topology_builds() const { return topo_ ? topo_->builds : 0; }
 
 Scene extract_scene(const mesh::TetMesh& m, const Eigen::MatrixX3d& x, const SceneContent& content,
                     const RenderSettings& settings) {
+  return SceneExtractor().extract(m, x, content, settings);
+}
+
+Scene SceneExtractor::extract(const mesh::TetMesh& m, const Eigen::MatrixX3d& x, const SceneContent& content,
+                              const RenderSettings& settings) {
   check_settings(settings);
   check_content(m, x, content);
+  if (!topo_) topo_ = std::make_unique<Topology>();
+  if (!topo_->matches(m, content)) topo_->build(m, content);
+  const Topology& topo = *topo_;
+  const mesh::Surface& surf = topo.surf;
   const Palette& pal = settings.palette;
   Scene scene;
   scene.width = settings.width;
   scene.height = settings.height;
   scene.msaa_samples = settings.msaa_samples;
   scene.background = pal.background;
+  scene.tissue_faces_operational = topo.count[kOperational];
+  scene.tissue_faces_nonoperational = topo.count[kNonoperational];
+  scene.tissue_faces_cut = topo.count[kCut];
 
-  const mesh::Surface surf = mesh::extract_surface(m);
   for (int v : surf.nodes)
     if (!x.row(v).allFinite()) fail("render: the position of node ", v, " is not finite (did the solve diverge?)");
   const int nface = int(surf.faces.rows());
-
-  // Face colours.
-  std::vector<Rgba> face_color(static_cast<size_t>(nface));
-  for (int f = 0; f < nface; ++f) {
-    const int t = surf.face_tet(f);
-    const bool op = content.operational.empty() || content.operational[size_t(t)];
-    bool cut = false;
-    if (!content.cut_faces.empty())
-      cut = content.cut_faces[size_t(4 * t + local_face(m, t, surf.faces(f, 0), surf.faces(f, 1), surf.faces(f, 2)))];
-    face_color[size_t(f)] = cut ? pal.cut : op ? pal.operational : pal.nonoperational;
-    (cut ? scene.tissue_faces_cut : op ? scene.tissue_faces_operational : scene.tissue_faces_nonoperational)++;
-  }
+  const Rgba kind_color[3] = {pal.operational, pal.nonoperational, pal.cut};
 
   // Shading normals: per corner, the area-weighted mean of the normals of the
   // faces around that node that bend by less than the crease angle from this
@@ -99,15 +177,6 @@ Scene extract_scene(const mesh::TetMesh& m, const Eigen::MatrixX3d& x, const Sce
     area_normal[size_t(f)] = 0.5 * (b - a).cross(c - a);
     const double len = area_normal[size_t(f)].norm();
     unit_normal[size_t(f)] = len > 0 ? Eigen::Vector3d(area_normal[size_t(f)] / len) : Eigen::Vector3d::Zero();
-  }
-  std::vector<int> start(size_t(m.num_nodes()) + 1, 0), adj(size_t(3 * nface));
-  for (int f = 0; f < nface; ++f)
-    for (int k = 0; k < 3; ++k) ++start[size_t(surf.faces(f, k)) + 1];
-  for (size_t i = 1; i < start.size(); ++i) start[i] += start[i - 1];
-  {
-    std::vector<int> fill(start.begin(), start.end() - 1);
-    for (int f = 0; f < nface; ++f)
-      for (int k = 0; k < 3; ++k) adj[size_t(fill[size_t(surf.faces(f, k))]++)] = f;
   }
   const double cos_crease = std::cos(settings.crease_angle_deg * std::numbers::pi / 180.0);
   const bool flat = settings.crease_angle_deg == 0.0;
@@ -120,34 +189,24 @@ Scene extract_scene(const mesh::TetMesh& m, const Eigen::MatrixX3d& x, const Sce
       p[k] = x.row(v);
       Eigen::Vector3d sum = area_normal[size_t(f)];
       if (!flat)
-        for (int i = start[size_t(v)]; i < start[size_t(v) + 1]; ++i) {
-          const int g = adj[size_t(i)];
+        for (int i = topo.start[size_t(v)]; i < topo.start[size_t(v) + 1]; ++i) {
+          const int g = topo.adj[size_t(i)];
           if (g != f && unit_normal[size_t(g)].dot(nf) >= cos_crease) sum += area_normal[size_t(g)];
         }
       const double len = sum.norm();
       n[k] = len > 0 ? Eigen::Vector3d(sum / len) : Eigen::Vector3d::UnitZ();  // degenerate face
     }
-    scene.tissue.add(p[0], p[1], p[2], n[0], n[1], n[2], face_color[size_t(f)]);
+    scene.tissue.add(p[0], p[1], p[2], n[0], n[1], n[2], kind_color[topo.kind[size_t(f)]]);
   }
 
   // Wireframe: each surface edge once, coloured after its first face.
   scene.wire.size_px = settings.wire_width_px;
-  if (settings.wireframe) {
-    std::vector<std::array<int, 3>> edges;  // (lo node, hi node, face)
-    edges.reserve(size_t(3 * nface));
-    for (int f = 0; f < nface; ++f)
-      for (int k = 0; k < 3; ++k) {
-        const int a = surf.faces(f, k), b = surf.faces(f, (k + 1) % 3);
-        edges.push_back({std::min(a, b), std::max(a, b), f});
-      }
-    std::sort(edges.begin(), edges.end());
-    for (size_t i = 0; i < edges.size(); ++i) {
-      if (i > 0 && edges[i][0] == edges[i - 1][0] && edges[i][1] == edges[i - 1][1]) continue;
-      const Rgba c = wire_color(face_color[size_t(edges[i][2])]);
-      scene.wire.add(x.row(edges[i][0]).transpose(), c);
-      scene.wire.add(x.row(edges[i][1]).transpose(), c);
+  if (settings.wireframe)
+    for (const auto& [a, b, f] : topo_->surface_edges()) {
+      const Rgba c = wire_color(kind_color[topo.kind[size_t(f)]]);
+      scene.wire.add(x.row(a).transpose(), c);
+      scene.wire.add(x.row(b).transpose(), c);
     }
-  }
 
   scene.interface_points.size_px = settings.point_size_px;
   scene.interface_points.on_top = settings.interface_on_top;

@@ -4,6 +4,7 @@
 // flags, tools) by extract_scene() without any GL, so it is testable anywhere
 // and independent of the simulation types; renderer.hpp draws it.
 #include <Eigen/Core>
+#include <memory>
 #include <vector>
 
 #include "mesh/tet_mesh.hpp"
@@ -78,5 +79,26 @@ struct Scene {
 // settings.
 Scene extract_scene(const mesh::TetMesh& mesh, const Eigen::MatrixX3d& positions, const SceneContent& content,
                     const RenderSettings& settings);
+
+// extract_scene for a sequence of frames: keeps what depends only on the
+// topology (boundary faces, their region, node -> face adjacency, surface
+// edges) and rebuilds it only when the tets or the operational / cut flags
+// change (a cut), so a frame costs its normals and vertex arrays. The result
+// is identical to extract_scene's.
+class SceneExtractor {
+ public:
+  SceneExtractor();
+  ~SceneExtractor();
+  SceneExtractor(SceneExtractor&&) noexcept;
+  SceneExtractor& operator=(SceneExtractor&&) noexcept;
+
+  Scene extract(const mesh::TetMesh& mesh, const Eigen::MatrixX3d& positions, const SceneContent& content,
+                const RenderSettings& settings);
+  int topology_builds() const;  // how often the cached topology was (re)built
+
+ private:
+  struct Topology;
+  std::unique_ptr<Topology> topo_;
+};
 
 }  // namespace softcut::render

@@ -9,7 +9,8 @@
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "render/contact_sheet.hpp"
-#include "render/renderer.hpp"
+#include "core/timer.hpp"
+#include "render/frame_writer.hpp"
 #include "sim/frame_scene.hpp"
 
 namespace softcut::sim {
@@ -62,11 +63,14 @@ std::string cutting_json(const Model& m, const State& s) {
     nodes_added += e.nodes_added, tets_split += e.tets_split;
     worst = std::min(worst, e.worst_dihedral_deg);
   }
+  const DetachedCounts d = detached_counts(s);
   std::string j = "  \"cutting\": {\"scalpels\": " + std::to_string(scalpels) + ", \"events\": " +
                   std::to_string(s.cut_events.size()) + ", \"nodes_added\": " + std::to_string(nodes_added) +
                   ", \"tets_split\": " + std::to_string(tets_split) + ", \"nodes\": " +
                   std::to_string(cur.num_nodes()) + ", \"tets\": " + std::to_string(cur.num_tets()) +
                   ", \"components\": " + std::to_string(s.cut ? count_components(cur) : count_components(m.mesh)) +
+                  ", \"detached_pieces\": " + std::to_string(d.pieces) + ", \"detached_tets\": " +
+                  std::to_string(d.tets) + ", \"detached_nodes\": " + std::to_string(d.nodes) +
                   ", \"worst_dihedral_deg\": " + jnum(worst) + ",\n    \"log\": [";
   for (size_t k = 0; k < s.cut_events.size(); ++k) {
     const CutEvent& e = s.cut_events[k];
@@ -79,12 +83,27 @@ std::string cutting_json(const Model& m, const State& s) {
          ", \"worst_new_dihedral_deg\": " + jnum(e.worst_new_dihedral_deg) + ", \"worst_dihedral_deg\": " +
          jnum(e.worst_dihedral_deg) + ", \"cut_ms\": " + jms(e.cut_ms) + ", \"rebuild_ms\": " + jms(e.rebuild_ms) +
          ", \"cg_iterations_before\": " + std::to_string(e.cg_iterations_before) + ", \"cg_iterations_after\": " +
-         std::to_string(e.cg_iterations_after) + ", \"warnings\": [";
+         std::to_string(e.cg_iterations_after) + ", \"pieces_freed\": " + std::to_string(e.pieces_freed) +
+         ", \"tets_freed\": " + std::to_string(e.tets_freed) + ", \"nodes_freed\": " + std::to_string(e.nodes_freed) +
+         ", \"warnings\": [";
     for (size_t w = 0; w < e.warnings.size(); ++w) j += (w ? ", " : "") + jstr(e.warnings[w]);
     j += "]}";
   }
   j += s.cut_events.empty() ? "]},\n" : "\n    ]},\n";
   return j;
+}
+
+// The writer's side of rendering: where frames were drawn and what drawing,
+// encoding and writing cost per frame (render_ms is the frame thread's part).
+std::string render_work_json(const Recorder* rec) {
+  const render::FrameWriter* w = rec ? rec->frame_writer() : nullptr;
+  if (!w) return ", \"render_mode\": null, \"render_work_ms\": null";
+  const render::FrameWriterStats st = w->stats();
+  const double n = std::max(1, st.frames);
+  return std::string(", \"render_mode\": ") + (w->mode() == render::FrameWriter::Mode::worker ? "\"worker\"" : "\"inline\"") +
+         ", \"render_work_ms\": {\"mean\": " + jms(st.work.total_ms() / n) + ", \"max\": " + jms(st.max_work_ms) +
+         ", \"draw\": " + jms((st.work.upload_ms + st.work.draw_ms + st.work.readback_ms) / n) +
+         ", \"encode\": " + jms(st.work.encode_ms / n) + ", \"write\": " + jms(st.work.write_ms / n) + "}";
 }
 
 }  // namespace
@@ -136,15 +155,17 @@ void Recorder::record(const Model& m, const State& s) {
     vtu_frames_.emplace_back(s.frame, s.time);
   }
   const RenderSettings& rs = m.spec.outputs.render;
-  if (renderer_ && rs.enabled && s.frame % rs.every == 0) {
+  if (writer_ && rs.enabled && s.frame % rs.every == 0) {
     if (rendered_ == 0) {
       std::error_code ec;
       fs::create_directories(dir_ / "frames", ec);
       if (ec) fail("outputs: cannot create ", (dir_ / "frames").string(), ": ", ec.message());
     }
-    const render::FrameTimings t = renderer_->render_png(current_mesh(m, s), deformed_positions(m, s), scene_content(m, s),
-                                                         render_settings(m, s), frame_png_path(dir_, s.frame));
-    render_ms_.add(t.total_ms());
+    Timer timer;
+    writer_->submit(extractor_.extract(current_mesh(m, s), deformed_positions(m, s), scene_content(m, s),
+                                       render_settings(m, s)),
+                    frame_png_path(dir_, s.frame));
+    render_ms_.add(timer.ms());
     rendered_++;
   }
   frames_++;
@@ -174,6 +195,7 @@ void Recorder::finish(const Model& m, const State& s, const RunResult& r) {
     pvd += "  </Collection>\n</VTKFile>\n";
     write_file_atomic(dir_ / "series.pvd", pvd);
   }
+  if (writer_) writer_->finish();
   if (rendered_ > 0 && m.spec.outputs.render.contact_sheet) {
     // At most ~24 tiles: a quick look at the whole run.
     const int stride = std::max(1, (rendered_ + 23) / 24);
@@ -251,8 +273,8 @@ std::string summary_json(const Model& m, const State& s, const RunResult& r, con
   j += "  \"outputs\": {\"log_nodes\": " + std::to_string(m.log_nodes.size()) + ", \"csv\": " +
        (sp.outputs.csv ? "\"displacements.csv\"" : "null") + ", \"pvd\": " +
        (sp.outputs.vtu ? "\"series.pvd\"" : "null") + ", \"frames_rendered\": " + std::to_string(rendered) +
-       ", \"render_ms\": {\"mean\": " + jms(rendered ? rec->render_ms().sum / rendered : 0.0) +
-       ", \"max\": " + jms(rec ? rec->render_ms().max : 0.0) + "}},\n";
+       ", \"render_ms\": {\"mean\": " + jms(rendered ? rec->render_frame_thread_ms().sum / rendered : 0.0) +
+       ", \"max\": " + jms(rec ? rec->render_frame_thread_ms().max : 0.0) + "}" + render_work_json(rec) + "},\n";
   j += cutting_json(m, s);
   std::set<std::string> seen;
   std::vector<std::string> warnings;

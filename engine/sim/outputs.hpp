@@ -8,11 +8,12 @@
 #include <string>
 #include <vector>
 
+#include "render/scene.hpp"
 #include "sim/model.hpp"
 #include "sim/run.hpp"
 
 namespace softcut::render {
-class Renderer;
+class FrameWriter;
 }
 
 namespace softcut::sim {
@@ -25,9 +26,10 @@ class Recorder {
   Recorder(const Recorder&) = delete;
   Recorder& operator=(const Recorder&) = delete;
 
-  // With a renderer (made by the application on its EGL context) and
-  // outputs.render.enabled, record() also writes frames/frame_NNNNNN.png.
-  void set_renderer(render::Renderer* r) { renderer_ = r; }
+  // With a frame writer (made by the application on its EGL context) and
+  // outputs.render.enabled, record() also queues frames/frame_NNNNNN.png;
+  // finish() waits for the writer before the contact sheet.
+  void set_frame_writer(render::FrameWriter* w) { writer_ = w; }
 
   // Appends frame s.frame: CSV rows `frame,time,node,ux,uy,uz` for the log
   // nodes (%.9e), vtu/frame_NNNNNN.vtu and frames/frame_NNNNNN.png when due.
@@ -37,8 +39,12 @@ class Recorder {
 
   const std::filesystem::path& dir() const { return dir_; }
   int frames_recorded() const { return frames_; }
-  const StageStat& render_ms() const { return render_ms_; }  // per rendered frame
+  // Per rendered frame, ms: scene extraction plus handing the scene to the
+  // writer (with a worker writer the drawing and writing happen meanwhile,
+  // see render::FrameWriter::stats()).
+  const StageStat& render_frame_thread_ms() const { return render_ms_; }
   int frames_rendered() const { return rendered_; }
+  const render::FrameWriter* frame_writer() const { return writer_; }
 
  private:
   std::filesystem::path dir_, csv_tmp_;
@@ -46,7 +52,8 @@ class Recorder {
   std::vector<std::pair<int, double>> vtu_frames_;  // (frame, time) written
   int frames_ = 0, rendered_ = 0;
   StageStat render_ms_;
-  render::Renderer* renderer_ = nullptr;
+  render::FrameWriter* writer_ = nullptr;
+  render::SceneExtractor extractor_;
   bool finished_ = false;
 };
 

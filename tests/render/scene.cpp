@@ -133,6 +133,48 @@ TEST_SUITE("render/scene") {
     CHECK(on.wire.vertices() == 3 * on.tissue.count());
   }
 
+  TEST_CASE("a scene extractor keeps the topology until a cut changes it and matches extract_scene") {
+    auto same = [](const render::Scene& a, const render::Scene& b) {
+      CHECK(a.tissue.positions == b.tissue.positions);
+      CHECK(a.tissue.normals == b.tissue.normals);
+      CHECK(a.tissue.colors == b.tissue.colors);
+      CHECK(a.wire.positions == b.wire.positions);
+      CHECK(a.wire.colors == b.wire.colors);
+      CHECK(a.tissue_faces_operational == b.tissue_faces_operational);
+      CHECK(a.tissue_faces_nonoperational == b.tissue_faces_nonoperational);
+      CHECK(a.tissue_faces_cut == b.tissue_faces_cut);
+      CHECK((a.camera.view - b.camera.view).norm() == 0.0);
+    };
+    mesh::TetMesh m = box(3, 2, 2);
+    RenderSettings s;
+    s.wireframe = true;
+    SceneContent c;
+    c.operational.assign(size_t(m.num_tets()), 0);
+    for (int t = 0; t < m.num_tets(); t += 2) c.operational[size_t(t)] = 1;
+    render::SceneExtractor ex;
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<double> jitter(-0.05, 0.05);
+    auto deformed = [&] { return Eigen::MatrixX3d(m.nodes.unaryExpr([&](double v) { return v + jitter(rng); })); };
+    for (int frame = 0; frame < 4; ++frame) {
+      const Eigen::MatrixX3d x = deformed();
+      same(ex.extract(m, x, c, s), render::extract_scene(m, x, c, s));
+    }
+    CHECK(ex.topology_builds() == 1);
+    // A new region split, then cut faces, then new tets: each rebuilds once.
+    c.operational.assign(size_t(m.num_tets()), 1);
+    Eigen::MatrixX3d x = deformed();
+    same(ex.extract(m, x, c, s), render::extract_scene(m, x, c, s));
+    CHECK(ex.topology_builds() == 2);
+    c.cut_faces.assign(size_t(4 * m.num_tets()), 0);
+    c.cut_faces[5] = c.cut_faces[18] = 1;
+    same(ex.extract(m, x, c, s), render::extract_scene(m, x, c, s));
+    CHECK(ex.topology_builds() == 3);
+    m.tets.row(0).swap(m.tets.row(1));
+    same(ex.extract(m, x, c, s), render::extract_scene(m, x, c, s));
+    same(ex.extract(m, x, c, s), render::extract_scene(m, x, c, s));
+    CHECK(ex.topology_builds() == 4);
+  }
+
   TEST_CASE("interface nodes as points and manipulated nodes with their lines") {
     const mesh::TetMesh m = box(2, 2, 2);
     Eigen::MatrixX3d x = m.nodes * 1.5;

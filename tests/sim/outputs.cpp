@@ -7,7 +7,8 @@
 
 #include "fixtures.hpp"
 #include "gpu/egl_context.hpp"
-#include "render/renderer.hpp"
+#include "render/frame_writer.hpp"
+#include "render/image.hpp"
 #include "mesh/io/mesh_io.hpp"
 #include "sim/step.hpp"
 #include "test_support.hpp"
@@ -84,26 +85,39 @@ TEST_SUITE("sim/outputs") {
     CHECK((back.nodes - m.mesh.nodes).norm() < 1e-9);
   }
 
-  TEST_CASE("an attached renderer writes every n-th frame as PNG and the summary counts them") {
-    const fs::path dir = softcut::test::scratch_dir("sim_outputs_render");
-    auto spec = softcut::test::cantilever_spec(dir, 0.3);
-    spec.outputs.render.enabled = true;
-    spec.outputs.render.width = 48;
-    spec.outputs.render.height = 32;
-    spec.outputs.render.msaa_samples = 0;
-    spec.outputs.render.every = 2;
-    const sim::Model m = sim::compile(spec);
+  TEST_CASE("a frame writer writes every n-th frame as PNG, the same pixels inline and on its worker") {
+    using Mode = softcut::render::FrameWriter::Mode;
+    const fs::path root = softcut::test::scratch_dir("sim_outputs_render");
     softcut::gpu::EglContext ctx;
-    softcut::render::Renderer renderer(ctx);
-    sim::State s = sim::make_state(m);
-    sim::Recorder rec(m, dir);
-    rec.set_renderer(&renderer);
-    sim::run(m, s, rec, {});
-    CHECK(fs::exists(dir / "frames" / "frame_000000.png"));
-    CHECK(!fs::exists(dir / "frames" / "frame_000001.png"));
-    CHECK(fs::exists(dir / "frames" / "frame_000002.png"));
-    CHECK(rec.frames_rendered() == 2);
-    CHECK(slurp(dir / "summary.json").find("\"frames_rendered\": 2") != std::string::npos);
+    for (const Mode mode : {Mode::inline_draw, Mode::worker}) {
+      const bool worker = mode == Mode::worker;
+      const fs::path dir = root / (worker ? "worker" : "inline");
+      auto spec = softcut::test::cantilever_spec(dir, 0.3);
+      spec.outputs.render.enabled = true;
+      spec.outputs.render.width = 48;
+      spec.outputs.render.height = 32;
+      spec.outputs.render.msaa_samples = 0;
+      spec.outputs.render.every = 2;
+      const sim::Model m = sim::compile(spec);
+      softcut::render::FrameWriter writer(ctx, mode);
+      sim::State s = sim::make_state(m);
+      sim::Recorder rec(m, dir);
+      rec.set_frame_writer(&writer);
+      sim::run(m, s, rec, {});
+      CHECK(fs::exists(dir / "frames" / "frame_000000.png"));
+      CHECK(!fs::exists(dir / "frames" / "frame_000001.png"));
+      CHECK(fs::exists(dir / "frames" / "frame_000002.png"));
+      CHECK(rec.frames_rendered() == 2);
+      CHECK(writer.stats().frames == 2);
+      const std::string summary = slurp(dir / "summary.json");
+      CHECK(summary.find("\"frames_rendered\": 2") != std::string::npos);
+      CHECK(summary.find(worker ? "\"render_mode\": \"worker\"" : "\"render_mode\": \"inline\"") != std::string::npos);
+    }
+    for (const char* f : {"frame_000000.png", "frame_000002.png"}) {
+      const auto a = softcut::render::read_png(root / "inline" / "frames" / f);
+      const auto b = softcut::render::read_png(root / "worker" / "frames" / f);
+      CHECK_MESSAGE(a.rgba == b.rgba, f);
+    }
   }
 
   TEST_CASE("summary.json carries the schema fields") {

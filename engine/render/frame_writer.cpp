@@ -1,0 +1,187 @@
+#include "render/frame_writer.hpp"
+
+#include <algorithm>
+#include <condition_variable>
+#include <deque>
+#include <mutex>
+#include <optional>
+#include <thread>
+#include <utility>
+
+#include "core/atomic_file.hpp"
+#include "core/timer.hpp"
+
+namespace softcut::render {
+
+struct FrameWriter::Impl {
+  struct Job {
+    Scene scene;
+    std::filesystem::path png;
+  };
+
+  gpu::EglContext& ctx;
+  const Mode mode;
+  const size_t max_pending;
+  std::optional<Renderer> renderer;  // inline mode; the worker keeps its own
+
+  mutable std::mutex mutex;
+  std::condition_variable changed;  // queue, busy or failure changed
+  std::deque<Job> queue;
+  bool busy = false, stop = false;
+  std::exception_ptr failure;
+  FrameWriterStats stats;
+  int samples = 0;
+  std::thread worker;
+
+  Impl(gpu::EglContext& c, Mode m, int pending) : ctx(c), mode(m), max_pending(size_t(std::max(1, pending))) {
+    if (mode == Mode::inline_draw) {
+      renderer.emplace(ctx);
+      return;
+    }
+    // The renderer is made on the worker (GL objects belong to the thread
+    // that has the context current); wait for it so a shader or context
+    // failure surfaces here, in the constructor.
+    ctx.release_current();
+    std::exception_ptr setup_failure;
+    bool ready = false;
+    worker = std::thread([this, &setup_failure, &ready] { run(setup_failure, ready); });
+    std::unique_lock lock(mutex);
+    changed.wait(lock, [&] { return ready; });
+    if (setup_failure) {
+      lock.unlock();
+      worker.join();
+      std::rethrow_exception(setup_failure);
+    }
+  }
+
+  ~Impl() {
+    if (!worker.joinable()) return;
+    {
+      std::lock_guard lock(mutex);
+      stop = true;
+      queue.clear();
+    }
+    changed.notify_all();
+    worker.join();
+  }
+
+  // Draws, encodes and writes one frame; returns its timings.
+  static FrameTimings write_frame(Renderer& r, const Job& job) {
+    FrameTimings t;
+    const Image img = r.draw(job.scene, &t);
+    Timer timer;
+    const std::string png = encode_png(img);
+    t.encode_ms = timer.ms();
+    timer.reset();
+    write_file_atomic(job.png, png);
+    t.write_ms = timer.ms();
+    return t;
+  }
+
+  void account(const FrameTimings& t, int drawn_samples) {
+    stats.frames++;
+    stats.work += t;
+    stats.max_work_ms = std::max(stats.max_work_ms, t.total_ms());
+    samples = drawn_samples;
+  }
+
+  void run(std::exception_ptr& setup_failure, bool& ready) {
+    std::optional<Renderer> r;
+    try {
+      r.emplace(ctx);
+    } catch (...) {
+      setup_failure = std::current_exception();
+    }
+    {
+      std::lock_guard lock(mutex);
+      ready = true;
+    }
+    changed.notify_all();
+    if (!r) {
+      ctx.release_current();
+      return;
+    }
+    for (;;) {
+      std::unique_lock lock(mutex);
+      changed.wait(lock, [&] { return stop || !queue.empty(); });
+      if (stop) break;
+      Job job = std::move(queue.front());
+      queue.pop_front();
+      busy = true;
+      lock.unlock();
+      std::exception_ptr error;
+      FrameTimings t;
+      try {
+        t = write_frame(*r, job);
+      } catch (...) {
+        error = std::current_exception();
+      }
+      lock.lock();
+      busy = false;
+      if (error) {
+        failure = error;
+        queue.clear();  // later frames would only repeat the failure
+      } else {
+        account(t, r->samples());
+      }
+      lock.unlock();
+      changed.notify_all();
+    }
+    r.reset();  // GL objects go while the context is still current here
+    ctx.release_current();
+  }
+
+  void rethrow_failure(std::unique_lock<std::mutex>& lock) {
+    if (!failure) return;
+    std::exception_ptr e = failure;
+    lock.unlock();
+    std::rethrow_exception(e);
+  }
+
+  void submit(Scene scene, std::filesystem::path png) {
+    if (mode == Mode::inline_draw) {
+      Timer timer;
+      const FrameTimings t = write_frame(*renderer, Job{std::move(scene), std::move(png)});
+      stats.wait_ms += timer.ms();
+      account(t, renderer->samples());
+      return;
+    }
+    Timer timer;
+    std::unique_lock lock(mutex);
+    changed.wait(lock, [&] { return failure || queue.size() < max_pending; });
+    stats.wait_ms += timer.ms();
+    rethrow_failure(lock);
+    queue.push_back(Job{std::move(scene), std::move(png)});
+    lock.unlock();
+    changed.notify_all();
+  }
+
+  void finish() {
+    if (mode == Mode::inline_draw) return;
+    Timer timer;
+    std::unique_lock lock(mutex);
+    changed.wait(lock, [&] { return failure || (queue.empty() && !busy); });
+    stats.wait_ms += timer.ms();
+    rethrow_failure(lock);
+  }
+};
+
+FrameWriter::FrameWriter(gpu::EglContext& context, Mode mode, int max_pending)
+    : impl_(std::make_unique<Impl>(context, mode, max_pending)) {}
+FrameWriter::~FrameWriter() = default;
+
+void FrameWriter::submit(Scene scene, std::filesystem::path png) { impl_->submit(std::move(scene), std::move(png)); }
+void FrameWriter::finish() { impl_->finish(); }
+FrameWriter::Mode FrameWriter::mode() const { return impl_->mode; }
+
+FrameWriterStats FrameWriter::stats() const {
+  std::lock_guard lock(impl_->mutex);
+  return impl_->stats;
+}
+
+int FrameWriter::samples() const {
+  std::lock_guard lock(impl_->mutex);
+  return impl_->samples;
+}
+
+}  // namespace softcut::render
