@@ -19,6 +19,7 @@ render::SceneContent scene_content(const Model& m, const State& s) {
     if (rs.show_forces)
       for (int n : ts.nodes) c.manipulated.push_back({n, ts.tip});
     if (spec.kind == tools::ToolSpec::Kind::scalpel) {
+      if (s.time > spec.active_until) continue;  // the incision is over: the blade has left
       // Blade behind its edge: against the pressing direction when one is
       // given (the blade then lies in the cut plane), else toward `up`.
       render::ScalpelShape b;

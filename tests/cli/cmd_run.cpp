@@ -90,6 +90,29 @@ TEST_SUITE("cli/cmd_run") {
     CHECK(contains(run_cli("run " + (dir / "t.lua").string() + " --trust").output, "t.lua:2: reached"));
   }
 
+  TEST_CASE("a failed expectation exits 1 after writing the outputs, a met one exits 0") {
+    const fs::path dir = softcut::test::scratch_dir("cli_run_expect");
+    for (const bool met : {true, false}) {
+      const fs::path script = dir / (met ? "met.lua" : "unmet.lua");
+      std::ofstream(script) << R"(
+local s = softcut.scenario{ name = "bar", duration = 0.1, fps = 10 }
+s:mesh{ generate = "box", options = { nx = 4, ny = 1, nz = 1, max = {4, 1, 1} } }
+s:material{ tissue = "liver" }
+s:fix{ nodes = softcut.select.box{ min = {0, 0, 0}, max = {0, 1, 1} } }
+s:expect{ at = 0.1, check = function(f) return )" << (met ? "true" : "false") << R"( end, message = "the check said no" }
+return s
+)";
+      const auto r = run_cli("run " + script.string() + " --out " + (dir / (met ? "met" : "unmet")).string() + " --quiet");
+      CHECK(r.status == (met ? 0 : 1));
+      CHECK(contains(r.output, "the check said no") == !met);
+      CHECK(fs::exists(dir / (met ? "met" : "unmet") / "summary.json"));
+    }
+    // Cut short by --frames, an expectation not reached is no failure.
+    const auto early = run_cli("run " + (dir / "unmet.lua").string() + " --out " + (dir / "early").string() + " --frames 1");
+    CHECK(early.status == 0);
+    CHECK(contains(early.output, "0 passed, 0 failed, 1 not reached (frame_limit)"));
+  }
+
   TEST_CASE("SIGTERM finishes the frame, writes valid outputs marked interrupted") {
     const fs::path dir = softcut::test::scratch_dir("cli_run_sigterm");
     // Long enough that the signal lands mid-run: 100000 frames of a tiny box.

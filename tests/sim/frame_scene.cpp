@@ -45,4 +45,24 @@ TEST_SUITE("sim/frame_scene") {
     CHECK(scene.tissue_faces_nonoperational > 0);
     CHECK(sim::frame_png_path("out", 12) == std::filesystem::path("out/frames/frame_000012.png"));
   }
+
+  TEST_CASE("a scalpel is drawn until its active_until time, not after") {
+    auto spec = softcut::test::cantilever_spec(softcut::test::scratch_dir("sim_frame_scene_scalpel"), 0.3);
+    tools::ToolSpec blade;
+    blade.name = "blade";
+    blade.kind = tools::ToolSpec::Kind::scalpel;
+    blade.path = tools::Path::fixed_at(V(0.1, 0.01, 0.5));  // well above the bar: never touches it
+    blade.force = tools::Ramp::constant_value(0.001);
+    blade.active_until = 0.15;
+    spec.tools = {blade};
+    const sim::Model m = sim::compile(spec);
+    sim::State s = sim::make_state(m);
+    sim::step(m, s);  // t = 0
+    sim::step(m, s);  // t = 0.1
+    CHECK(s.time <= 0.15);
+    CHECK(sim::scene_content(m, s).tools.size() == 1);
+    sim::step(m, s);  // t = 0.2
+    CHECK(s.time > 0.15);
+    CHECK(sim::scene_content(m, s).tools.empty());
+  }
 }
