@@ -2,6 +2,7 @@
 
 #include <lua.hpp>
 
+#include <algorithm>
 #include <limits>
 #include <memory>
 
@@ -278,7 +279,11 @@ RunOutcome run_scenario(const RunRequest& req) {
   }
   rt.set_write_dir(fs::absolute(out.out_dir));
   spec.outputs.dir = out.out_dir;
+  if (req.render_every > 0) spec.outputs.render.enabled = true, spec.outputs.render.every = req.render_every;
   if (!req.render) spec.outputs.render.enabled = false;
+  if (req.width > 0) spec.outputs.render.width = req.width;
+  if (req.height > 0) spec.outputs.render.height = req.height;
+  if (req.msaa_samples >= 0) spec.outputs.render.msaa_samples = req.msaa_samples;
   if (!req.backend.empty()) spec.solver.backend = req.backend;
 
   // One EGL context for the GPU backend and rendering, made here (the engine
@@ -299,8 +304,9 @@ RunOutcome run_scenario(const RunRequest& req) {
   std::unique_ptr<render::FrameWriter> frames;
   if (spec.outputs.render.enabled) {
     const bool solver_on_gpu = model.solver->backend().backend == "gpu";
-    frames = std::make_unique<render::FrameWriter>(
-        *context, solver_on_gpu ? render::FrameWriter::Mode::inline_draw : render::FrameWriter::Mode::worker);
+    frames = std::make_unique<render::FrameWriter>(*context, solver_on_gpu || req.render_inline
+                                                                 ? render::FrameWriter::Mode::inline_draw
+                                                                 : render::FrameWriter::Mode::worker);
   }
   out.num_frames = model.num_frames;
   sim::State state = sim::make_state(model);
@@ -341,6 +347,12 @@ RunOutcome run_scenario(const RunRequest& req) {
   sim::Recorder rec(model, out.out_dir);
   if (frames) rec.set_frame_writer(frames.get());
   out.result = sim::run(model, state, rec, hooks);
+  out.step_ms = state.stats.total.sum / std::max(1, state.stats.frames);
+  out.frames_rendered = rec.frames_rendered();
+  if (out.frames_rendered) {
+    out.render_ms = rec.render_frame_thread_ms().sum / out.frames_rendered;
+    out.render_work_ms = frames->stats().work.total_ms() / std::max(1, frames->stats().frames);
+  }
   out.warnings.insert(out.warnings.end(), model.warnings.begin(), model.warnings.end());
   out.warnings.insert(out.warnings.end(), state.warnings.begin(), state.warnings.end());
 

@@ -23,6 +23,11 @@ struct RunRequest {
   bool trusted = false;                           // --trust: no sandbox
   bool render = true;                             // false: skip rendered frames (softcut check)
   std::string backend;                            // --backend: overrides s:solver{ backend }; empty: the scenario's
+  int render_every = 0;                           // --render-every N: render every N-th frame, also when the
+                                                  // scenario renders none; 0: the scenario's choice
+  int width = 0, height = 0;                      // --size WxH: overrides the render size; 0: the scenario's
+  int msaa_samples = -1;                          // --msaa N: overrides the samples; -1: the scenario's
+  bool render_inline = false;                     // draw on the frame thread even without the GPU solver (bench)
   long long instruction_budget = 200'000'000;     // sandbox: Lua VM instructions per call (main chunk, each on_frame)
   std::size_t memory_budget = 512u << 20;         // sandbox: Lua heap, bytes
   std::function<void(int frame, int num_frames, double elapsed_s)> progress;
@@ -44,6 +49,10 @@ struct RunOutcome {
   double tolerance = 1e-6;  // reference comparison, relative to max |u_ref|
   int num_frames = 0;       // of the timeline
   sim::RunResult result;
+  // Means per frame, ms: the simulation step, and per rendered frame the
+  // frame loop's share of rendering and the drawing side (as in summary.json).
+  double step_ms = 0, render_ms = 0, render_work_ms = 0;
+  int frames_rendered = 0;
   std::vector<ExpectationResult> expectations;
   std::vector<std::string> warnings;
 };

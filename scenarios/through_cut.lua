@@ -1,8 +1,8 @@
 -- A through-cut that separates a piece: a bar of soft tissue held at both
 -- ends is cut through its whole section by a scalpel in its operational
--- middle slab. Each piece keeps its fixed end, so the system stays well posed
--- (a piece with no fixed node and no nonoperational attachment would make
--- the stiffness singular). After the cut a probe pushes the right piece near
+-- middle slab. Each piece keeps its fixed end, so both stay elastic (a piece
+-- cut free of every fixed node would be held where it was when it separated,
+-- see docs/cutting.md). After the cut a probe pushes the right piece near
 -- the cut: it moves freely, as a cantilever, while the left piece stays put.
 local P = softcut.params{
   push = 0.05,          -- N, probe force on the right piece after the cut

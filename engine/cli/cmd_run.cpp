@@ -1,8 +1,10 @@
-// softcut run SCENARIO.lua [--out DIR] [--set key=value ...] [--frames N] [--quiet] [--trust]
+// softcut run SCENARIO.lua [--out DIR] [--set key=value ...] [--frames N] [--size WxH] [--msaa N] ...
 #include <unistd.h>
 
+#include <algorithm>
 #include <csignal>
 #include <cstdio>
+#include <tuple>
 
 #include "cli/commands.hpp"
 #include "cli/run_support.hpp"
@@ -15,7 +17,7 @@ namespace {
 
 const char* kRunUsage =
     "usage: softcut run SCENARIO.lua [--out DIR] [--set key=value ...] [--frames N] [--backend B]\n"
-    "                   [--quiet] [--trust] [--no-render]\n"
+    "                   [--render-every N] [--size WxH] [--msaa N] [--quiet] [--trust] [--no-render]\n"
     "\n"
     "Runs a Lua scenario headless and writes DIR/displacements.csv and DIR/summary.json\n"
     "(default DIR: renders/<scenario name>/).\n"
@@ -23,6 +25,9 @@ const char* kRunUsage =
     "  --set key=value  override a parameter the scenario declares with softcut.params{...}\n"
     "  --frames N       stop after N frames\n"
     "  --backend B      operational solver: auto, cpu, gpu, direct or monolithic (overrides the scenario)\n"
+    "  --render-every N render every N-th frame (also when the scenario renders none)\n"
+    "  --size WxH       rendered frame size in pixels (overrides the scenario's, e.g. 640x480)\n"
+    "  --msaa N         multisample count of rendered frames (0: none; overrides the scenario's)\n"
     "  --quiet          no progress output\n"
     "  --trust          no sandbox: full Lua standard library, no instruction or memory budget\n"
     "  --no-render      write no frames (also when no OpenGL context can be made)\n"
@@ -52,6 +57,9 @@ int cmd_run(const Args& args) {
     else if (a.rfind("--set=", 0) == 0) add_override(req.overrides, a.substr(6));
     else if (a == "--frames") req.max_frames = parse_count(value("--frames"), "--frames");
     else if (a == "--backend") req.backend = parse_backend(value("--backend"));
+    else if (a == "--render-every") req.render_every = std::max(1, parse_count(value("--render-every"), "--render-every"));
+    else if (a == "--size") std::tie(req.width, req.height) = parse_size(value("--size"), "--size");
+    else if (a == "--msaa") req.msaa_samples = parse_count(value("--msaa"), "--msaa");
     else if (a == "--quiet" || a == "-q") quiet = true;
     else if (a == "--trust") req.trusted = true;
     else if (a == "--no-render") req.render = false;

@@ -32,6 +32,24 @@ int parse_count(const std::string& text, const char* option) {
   return int(v);
 }
 
+std::pair<int, int> parse_size(const std::string& text, const char* option) {
+  const size_t x = text.find('x');
+  auto side = [&](const std::string& t) {
+    size_t used = 0;
+    long v = -1;
+    try {
+      v = std::stol(t, &used);
+    } catch (...) {
+      used = 0;
+    }
+    if (t.empty() || used != t.size() || v < 1 || v > 16384)
+      fail(option, " ", text, ": expected WIDTHxHEIGHT in pixels, each from 1 to 16384 (e.g. 640x480)");
+    return int(v);
+  };
+  if (x == std::string::npos) side("");
+  return {side(text.substr(0, x)), side(text.substr(x + 1))};
+}
+
 void Progress::update(int frame, int num_frames, double elapsed_s) {
   if (mode_ == Mode::quiet || num_frames <= 0) return;
   const int done = frame + 1;

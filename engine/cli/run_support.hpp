@@ -4,6 +4,7 @@
 #include <atomic>
 #include <map>
 #include <string>
+#include <utility>
 
 namespace softcut::cli {
 
@@ -13,6 +14,8 @@ void add_override(std::map<std::string, std::string>& overrides, const std::stri
 std::string parse_backend(const std::string& text);
 // A non-negative integer option value; throws naming the option.
 int parse_count(const std::string& text, const char* option);
+// "WxH" (pixels, 1..16384 each) -> {W, H}; throws naming the option.
+std::pair<int, int> parse_size(const std::string& text, const char* option);
 
 // Progress of a run on stderr: a bar with ETA on a terminal, a plain line
 // about every 10% otherwise, nothing when quiet.

@@ -287,7 +287,12 @@ ComputeCg::ComputeCg(EglContext& context, ComputeCgOptions options) : opt_(optio
 }
 
 ComputeCg::~ComputeCg() {
-  if (impl_) context_.make_current();
+  if (!impl_) return;
+  try {
+    context_.make_current();  // the buffers are freed in it
+  } catch (const Error&) {
+    (void)impl_.release();  // current elsewhere: leave the buffers to the context (a destructor must not throw)
+  }
 }
 
 std::size_t ComputeCg::set_system(const BlockSystem& system) {

@@ -1,6 +1,9 @@
 #include "render/frame_writer.hpp"
 
+#include <pthread.h>
+
 #include <algorithm>
+#include <csignal>
 #include <condition_variable>
 #include <deque>
 #include <mutex>
@@ -9,6 +12,7 @@
 #include <utility>
 
 #include "core/atomic_file.hpp"
+#include "core/error.hpp"
 #include "core/timer.hpp"
 
 namespace softcut::render {
@@ -44,7 +48,17 @@ struct FrameWriter::Impl {
     ctx.release_current();
     std::exception_ptr setup_failure;
     bool ready = false;
-    worker = std::thread([this, &setup_failure, &ready] { run(setup_failure, ready); });
+    {
+      // The worker never takes SIGINT / SIGTERM: the frame thread's handler
+      // decides, and a second signal (which kills) lands there, not mid-write.
+      sigset_t block, old;
+      sigemptyset(&block);
+      sigaddset(&block, SIGINT);
+      sigaddset(&block, SIGTERM);
+      pthread_sigmask(SIG_BLOCK, &block, &old);
+      worker = std::thread([this, &setup_failure, &ready] { run(setup_failure, ready); });
+      pthread_sigmask(SIG_SETMASK, &old, nullptr);
+    }
     std::unique_lock lock(mutex);
     changed.wait(lock, [&] { return ready; });
     if (setup_failure) {
@@ -67,15 +81,19 @@ struct FrameWriter::Impl {
 
   // Draws, encodes and writes one frame; returns its timings.
   static FrameTimings write_frame(Renderer& r, const Job& job) {
-    FrameTimings t;
-    const Image img = r.draw(job.scene, &t);
-    Timer timer;
-    const std::string png = encode_png(img);
-    t.encode_ms = timer.ms();
-    timer.reset();
-    write_file_atomic(job.png, png);
-    t.write_ms = timer.ms();
-    return t;
+    try {
+      FrameTimings t;
+      const Image img = r.draw(job.scene, &t);
+      Timer timer;
+      const std::string png = encode_png(img);
+      t.encode_ms = timer.ms();
+      timer.reset();
+      write_file_atomic(job.png, png);
+      t.write_ms = timer.ms();
+      return t;
+    } catch (const Error& e) {
+      fail("frame ", job.png.string(), ": ", e.what());
+    }
   }
 
   void account(const FrameTimings& t, int drawn_samples) {

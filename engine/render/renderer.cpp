@@ -191,7 +191,13 @@ struct Renderer::Impl {
   }
 
   ~Impl() {
-    if (!ctx.is_current()) ctx.make_current();
+    // Best effort: with the context current on another thread the GL objects
+    // go with the context instead (a destructor must not throw).
+    try {
+      ctx.make_current();
+    } catch (const Error&) {
+      return;
+    }
     for (Batch* b : {&tissue, &tools, &wire, &lines, &ipoints, &mpoints}) b->destroy();
     glDeleteProgram(surface_prog);
     glDeleteProgram(flat_prog);
@@ -299,6 +305,13 @@ struct Renderer::Impl {
     set_camera(surface_prog, scene.camera);
     set_camera(flat_prog, scene.camera);
     glUseProgram(surface_prog);
+    // Tissue and tools are closed, outward-wound surfaces (a tet mesh's
+    // boundary stays closed through cuts: each side of a cut is a face), so
+    // only back faces are culled, nothing visible: llvmpipe shades about half
+    // the fragments it would otherwise.
+    glEnable(GL_CULL_FACE);
+    glCullFace(GL_BACK);
+    glFrontFace(GL_CCW);
     glEnable(GL_POLYGON_OFFSET_FILL);  // pushes faces back so their edges win the depth test
     glPolygonOffset(1.0f, 1.0f);
     for (const Batch* b : {&tissue, &tools})
@@ -307,6 +320,7 @@ struct Renderer::Impl {
         glDrawArrays(GL_TRIANGLES, 0, b->count);
       }
     glDisable(GL_POLYGON_OFFSET_FILL);
+    glDisable(GL_CULL_FACE);
     glUseProgram(flat_prog);
     draw_flat(wire, GL_LINES, scene.wire.size_px, scene.wire.on_top);
     draw_flat(ipoints, GL_POINTS, scene.interface_points.size_px, scene.interface_points.on_top);

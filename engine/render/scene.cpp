@@ -149,8 +149,13 @@ Scene SceneExtractor::extract(const mesh::TetMesh& m, const Eigen::MatrixX3d& x,
                               const RenderSettings& settings) {
   check_settings(settings);
   check_content(m, x, content);
-  if (!topo_) topo_ = std::make_unique<Topology>();
-  if (!topo_->matches(m, content)) topo_->build(m, content);
+  if (!topo_ || !topo_->matches(m, content)) {
+    // Built aside and swapped in whole: a throw leaves the old one intact.
+    auto fresh = std::make_unique<Topology>();
+    fresh->build(m, content);
+    fresh->builds += topo_ ? topo_->builds : 0;
+    topo_ = std::move(fresh);
+  }
   const Topology& topo = *topo_;
   const mesh::Surface& surf = topo.surf;
   const Palette& pal = settings.palette;

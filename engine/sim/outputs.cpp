@@ -2,6 +2,7 @@
 
 #include <Eigen/Core>
 #include <cmath>
+#include <exception>
 #include <cstdio>
 #include <set>
 #include <system_error>
@@ -171,9 +172,19 @@ void Recorder::record(const Model& m, const State& s) {
   frames_++;
 }
 
-void Recorder::finish(const Model& m, const State& s, const RunResult& r) {
+void Recorder::finish(const Model& m, const State& s, const RunResult& run_result) {
   if (finished_) return;
   finished_ = true;
+  // Frames still being drawn come first. A failure there (GL error, full
+  // disk) makes the run an error, but the summary is still written, saying so.
+  RunResult r = run_result;
+  std::exception_ptr render_failure;
+  if (writer_) try {
+      writer_->finish();
+    } catch (const std::exception& e) {
+      render_failure = std::current_exception();
+      if (r.reason != ExitReason::error) r.reason = ExitReason::error, r.message = e.what();
+    }
   if (csv_.is_open()) {
     csv_.flush();
     const bool ok = bool(csv_);
@@ -195,13 +206,13 @@ void Recorder::finish(const Model& m, const State& s, const RunResult& r) {
     pvd += "  </Collection>\n</VTKFile>\n";
     write_file_atomic(dir_ / "series.pvd", pvd);
   }
-  if (writer_) writer_->finish();
-  if (rendered_ > 0 && m.spec.outputs.render.contact_sheet) {
+  if (rendered_ > 0 && m.spec.outputs.render.contact_sheet && r.reason != ExitReason::error) {
     // At most ~24 tiles: a quick look at the whole run.
     const int stride = std::max(1, (rendered_ + 23) / 24);
     render::write_contact_sheet(dir_ / "frames", dir_ / "contact_sheet.png", stride);
   }
   write_file_atomic(dir_ / "summary.json", summary_json(m, s, r, this));
+  if (render_failure) std::rethrow_exception(render_failure);
 }
 
 std::string summary_json(const Model& m, const State& s, const RunResult& r, const Recorder* rec) {
@@ -269,11 +280,12 @@ std::string summary_json(const Model& m, const State& s, const RunResult& r, con
   j += "  \"cg\": {\"iterations_mean\": " + jms(double(st.cg_iterations_total) / nf) + ", \"iterations_max\": " +
        std::to_string(st.cg_iterations_max) + ", \"iterations_total\": " + std::to_string(st.cg_iterations_total) +
        ", \"max_relative_residual\": " + jnum(st.max_relative_residual) + "},\n";
-  const int rendered = rec ? rec->frames_rendered() : 0;
+  // Frames written (with a writer that failed, fewer than were queued).
+  const int rendered = !rec ? 0 : rec->frame_writer() ? rec->frame_writer()->stats().frames : rec->frames_rendered();
   j += "  \"outputs\": {\"log_nodes\": " + std::to_string(m.log_nodes.size()) + ", \"csv\": " +
        (sp.outputs.csv ? "\"displacements.csv\"" : "null") + ", \"pvd\": " +
        (sp.outputs.vtu ? "\"series.pvd\"" : "null") + ", \"frames_rendered\": " + std::to_string(rendered) +
-       ", \"render_ms\": {\"mean\": " + jms(rendered ? rec->render_frame_thread_ms().sum / rendered : 0.0) +
+       ", \"render_ms\": {\"mean\": " + jms(rec && rec->frames_rendered() ? rec->render_frame_thread_ms().sum / rec->frames_rendered() : 0.0) +
        ", \"max\": " + jms(rec ? rec->render_frame_thread_ms().max : 0.0) + "}" + render_work_json(rec) + "},\n";
   j += cutting_json(m, s);
   std::set<std::string> seen;

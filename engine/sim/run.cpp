@@ -53,7 +53,11 @@ RunResult run(const Model& m, State& s, Recorder& rec, const RunHooks& hooks) {
     r.reason = ExitReason::error;
     r.message = e.what();
     r.wall_s = wall.seconds();
-    rec.finish(m, s, r);
+    try {
+      rec.finish(m, s, r);
+    } catch (...) {
+      // The run's own error is the one to report (a render failure, if any, is in the summary).
+    }
     throw;
   }
   r.wall_s = wall.seconds();

@@ -46,10 +46,12 @@ TEST_SUITE("mesh/volume/nrrd") {
     const std::pair<const char*, int> types[] = {{"uint8", 1}, {"int8", 1},  {"uint16", 2},
                                                  {"short", 2}, {"uint32", 4}, {"int", 4}};
     int n = 0;
-    for (const auto& [type, bytes] : types)
+    for (const auto& type_bytes : types)
       for (bool big : {false, true})
         for (bool gz : {false, true})
           for (bool detached : {false, true}) {
+            const char* type = type_bytes.first;  // not a structured binding: CAPTURE makes a lambda (clang 14)
+            const int bytes = type_bytes.second;
             auto labels = test::sample_labels();
             if (std::string(type).find("int8") == 0 || type == std::string("short") || type == std::string("int"))
               labels[4] = -3;  // a negative label for the signed types

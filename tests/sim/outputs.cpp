@@ -120,6 +120,38 @@ TEST_SUITE("sim/outputs") {
     }
   }
 
+  TEST_CASE("a frame that cannot be written fails the run after the summary is written, in both writer modes") {
+    using Mode = softcut::render::FrameWriter::Mode;
+    softcut::gpu::EglContext ctx;
+    for (const Mode mode : {Mode::inline_draw, Mode::worker}) {
+      const fs::path dir = softcut::test::scratch_dir(mode == Mode::worker ? "sim_outputs_fail_w" : "sim_outputs_fail_i");
+      fs::create_directories(dir / "frames" / "frame_000002.png");  // a folder where frame 2 goes
+      auto spec = softcut::test::cantilever_spec(dir, 0.4);
+      spec.outputs.render.enabled = true;
+      spec.outputs.render.width = 32;
+      spec.outputs.render.height = 24;
+      spec.outputs.render.msaa_samples = 0;
+      const sim::Model m = sim::compile(spec);
+      softcut::render::FrameWriter writer(ctx, mode);
+      sim::State s = sim::make_state(m);
+      sim::Recorder rec(m, dir);
+      rec.set_frame_writer(&writer);
+      bool threw = false;
+      try {
+        sim::run(m, s, rec, {});
+      } catch (const softcut::Error& e) {
+        threw = true;
+        CHECK(std::string(e.what()).find("frame_000002.png") != std::string::npos);
+      }
+      CHECK(threw);
+      const std::string summary = slurp(dir / "summary.json");
+      CHECK(summary.find("\"exit_reason\": \"error\"") != std::string::npos);
+      CHECK(summary.find("frame_000002.png") != std::string::npos);
+      CHECK(!fs::exists(dir / "contact_sheet.png"));
+      CHECK(fs::exists(dir / "frames" / "frame_000001.png"));
+    }
+  }
+
   TEST_CASE("summary.json carries the schema fields") {
     const fs::path dir = softcut::test::scratch_dir("sim_outputs_summary");
     auto spec = softcut::test::cantilever_spec(dir, 0.1);
