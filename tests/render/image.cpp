@@ -33,6 +33,15 @@ TEST_SUITE("render/image") {
       CHECK(back.height == h);
       CHECK(back.rgba == img.rgba);
     }
+    // Opaque images are stored as RGB (IHDR colour type 2, at byte 25), others
+    // as RGBA (6); both decode to the same RGBA.
+    for (const bool opaque : {true, false}) {
+      Image img = random_image(33, 17, opaque ? 5u : 6u);
+      for (size_t i = 3; i < img.rgba.size(); i += 4) img.rgba[i] = opaque ? 255 : img.rgba[i] | 1;
+      const std::string png = render::encode_png(img);
+      CHECK(int(png[25]) == (opaque ? 2 : 6));
+      CHECK(render::decode_png(png, "memory").rgba == img.rgba);
+    }
     // Flat frames (most of a render) compress well.
     const Image flat(640, 480, 0x334455ffu);
     CHECK(render::encode_png(flat).size() < 640 * 480 * 4 / 100);
