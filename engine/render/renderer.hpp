@@ -5,9 +5,9 @@
 // only when the frame size or sample count changes.
 //
 // Passes: multisampled colour + depth renderbuffers (resolved by a blit into a
-// single-sample one); tissue and tool triangles lit by Blinn-Phong with a head
-// light and a fill light, both sides lit (cut surfaces may be seen from
-// behind); wireframe lines over a polygon-offset fill; points and force lines,
+// single-sample one); tissue and tool triangles (closed surfaces, back faces
+// culled) lit by Blinn-Phong with a head light and a fill light; wireframe
+// lines over a polygon-offset fill; points and force lines,
 // optionally on top of everything; glReadPixels, rows flipped to top-down.
 #include <filesystem>
 #include <memory>
