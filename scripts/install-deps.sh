@@ -8,6 +8,7 @@ pkgs=(
   libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri
   libstb-dev doctest-dev zlib1g-dev
   libopenblas0-pthread  # optimised BLAS/LAPACK behind CHOLMOD's supernodal factor (reference BLAS is ~10x slower)
+  clang-14 libclang-rt-14-dev llvm-14  # the test suite's sanitizer + libFuzzer build (scripts/test.sh), symbolized traces
 )
 missing=()
 for p in "${pkgs[@]}"; do

@@ -23,7 +23,8 @@ TEST_SUITE("gpu/dense_product") {
   TEST_CASE("the device product equals the CPU product in double precision") {
     std::mt19937 rng(3);
     std::normal_distribution<double> g;
-    for (auto [r, c] : {std::array{1, 1}, std::array{70, 9}, std::array{301, 45}}) {
+    for (const auto& rc : {std::array{1, 1}, std::array{70, 9}, std::array{301, 45}}) {
+      const int r = rc[0], c = rc[1];  // not a structured binding: CAPTURE makes a lambda (clang 14)
       Eigen::MatrixXd M(r, c);
       for (Eigen::Index i = 0; i < M.size(); ++i) M.data()[i] = g(rng);
       Eigen::VectorXd x(c);

@@ -119,7 +119,9 @@ TEST_SUITE("hardening/reader_limits") {
         {"huge_gzip.nrrd", "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 4000 4000 4000\nencoding: gzip\n\n" + std::string("\x1f\x8b\x08\x00\x00\x00\x00\x00", 8)},
         {"negative.nrrd", "NRRD0004\ntype: uint8\ndimension: 3\nsizes: -2 2 2\nencoding: raw\n\n" + std::string(8, '\1')},
     };
-    for (const auto& [name, text] : cases) {
+    for (const auto& name_text : cases) {
+      const std::string name = name_text.first;  // not a structured binding: CAPTURE makes a lambda (clang 14)
+      const std::string& text = name_text.second;
       CAPTURE(name);
       const fs::path file = put_file(dir / name, text);
       const long long before = peak_rss_bytes();
