@@ -2,6 +2,7 @@
 // CPU in the same run — SpMV bandwidth (GB/s) and time per CG iteration by
 // system size, so one sees where launch overhead dominates and where the
 // device pulls ahead. On llvmpipe (no GPU) the "device" is the CPU itself.
+#include <cmath>
 #include <cstdio>
 #include <sstream>
 
@@ -67,7 +68,15 @@ int bench_gpu(const Args& args) {
     } else if (a == "--fp64") {
       fp64 = true;
     } else if (a == "--peak-gbs") {
-      peak = std::atof(value().c_str());
+      const std::string& v = value();
+      size_t used = 0;
+      try {
+        peak = std::stod(v, &used);
+      } catch (...) {
+        used = 0;
+      }
+      if (used != v.size() || !(peak > 0 && std::isfinite(peak)))
+        fail("bench gpu: --peak-gbs ", v, ": expected a positive bandwidth in GB/s");
     } else if (a == "--json") {
       json = value();
     } else {

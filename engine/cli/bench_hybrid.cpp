@@ -353,9 +353,13 @@ int bench_hybrid(const Args& args) {
       f.storage = Storage::factor;
       models.insert(models.begin() + 2, f);
     }
-  if (!only.empty())
+  if (!only.empty()) {
+    std::string names;
+    for (const BenchModel& b : models) names += (names.empty() ? "" : ", ") + b.name;
     models.erase(std::remove_if(models.begin(), models.end(), [&](const BenchModel& b) { return b.name != only; }),
                  models.end());
+    if (models.empty()) fail("bench hybrid: --only ", only, ": no such model (models: ", names, ")");
+  }
   for (size_t k = 0; k < models.size(); ++k) {
     const Result r = run_model(models[k], quick, storage);
     json += (k ? ", " : "") + r.json;

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "cli/bench.hpp"
+#include "cli/run_support.hpp"
 #include "core/error.hpp"
 #include "core/timer.hpp"
 #include "sim/model.hpp"
@@ -88,9 +89,17 @@ int bench_springs(const Args& args) {
                 "  the compliance cache, and without it (R: grasper radius in m, default 0.009: 5 nodes)");
       return 0;
     } else if (a == "--frames" && i + 1 < args.size()) {
-      frames = std::max(2, std::atoi(args[++i].c_str()));
+      frames = std::max(2, parse_count(args[++i], "bench springs: --frames"));
     } else if (a == "--radius" && i + 1 < args.size()) {
-      radius = std::atof(args[++i].c_str());
+      const std::string& v = args[++i];
+      size_t used = 0;
+      try {
+        radius = std::stod(v, &used);
+      } catch (...) {
+        used = 0;
+      }
+      if (used != v.size() || !(radius > 0 && radius < 1))
+        fail("bench springs: --radius ", v, ": expected a grasper radius in m, greater than 0 and below 1");
     } else {
       fail("bench springs: unknown option '", a, "' (see softcut bench springs --help)");
     }

@@ -1,0 +1,120 @@
+// engine/sim/scenario_spec.cpp: check_spec refuses every out-of-range
+// setting with a message naming the setting and the accepted range, and
+// accepts the defaults and the edges of each range.
+#include "sim/scenario_spec.hpp"
+
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <functional>
+#include <limits>
+
+#include "core/error.hpp"
+
+using namespace softcut;
+using namespace softcut::sim;
+
+namespace {
+
+struct Case {
+  const char* what;                       // the setting, for the report
+  std::function<void(ScenarioSpec&)> set; // makes the default spec bad
+  const char* message;                    // part of the expected message
+};
+
+const double kNaN = std::numeric_limits<double>::quiet_NaN();
+const double kInf = std::numeric_limits<double>::infinity();
+
+}  // namespace
+
+TEST_SUITE("sim/scenario_spec") {
+  TEST_CASE("the default spec and the edges of each range are accepted") {
+    ScenarioSpec s;
+    CHECK_NOTHROW(check_spec(s));
+    s.timeline.duration = 0;  // a single frame at t = 0
+    s.outputs.render.width = s.outputs.render.height = 16384;
+    s.outputs.render.msaa_samples = 0;
+    s.cutting.min_dihedral_deg = 0;
+    s.solver.cg_max_iterations = 0;
+    s.outputs.render.background = Eigen::Vector3d(0, 1, 0);
+    CHECK_NOTHROW(check_spec(s));
+    s.timeline.frame_rate = 100;
+    s.timeline.duration = 1e5;  // exactly the frame limit
+    CHECK_NOTHROW(check_spec(s));
+  }
+
+  TEST_CASE("each out-of-range setting is an error naming it") {
+    const std::vector<Case> cases = {
+        {"empty name", [](ScenarioSpec& s) { s.name = ""; }, "name must not be empty"},
+        {"path in name", [](ScenarioSpec& s) { s.name = "../x"; }, "name must not contain path separators"},
+        {"negative duration", [](ScenarioSpec& s) { s.timeline.duration = -1; }, "duration must be a finite number >= 0 s"},
+        {"infinite duration", [](ScenarioSpec& s) { s.timeline.duration = kInf; }, "duration must be a finite number"},
+        {"zero frame rate", [](ScenarioSpec& s) { s.timeline.frame_rate = 0; }, "frame_rate must be > 0 Hz, got 0"},
+        {"NaN frame rate", [](ScenarioSpec& s) { s.timeline.frame_rate = kNaN; }, "frame_rate must be > 0 Hz"},
+        {"too many frames", [](ScenarioSpec& s) { s.timeline.duration = 1e6; }, "the limit is 10000000"},
+        {"vtu_every", [](ScenarioSpec& s) { s.outputs.vtu_every = 0; }, "outputs: vtu_every must be >= 1, got 0"},
+        {"render width", [](ScenarioSpec& s) { s.outputs.render.width = 0; }, "outputs.render: size must be 1..16384"},
+        {"render height", [](ScenarioSpec& s) { s.outputs.render.height = 16385; }, "size must be 1..16384 pixels"},
+        {"fov", [](ScenarioSpec& s) { s.outputs.render.fov_deg = 180; }, "fov_deg must lie in (0, 180), got 180"},
+        {"render every", [](ScenarioSpec& s) { s.outputs.render.every = 0; }, "outputs.render: every must be >= 1"},
+        {"eye", [](ScenarioSpec& s) { s.outputs.render.eye.x() = kNaN; }, "eye and target must be finite"},
+        {"target", [](ScenarioSpec& s) { s.outputs.render.target.z() = kInf; }, "eye and target must be finite"},
+        {"up", [](ScenarioSpec& s) { s.outputs.render.up.setZero(); }, "up nonzero"},
+        {"elevation", [](ScenarioSpec& s) { s.outputs.render.elevation_deg = 90; }, "elevation_deg must lie in (-90, 90)"},
+        {"azimuth", [](ScenarioSpec& s) { s.outputs.render.azimuth_deg = kNaN; }, "azimuth_deg and orbit_deg_per_s must be finite"},
+        {"orbit", [](ScenarioSpec& s) { s.outputs.render.orbit_deg_per_s = kInf; }, "orbit_deg_per_s must be finite"},
+        {"background", [](ScenarioSpec& s) { s.outputs.render.background.y() = 1.5; }, "background components must lie in [0, 1]"},
+        {"background NaN", [](ScenarioSpec& s) { s.outputs.render.background.x() = kNaN; }, "background components"},
+        {"msaa", [](ScenarioSpec& s) { s.outputs.render.msaa_samples = 17; }, "msaa_samples must be 0..16"},
+        {"cg tolerance", [](ScenarioSpec& s) { s.solver.cg_tolerance = 1; }, "cg_tolerance must lie in (0, 1), got 1"},
+        {"cg iterations", [](ScenarioSpec& s) { s.solver.cg_max_iterations = -1; }, "cg_max_iterations must be >= 0"},
+        {"backend", [](ScenarioSpec& s) { s.solver.backend = "cuda"; }, "unknown backend 'cuda' (use auto, cpu, gpu"},
+        {"mode", [](ScenarioSpec& s) { s.solver.mode = "sparse"; }, "unknown mode 'sparse' (use auto, dense or factor)"},
+        {"snap", [](ScenarioSpec& s) { s.cutting.snap_fraction = 0.5; }, "snap_fraction must lie in (0, 0.5), got 0.5"},
+        {"snap zero", [](ScenarioSpec& s) { s.cutting.snap_fraction = 0; }, "snap_fraction must lie in (0, 0.5)"},
+        {"dihedral", [](ScenarioSpec& s) { s.cutting.min_dihedral_deg = 60; }, "min_dihedral_deg must lie in [0, 60), got 60"},
+        {"dihedral NaN", [](ScenarioSpec& s) { s.cutting.min_dihedral_deg = kNaN; }, "min_dihedral_deg must lie in [0, 60)"},
+    };
+    for (const Case& c : cases) {
+      CAPTURE(c.what);
+      ScenarioSpec s;
+      c.set(s);
+      CHECK_THROWS_WITH_AS(check_spec(s), doctest::Contains(c.message), Error);
+    }
+  }
+
+  TEST_CASE("the frame limit names the scenario file") {
+    ScenarioSpec s;
+    s.source = "/some/where/long_run.lua";
+    s.timeline.duration = 1e6;
+    CHECK_THROWS_WITH_AS(check_spec(s), doctest::Contains("long_run.lua: timeline: 30000000 frames"), Error);
+  }
+
+  TEST_CASE("materials and loads are checked by name") {
+    {
+      ScenarioSpec s;
+      MaterialAssignment m;
+      m.name = "fat";
+      m.young = -5;
+      s.materials.push_back(m);
+      CHECK_THROWS_WITH_AS(check_spec(s), doctest::Contains("fat"), Error);
+      s.materials[0].preset = "liver";  // a preset may be scaled by a positive young only
+      CHECK_THROWS_WITH_AS(check_spec(s), doctest::Contains("material 'fat': young must be > 0 Pa, got -5"), Error);
+      s.materials[0].young = 0;  // 0: the preset's own value
+      CHECK_NOTHROW(check_spec(s));
+    }
+    {
+      ScenarioSpec s;
+      LoadSpec l;
+      l.name = "push";
+      l.direction = Eigen::Vector3d::Zero();
+      s.loads.push_back(l);
+      CHECK_THROWS_WITH_AS(check_spec(s), doctest::Contains("load 'push': direction must be a nonzero finite vector"),
+                           Error);
+      s.loads[0].direction = Eigen::Vector3d::UnitZ();
+      CHECK_NOTHROW(check_spec(s));
+      s.loads.push_back(s.loads[0]);
+      CHECK_THROWS_WITH_AS(check_spec(s), doctest::Contains("load 'push': another load has the same name"), Error);
+    }
+  }
+}
