@@ -4,14 +4,20 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <exception>
 #include <initializer_list>
+#include <map>
+#include <mutex>
+#include <utility>
 
 #include "bindings.hpp"
 #include "core/error.hpp"
 #include "lua_embedded.hpp"
+#include "runtime_patterns.hpp"
 
 namespace fs = std::filesystem;
 
@@ -209,6 +215,92 @@ void push_trimmed(lua_State* L, lua_CFunction open, const char* lib, std::initia
   lua_remove(L, -2);
 }
 
+// string.find / match / gmatch / gsub in the sandbox. Lua's matcher runs in
+// C, where the count hook never fires, and backtracks exponentially on
+// patterns like ('a*'):rep(40) .. 'b': each call first bounds its worst-case
+// work (runtime_patterns.hpp) and is refused when the bound exceeds what is
+// left of the instruction budget (kPatternStepsPerInstruction matcher steps
+// per instruction) or kPatternStepCap. The call is charged its bound (a
+// refused one what it was allowed), so a loop of calls ends at the budget.
+// Strings' metatable indexes this same table: s:match(...) is covered too.
+constexpr double kPatternStepsPerInstruction = 8;
+constexpr double kPatternStepCap = 1e9;  // ~1 s of matching, budget or not
+
+int guarded_pattern(lua_State* L) {
+  const auto call = static_cast<PatternCall>(lua_tointeger(L, lua_upvalueindex(2)));
+  size_t n = 0, m = 0, repl = 0;
+  const char* s = luaL_checklstring(L, 1, &n);
+  const char* p = luaL_checklstring(L, 2, &m);
+  size_t skip = 0;  // bytes before init: searches start there
+  if (call == PatternCall::gsub) {
+    const int t = lua_type(L, 3);
+    luaL_argexpected(L, t == LUA_TNUMBER || t == LUA_TSTRING || t == LUA_TTABLE || t == LUA_TFUNCTION, 3,
+                     "string/function/table");
+    if (t == LUA_TSTRING || t == LUA_TNUMBER) lua_tolstring(L, 3, &repl);
+    luaL_optinteger(L, 4, 0);
+  } else {
+    const lua_Integer init = luaL_optinteger(L, 3, 1);  // as Lua reads it: negative counts from the end
+    if (init > 0) skip = size_t(std::min<lua_Integer>(init - 1, lua_Integer(n)));
+    else if (init < 0 && init >= -lua_Integer(n)) skip = n - size_t(-init);  // -init: no overflow here
+  }
+  const bool plain = call == PatternCall::find && lua_toboolean(L, 4);
+  Runtime::Budget* b = budget_of(L);
+  double allowed = kPatternStepCap;
+  if (b->instruction_limit)
+    allowed = std::min(allowed, double(std::max(0LL, b->instruction_limit - b->instructions)) *
+                                    kPatternStepsPerInstruction);
+  PatternWork w;
+  try {
+    w = pattern_work(call, {s + skip, n - skip}, {p, m}, plain, repl, allowed);
+  } catch (...) {  // std::bad_alloc: refuse below, no exception may cross Lua
+    w.steps = HUGE_VAL;
+  }
+  b->instructions += static_cast<long long>(std::min(w.steps, allowed) / kPatternStepsPerInstruction);
+  if (w.steps <= allowed) {
+    lua_pushvalue(L, lua_upvalueindex(1));
+    lua_insert(L, 1);
+    lua_call(L, lua_gettop(L) - 1, LUA_MULTRET);
+    return lua_gettop(L);
+  }
+  {
+    const char* name = lua_tostring(L, lua_upvalueindex(3));
+    std::string shown(p, std::min<size_t>(m, 60));
+    for (char& c : shown)
+      if (static_cast<unsigned char>(c) < 32 || static_cast<unsigned char>(c) > 126) c = '?';
+    if (m > 60) shown += "...";
+    const std::string where = user_where(L);
+    char steps[32], budget[32];
+    std::snprintf(steps, sizeof steps, "%.3g", w.steps);
+    std::snprintf(budget, sizeof budget, "%.3g", allowed);
+    const std::string head = cat(where == "?" ? "" : where + ": ", name, ": ");
+    const std::string tail = cat(" steps, over the sandbox budget of ", budget, " steps; ");
+    const std::string msg =
+        plain ? cat(head, "searching a ", m, "-byte string in a ", n - skip, "-byte subject could take up to ~",
+                    steps, tail, "shorten the strings, or run with --trust to lift the sandbox budgets")
+              : cat(head, "pattern '", shown, "' with ", w.repetitions, " repetition items over a ", n - skip,
+                    "-byte subject could backtrack for ", std::isinf(w.steps) ? "more than the budget: over " : "up to ~",
+                    std::isinf(w.steps) ? budget : steps, tail,
+                    "simplify the pattern or shorten the subject, or run with --trust to lift the sandbox budgets");
+    lua_pushlstring(L, msg.data(), msg.size());
+  }  // C++ strings gone before the longjmp
+  return lua_error(L);
+}
+
+void guard_string_patterns(lua_State* L) {
+  lua_getglobal(L, LUA_STRLIBNAME);
+  const std::pair<const char*, PatternCall> fns[] = {
+      {"find", PatternCall::find}, {"match", PatternCall::match},
+      {"gmatch", PatternCall::gmatch}, {"gsub", PatternCall::gsub}};
+  for (const auto& [key, call] : fns) {
+    lua_getfield(L, -1, key);
+    lua_pushinteger(L, lua_Integer(call));
+    lua_pushfstring(L, "string.%s", key);
+    lua_pushcclosure(L, guarded_pattern, 3);
+    lua_setfield(L, -2, key);
+  }
+  lua_pop(L, 1);
+}
+
 void open_sandbox(lua_State* L) {
   luaL_requiref(L, LUA_GNAME, luaopen_base, 1);
   luaL_requiref(L, LUA_STRLIBNAME, luaopen_string, 1);
@@ -217,6 +309,7 @@ void open_sandbox(lua_State* L) {
   luaL_requiref(L, LUA_UTF8LIBNAME, luaopen_utf8, 1);
   luaL_requiref(L, LUA_COLIBNAME, luaopen_coroutine, 1);
   lua_pop(L, 6);
+  guard_string_patterns(L);
 
   push_refused(L, "dofile");
   lua_setglobal(L, "dofile");
@@ -250,6 +343,49 @@ void open_sandbox(lua_State* L) {
   lua_setglobal(L, "debug");
 }
 
+// The embedded library compiled once per process: every Runtime loads
+// ~73 KB of Lua source, and parsing it dominated the cost of a fresh state
+// (the lua fuzz target makes one per input). The bytecode is dumped from our
+// own source with its debug info (messages keep softcut/<name>.lua:line) and
+// never comes from a script, so loading it as binary is safe in the sandbox.
+struct BytecodeCache {
+  std::mutex mutex;
+  std::map<std::string, std::string, std::less<>> chunks;  // module name -> lua_dump output
+};
+
+BytecodeCache& bytecode_cache() {
+  static BytecodeCache cache;
+  return cache;
+}
+
+int dump_writer(lua_State*, const void* p, size_t n, void* ud) {
+  try {
+    static_cast<std::string*>(ud)->append(static_cast<const char*>(p), n);
+    return 0;
+  } catch (...) {  // no exception may cross Lua's C frames; the cache just stays empty
+    return 1;
+  }
+}
+
+// Pushes the compiled chunk of `s` (or its load error): status as luaL_loadbufferx.
+int load_embedded(lua_State* L, const EmbeddedScript& s, const char* chunkname) {
+  BytecodeCache& cache = bytecode_cache();
+  {
+    std::lock_guard<std::mutex> lock(cache.mutex);
+    auto it = cache.chunks.find(s.name);
+    if (it != cache.chunks.end())
+      return luaL_loadbufferx(L, it->second.data(), it->second.size(), chunkname, "b");
+  }
+  const int status = luaL_loadbufferx(L, s.source.data(), s.source.size(), chunkname, "t");
+  if (status != LUA_OK) return status;
+  std::string code;
+  if (lua_dump(L, dump_writer, &code, 0) == 0) {
+    std::lock_guard<std::mutex> lock(cache.mutex);
+    cache.chunks.emplace(std::string(s.name), std::move(code));
+  }
+  return status;
+}
+
 // require(name) for the embedded library: chunk "=softcut/<name>.lua",
 // called with (name, internal) so library modules reach the C bindings.
 int embedded_require(lua_State* L) {
@@ -262,9 +398,12 @@ int embedded_require(lua_State* L) {
   lua_pop(L, 1);
   for (const EmbeddedScript& s : embedded_scripts()) {
     if (s.name != name) continue;
-    const std::string chunk = cat("=softcut/", s.name, ".lua");
-    if (luaL_loadbufferx(L, s.source.data(), s.source.size(), chunk.c_str(), "t") != LUA_OK)
-      return lua_error(L);
+    int status;
+    {
+      const std::string chunk = cat("=softcut/", s.name, ".lua");
+      status = load_embedded(L, s, chunk.c_str());
+    }  // no C++ object alive across lua_error
+    if (status != LUA_OK) return lua_error(L);
     lua_pushstring(L, name);
     lua_getfield(L, LUA_REGISTRYINDEX, kInternalKey);
     lua_call(L, 2, 1);

@@ -54,8 +54,8 @@ void feed(const std::string& target, const std::string& bytes, const fs::path& d
     softcut::lua::RunRequest req;
     req.scenario = put_file(dir / "scenario.lua", bytes);
     req.render = false;
-    req.instruction_budget = 2'000'000;
-    req.memory_budget = 16u << 20;
+    req.instruction_budget = 100'000;  // the fuzz target's budgets
+    req.memory_budget = 8u << 20;
     softcut::lua::load_scenario_spec(req);
   } else {
     const char* ext = target == "gmsh" ? ".msh" : target == "medit" ? ".mesh" : target == "vtk" ? ".vtk" : ".vtu";

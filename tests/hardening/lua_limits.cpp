@@ -100,6 +100,90 @@ TEST_SUITE("hardening/lua_limits") {
     CHECK(contains(rec, "bomb.lua"));
   }
 
+  // Finding 5: Lua's pattern matcher runs in C, where the count hook never
+  // fires. Each case runs in a child with a 5 s CPU limit, so a regression
+  // (hours of backtracking) fails the test instead of hanging ctest.
+  TEST_CASE("a backtracking string pattern ends at once with a clear error") {
+    const int rc = softcut::hardening::in_child(RLIMIT_CPU, 5, [] {
+      const std::string msg = run_snippet("local s = ('a'):rep(40)\nlocal m = s:match(('a*'):rep(40) .. 'b')");
+      INFO(msg);
+      CHECK(contains(msg, "bomb.lua:2: string.match: pattern 'a*a*a*"));
+      CHECK(contains(msg, "with 40 repetition items over a 40-byte subject"));
+      CHECK(contains(msg, "simplify the pattern or shorten the subject"));
+      return (contains(msg, "string.match") && contains(msg, "40 repetition items")) ? 0 : 1;
+    });
+    CHECK(rc == 0);
+  }
+
+  TEST_CASE("every pattern function and route to it is guarded") {
+    // string.* and s:method(...), the string metatable's __index, unanchored
+    // searches, gmatch's whole iteration, gsub; captures, back-references,
+    // %b and %f between the repetitions open no loophole.
+    const char* calls[] = {
+        "string.find(('a'):rep(30), ('a-'):rep(30) .. 'b')",
+        "local s = ('a'):rep(30) return s:find(('a*'):rep(30) .. 'b')",
+        "return getmetatable('').__index.match(('a'):rep(30), ('.*'):rep(30) .. '$b')",
+        "for w in (('a'):rep(30)):gmatch(('a?'):rep(30) .. ('a'):rep(30) .. 'b') do end",
+        "return (('x'):rep(25)):gsub(('x*'):rep(25) .. 'y', '')",
+        "return (('ab'):rep(20)):match('(a*)' .. ('[ab]*%1()%f[%w]'):rep(12) .. 'c')",
+        "return (('(a)'):rep(20)):find('^' .. ('.-%b()'):rep(16) .. 'z')",
+        "local f = string.match return f(('0'):rep(48), ('%d*'):rep(24) .. '%a')",
+        "return string.find(('a'):rep(5e6), ('a'):rep(1e6) .. 'b', 1, true)",
+    };
+    for (const char* code : calls) {
+      const int rc = softcut::hardening::in_child(RLIMIT_CPU, 5, [&] {
+        const std::string msg = run_snippet(code);
+        INFO(code);
+        INFO(msg);
+        CHECK(contains(msg, "over the sandbox budget"));
+        CHECK(contains(msg, "bomb.lua:1: string."));
+        return contains(msg, "over the sandbox budget") ? 0 : 1;
+      });
+      INFO(code);
+      CHECK(rc == 0);
+    }
+  }
+
+  TEST_CASE("pattern work is charged: a loop of allowed searches ends at the budget") {
+    // Each search is allowed (~1e6 steps, a few ms) but charged its bound:
+    // uncharged, the loop would run budget / (5 instructions per iteration)
+    // of them, hours.
+    const int rc = softcut::hardening::in_child(RLIMIT_CPU, 5, [] {
+      const std::string msg = run_snippet("local s = ('a'):rep(150)\nwhile true do s:match('^a*a*a*b') end");
+      INFO(msg);
+      CHECK(contains(msg, "bomb.lua:2"));
+      CHECK((contains(msg, "instruction budget") || contains(msg, "over the sandbox budget")));
+      return contains(msg, "budget") ? 0 : 1;
+    });
+    CHECK(rc == 0);
+  }
+
+  TEST_CASE("ordinary pattern uses still work in the sandbox") {
+    const std::string msg = run_snippet(R"(
+local function eq(a, b) if a ~= b then error(tostring(a) .. ' ~= ' .. tostring(b), 2) end end
+eq((('Hello ${name}, frame ${n} of ${n}.'):gsub('%${(%w+)}', { name = 'liver', n = '7' })), 'Hello liver, frame 7 of 7.')
+eq(string.find('a.b*c(d', '*c(', 1, true), 4)
+local fields = {}
+for f in ('node,12,0.25,-3e-4,,tip'):gmatch('([^,]*)') do fields[#fields + 1] = f end
+eq(fields[1], 'node') eq(fields[4], '-3e-4') eq(fields[6], 'tip')
+eq(('f(a, g(b, c), d) + 1'):match('%b()'), '(a, g(b, c), d)')
+local k, v = ('  stiffness = 3.5e3  # Pa'):match('^%s*([%w_]+)%s*=%s*(.-)%s*#')
+eq(k, 'stiffness') eq(v, '3.5e3')
+eq(('say "hi" and "bye"'):match('(["\'])(.-)%1'), '"')
+eq(select(2, ('the cut, the tool'):gsub('%f[%w]the%f[%W]', 'a')), 2)
+local line = ('x'):rep(200) .. ' = ' .. ('y'):rep(200)
+eq(#line:match('^(%w+)%s*=%s*(.*)$'), 200)
+local csv = {} for i = 1, 2000 do csv[#csv + 1] = ('%d,%g,%g,%g'):format(i, i * 0.5, i * 0.25, -i) end
+local text, sum = table.concat(csv, '\n'), 0
+for a, b, c, d in text:gmatch('(%d+),([^,]+),([^,]+),([^\n]+)') do sum = sum + tonumber(d) end
+eq(sum, -2001000)
+eq(select(2, text:gsub('\n', '\n')), 1999)
+eq(('abcabc'):find('b', math.mininteger), 2) eq(('abcabc'):find('b', -3), 5) eq(('abc'):find('b', math.maxinteger), nil)
+eq(('abcabc'):match('(b)c', 3), 'b') eq(#('a'):rep(5e5):match('^a*', 2), 499999)
+)");
+    CHECK(msg == "");
+  }
+
   TEST_CASE("the scenario loader applies the same budgets and names the scenario file") {
     softcut::lua::RunRequest req;
     req.scenario = write_scenario("hardening_lua_loader", "local t = {} for i = 1, 1e9 do t[i] = {} end\n");

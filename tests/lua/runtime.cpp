@@ -124,6 +124,23 @@ TEST_SUITE("lua/runtime") {
     CHECK(rt.memory_used() < opt.memory_budget);
   }
 
+  TEST_CASE("tight budgets (the lua fuzz target's) still load the library and a small scenario") {
+    // tests/fuzz/fuzz_lua.cpp runs every input with these budgets: they must
+    // leave room for real scenarios, or the fuzzer would only see refusals.
+    softcut::lua::SandboxOptions opt;
+    opt.instruction_budget = 100'000;
+    opt.memory_budget = 8u << 20;
+    softcut::lua::Runtime rt(opt);
+    MESSAGE("library load: " << rt.instructions_used() << " instructions, " << rt.memory_used() << " bytes");
+    CHECK(rt.memory_used() < opt.memory_budget / 2);
+    softcut::lua::RunRequest req;
+    req.scenario = softcut::test::write_scenario("rt_tight", std::string(softcut::test::kBoxHead) + "return s\n");
+    req.render = false;
+    req.instruction_budget = opt.instruction_budget;
+    req.memory_budget = opt.memory_budget;
+    CHECK_NOTHROW(softcut::lua::load_scenario_spec(req));
+  }
+
   TEST_CASE("an interruption flag stops running Lua code, also with --trust") {
     std::atomic<bool> flag{false};
     softcut::lua::SandboxOptions opt;

@@ -16,7 +16,7 @@ local s = softcut.scenario{
 }
 -- The paper's model size: about 785 nodes and 2550 tets (tube preset: inner
 -- radius 12 mm = the bone, outer 24 mm, 30 mm long, axis +z).
-local m = s:mesh{ generate = "upper_leg" }
+local m = s:mesh{ generate = "upper_leg", options = { radial = 2, around = 12, layers = 3 } }  -- explicit cells: the resolution search is slow under ASan
 s:material{ tissue = "muscle" }
 s:fix{ nodes = softcut.select.named("hole") }
 s:operational{ sphere = { center = { 0.024, 0, 0.015 }, radius = 0.011 } }
