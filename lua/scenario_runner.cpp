@@ -351,7 +351,8 @@ RunOutcome run_scenario(const RunRequest& req) {
   out.frames_rendered = rec.frames_rendered();
   if (out.frames_rendered) {
     out.render_ms = rec.render_frame_thread_ms().sum / out.frames_rendered;
-    out.render_work_ms = frames->stats().work.total_ms() / std::max(1, frames->stats().frames);
+    const render::FrameWriterStats st = frames->stats();  // one locked snapshot
+    out.render_work_ms = st.work.total_ms() / std::max(1, st.frames);
   }
   out.warnings.insert(out.warnings.end(), model.warnings.begin(), model.warnings.end());
   out.warnings.insert(out.warnings.end(), state.warnings.begin(), state.warnings.end());

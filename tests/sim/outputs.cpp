@@ -25,6 +25,16 @@ std::string slurp(const fs::path& p) {
   return ss.str();
 }
 
+// The cantilever with small frames, no MSAA: rendering without the cost.
+sim::ScenarioSpec rendering_cantilever_spec(const fs::path& dir, double duration) {
+  auto spec = softcut::test::cantilever_spec(dir, duration);
+  spec.outputs.render.enabled = true;
+  spec.outputs.render.width = 48;
+  spec.outputs.render.height = 32;
+  spec.outputs.render.msaa_samples = 0;
+  return spec;
+}
+
 }  // namespace
 
 TEST_SUITE("sim/outputs") {
@@ -92,11 +102,7 @@ TEST_SUITE("sim/outputs") {
     for (const Mode mode : {Mode::inline_draw, Mode::worker}) {
       const bool worker = mode == Mode::worker;
       const fs::path dir = root / (worker ? "worker" : "inline");
-      auto spec = softcut::test::cantilever_spec(dir, 0.3);
-      spec.outputs.render.enabled = true;
-      spec.outputs.render.width = 48;
-      spec.outputs.render.height = 32;
-      spec.outputs.render.msaa_samples = 0;
+      auto spec = rendering_cantilever_spec(dir, 0.3);
       spec.outputs.render.every = 2;
       const sim::Model m = sim::compile(spec);
       softcut::render::FrameWriter writer(ctx, mode);
@@ -126,11 +132,7 @@ TEST_SUITE("sim/outputs") {
     for (const Mode mode : {Mode::inline_draw, Mode::worker}) {
       const fs::path dir = softcut::test::scratch_dir(mode == Mode::worker ? "sim_outputs_fail_w" : "sim_outputs_fail_i");
       fs::create_directories(dir / "frames" / "frame_000002.png");  // a folder where frame 2 goes
-      auto spec = softcut::test::cantilever_spec(dir, 0.4);
-      spec.outputs.render.enabled = true;
-      spec.outputs.render.width = 32;
-      spec.outputs.render.height = 24;
-      spec.outputs.render.msaa_samples = 0;
+      auto spec = rendering_cantilever_spec(dir, 0.4);
       const sim::Model m = sim::compile(spec);
       softcut::render::FrameWriter writer(ctx, mode);
       sim::State s = sim::make_state(m);
