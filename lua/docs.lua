@@ -35,7 +35,9 @@ error at the scenario's line, e.g. `liver.lua:12: material: unknown field 'young
 **Sandbox.** Scenarios run with the safe standard libraries only (base without `dofile`/`loadfile`,
 `load` of text only; `string`, `table`, `math`, `utf8`, `coroutine`; `os.clock/time/date`),
 `io.open` reading below the scenario's folder and writing below the output folder, an instruction
-budget per call (the main chunk, each on_frame) and a memory budget. `require` loads only the embedded library. `--trust` lifts all of it.
+budget per call (the main chunk, each on_frame; engine work such as loading meshes and evaluating selections is
+charged to it too), a memory budget, and meshes of at most 2,000,000 tetrahedra (`--max-tets N` changes it).
+`require` loads only the embedded library. `--trust` lifts all of it.
 ]]
 
 local function type_text(t)

@@ -444,6 +444,21 @@ void open_internal(lua_State* L) {
 
 }  // namespace
 
+double max_tets(lua_State* L) {
+  const SandboxOptions& opt = options_of(L);
+  return opt.trusted ? HUGE_VAL : opt.max_tets;
+}
+
+void charge_work(lua_State* L, double instructions, const std::string& what) {
+  Runtime::Budget* b = budget_of(L);
+  if (!b->instruction_limit) return;
+  b->instructions += static_cast<long long>(std::min(instructions, 1e15));
+  if (b->instructions > b->instruction_limit)
+    fail(what, ": instruction budget of ", b->instruction_limit, " instructions exceeded (engine work such as "
+         "generating meshes and evaluating selections counts too; a loop of them?); "
+         "run with --trust to lift the sandbox budgets");
+}
+
 bool may_read(lua_State* L, const fs::path& path) {
   const SandboxOptions& opt = options_of(L);
   return opt.trusted || inside(path, opt.read_dir);

@@ -22,6 +22,7 @@ struct SandboxOptions {
   std::filesystem::path write_dir;          // io.open(..., "w"/"a") allowed below it (output folder)
   long long instruction_budget = 200'000'000;  // Lua VM instructions per call from C++ (main chunk, each on_frame)
   std::size_t memory_budget = 512u << 20;      // bytes held by the Lua heap at any time
+  double max_tets = 2'000'000;                 // tetrahedra of the mesh the script loads or generates
   const std::atomic<bool>* interrupt = nullptr;  // when set, running Lua code stops with "interrupted"
 };
 
@@ -74,6 +75,16 @@ int protect(lua_State* L, const std::function<int()>& f);
 
 // Pushes the `softcut` library table (loads it on first use).
 void push_library(lua_State* L);
+
+// The sandbox's limit on a mesh's tetrahedra (SandboxOptions::max_tets;
+// infinite with --trust).
+double max_tets(lua_State* L);
+
+// Charges `instructions` of native work (a binding's loops, where the count
+// hook never fires) to the instruction budget, so that a short loop of
+// expensive calls also ends at the budget. Throws softcut::Error naming
+// `what` once it is spent (call it inside protect()). No-op with --trust.
+void charge_work(lua_State* L, double instructions, const std::string& what);
 
 // Whether the sandbox lets the scenario read `path` (always with --trust):
 // engine bindings that open files (mesh files) ask this first.

@@ -248,6 +248,7 @@ SandboxOptions sandbox_of(const RunRequest& req) {
   opt.read_dir = fs::absolute(req.scenario).lexically_normal().parent_path();
   opt.instruction_budget = req.instruction_budget;
   opt.memory_budget = req.memory_budget;
+  opt.max_tets = req.max_tets;
   opt.interrupt = req.interrupt;
   return opt;
 }

@@ -30,6 +30,7 @@ struct RunRequest {
   bool render_inline = false;                     // draw on the frame thread even without the GPU solver (bench)
   long long instruction_budget = 200'000'000;     // sandbox: Lua VM instructions per call (main chunk, each on_frame)
   std::size_t memory_budget = 512u << 20;         // sandbox: Lua heap, bytes
+  double max_tets = 2'000'000;                    // sandbox: tetrahedra of the scenario's mesh (--max-tets)
   std::function<void(int frame, int num_frames, double elapsed_s)> progress;
   const std::atomic<bool>* interrupt = nullptr;   // set by SIGINT/SIGTERM
 };

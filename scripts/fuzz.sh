@@ -9,6 +9,7 @@
 #   scripts/fuzz.sh --build-only
 #   scripts/fuzz.sh --seconds 30 --jobs 2   # two targets at a time (CI: scripts/test.sh)
 #   scripts/fuzz.sh --runs 1000000 --seconds 7200 nrrd   # stop at 1e6 executions (or the time)
+#   scripts/fuzz.sh --max-len 4096 --runs 1000000 --seconds 10800 lua  # shorter inputs, faster
 # Long run (>= 1e6 execs per target; the corpus grows in build-fuzz/corpus/):
 #   scripts/fuzz.sh --seconds 3600
 set -euo pipefail
@@ -16,6 +17,7 @@ cd "$(dirname "$0")/.."
 all=(gmsh medit vtk vtu tetgen nrrd lua)
 seconds=60
 runs=-1
+max_len=65536
 jobs=1
 build_only=0
 targets=()
@@ -27,8 +29,10 @@ while [ $# -gt 0 ]; do
     --jobs) jobs="$2"; shift 2 ;;
     --jobs=*) jobs="${1#*=}"; shift ;;
     --runs=*) runs="${1#*=}"; shift ;;
+    --max-len) max_len="$2"; shift 2 ;;
+    --max-len=*) max_len="${1#*=}"; shift ;;
     --build-only) build_only=1; shift ;;
-    -h|--help) sed -n '2,15p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,16p' "$0"; exit 0 ;;
     -*) echo "fuzz.sh: unknown option $1" >&2; exit 2 ;;
     *) targets+=("$1"); shift ;;
   esac
@@ -54,7 +58,7 @@ fuzz_one() {
   dict=tests/fuzz/dict/$t.dict
   # In-process fuzzing (no libFuzzer -jobs: that forks and logs to ./fuzz-N.log).
   args=(-max_total_time="$seconds" -runs="$runs" -timeout=10 -rss_limit_mb=2048
-        -max_len=65536 -print_final_stats=1 -artifact_prefix="$findings/")
+        -max_len="$max_len" -print_final_stats=1 -artifact_prefix="$findings/")
   [ -f "$dict" ] && args+=(-dict="$dict")
   dirs=("$corpus")  # new inputs go to the first folder; seeds and past crashes are read
   for d in tests/fuzz/corpus/$t tests/fuzz/regressions/$t; do [ -d "$d" ] && dirs+=("$d"); done

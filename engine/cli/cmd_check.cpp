@@ -1,4 +1,4 @@
-// softcut check PATH... [--record] [--out DIR] [--trust]
+// softcut check PATH... [--record] [--out DIR] [--backend B] [--max-tets N] [--trust]
 // Runs each scenario, evaluates its expectations, compares its displacement
 // log with the reference next to it; one line per scenario, then
 // "N passed, N failed"; exit 1 on any failure.
@@ -24,7 +24,7 @@ namespace softcut::cli {
 namespace {
 
 const char* kCheckUsage =
-    "usage: softcut check PATH... [--record] [--out DIR] [--backend B] [--trust]\n"
+    "usage: softcut check PATH... [--record] [--out DIR] [--backend B] [--max-tets N] [--trust]\n"
     "\n"
     "Runs each scenario (PATH: a .lua file, or a folder searched for *.lua), evaluates its\n"
     "s:expect{...} checks and compares its displacements.csv with the reference log next to it\n"
@@ -32,6 +32,7 @@ const char* kCheckUsage =
     "  --record   (re)write the reference logs of the scenarios whose expectations pass\n"
     "  --out DIR  keep the outputs under DIR/<scenario name>/ (default: a temporary folder)\n"
     "  --backend B  operational solver for every scenario: auto, cpu, gpu, direct or monolithic\n"
+    "  --max-tets N  sandbox: largest mesh a scenario may load or generate (default 2000000 tets)\n"
     "  --trust    no sandbox\n"
     "Prints one line per scenario and closes with 'N passed, N failed'; exit status 1 on any failure.\n";
 
@@ -57,12 +58,10 @@ std::vector<fs::path> collect(const std::vector<std::string>& paths) {
 std::string first_line(const std::string& s) { return s.substr(0, s.find('\n')); }
 
 // One scenario -> "" (pass) or the failure reason; `detail` gets the pass note.
-std::string check_one(const fs::path& scenario, bool record, const fs::path& out_root, bool trust,
-                      const std::string& backend, std::string& detail) {
-  lua::RunRequest req;
-  req.backend = backend;
+// `req` carries the options shared by every scenario (sandbox, backend).
+std::string check_one(const fs::path& scenario, bool record, const fs::path& out_root, lua::RunRequest req,
+                      std::string& detail) {
   req.scenario = scenario;
-  req.trusted = trust;
   req.render = false;
   req.interrupt = &SignalGuard::flag();
   req.out_dir = out_root / scenario.stem();
@@ -112,17 +111,20 @@ int cmd_check(const Args& args) {
     std::fputs(kCheckUsage, args.empty() ? stderr : stdout);
     return args.empty() ? 2 : 0;
   }
-  bool record = false, trust = false;
-  std::string backend;
+  bool record = false;
+  lua::RunRequest base;
   fs::path out_root;
   std::vector<std::string> paths;
   for (size_t i = 0; i < args.size(); ++i) {
     const std::string& a = args[i];
     if (a == "--record") record = true;
-    else if (a == "--trust") trust = true;
+    else if (a == "--trust") base.trusted = true;
     else if (a == "--backend") {
       if (i + 1 >= args.size()) fail("softcut check: --backend needs a value");
-      backend = parse_backend(args[++i]);
+      base.backend = parse_backend(args[++i]);
+    } else if (a == "--max-tets") {
+      if (i + 1 >= args.size()) fail("softcut check: --max-tets needs a number");
+      base.max_tets = parse_count(args[++i], "--max-tets");
     }
     else if (a == "--out") {
       if (i + 1 >= args.size()) fail("softcut check: --out needs a folder");
@@ -137,7 +139,7 @@ int cmd_check(const Args& args) {
   int passed = 0, failed = 0;
   for (const fs::path& s : scenarios) {
     std::string detail;
-    const std::string why = check_one(s, record, out_root, trust, backend, detail);
+    const std::string why = check_one(s, record, out_root, base, detail);
     if (why.empty()) {
       ++passed;
       std::printf("PASS  %s  (%s)\n", s.string().c_str(), detail.c_str());

@@ -17,7 +17,7 @@ namespace {
 
 const char* kRunUsage =
     "usage: softcut run SCENARIO.lua [--out DIR] [--set key=value ...] [--frames N] [--backend B]\n"
-    "                   [--render-every N] [--size WxH] [--msaa N] [--quiet] [--trust] [--no-render]\n"
+    "                   [--render-every N] [--size WxH] [--msaa N] [--max-tets N] [--quiet] [--trust] [--no-render]\n"
     "\n"
     "Runs a Lua scenario headless and writes DIR/displacements.csv and DIR/summary.json\n"
     "(default DIR: renders/<scenario name>/).\n"
@@ -29,7 +29,8 @@ const char* kRunUsage =
     "  --size WxH       rendered frame size in pixels (overrides the scenario's, e.g. 640x480)\n"
     "  --msaa N         multisample count of rendered frames (0: none; overrides the scenario's)\n"
     "  --quiet          no progress output\n"
-    "  --trust          no sandbox: full Lua standard library, no instruction or memory budget\n"
+    "  --max-tets N     sandbox: largest mesh the scenario may load or generate (default 2000000 tets)\n"
+    "  --trust          no sandbox: full Lua standard library, no instruction, memory or mesh budget\n"
     "  --no-render      write no frames (also when no OpenGL context can be made)\n"
     "Ctrl-C (SIGINT) or SIGTERM finishes the current frame, writes the outputs and marks the\n"
     "summary interrupted.\n"
@@ -61,6 +62,7 @@ int cmd_run(const Args& args) {
     else if (a == "--size") std::tie(req.width, req.height) = parse_size(value("--size"), "--size");
     else if (a == "--msaa") req.msaa_samples = parse_count(value("--msaa"), "--msaa");
     else if (a == "--quiet" || a == "-q") quiet = true;
+    else if (a == "--max-tets") req.max_tets = parse_count(value("--max-tets"), "--max-tets");
     else if (a == "--trust") req.trusted = true;
     else if (a == "--no-render") req.render = false;
     else if (a.rfind("-", 0) == 0) fail("softcut run: unknown option '", a, "' (see softcut run --help)");

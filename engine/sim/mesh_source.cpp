@@ -1,6 +1,7 @@
 #include "sim/mesh_source.hpp"
 
 #include <cmath>
+#include <cstdio>
 
 #include "mesh/generate/box.hpp"
 #include "mesh/generate/cylinder.hpp"
@@ -56,6 +57,14 @@ class Options {
   std::vector<std::string> known_;
 };
 
+std::string too_many_tets(double tets, double max_tets, const char* advice) {
+  char n[32], limit[32];
+  std::snprintf(n, sizeof n, "%.0f", tets);
+  std::snprintf(limit, sizeof limit, "%.0f", max_tets);
+  return cat(n, " tetrahedra, over this run's limit of ", limit, "; ", advice,
+             " (softcut run/check --max-tets N raises the limit, --trust lifts it)");
+}
+
 void common(Options& o, int& target_tets, int& target_nodes, double& jitter, unsigned& seed, int& label) {
   o.integer("target_tets", target_tets);
   o.integer("target_nodes", target_nodes);
@@ -81,9 +90,14 @@ void tube_options(Options& o, mesh::TubeOptions& t) {
 
 // Runs the generator (or only collects option names when `run` is false).
 LoadedMesh generate(const std::string& gen, const std::map<std::string, double>& opts, const std::string& what,
-                    bool run, std::vector<std::string>* names) {
+                    bool run, std::vector<std::string>* names, double max_tets = kNoTetLimit) {
   Options o(opts, what);
   LoadedMesh out;
+  // Refuses the resolution before anything is allocated.
+  const auto fits = [&](const mesh::MeshSize& size) {
+    if (size.tets > max_tets) fail(what, ": this resolution gives ", too_many_tets(size.tets, max_tets, "use a coarser one"));
+    return true;
+  };
   out.description = "generator " + gen;
   if (gen == "box") {
     mesh::BoxOptions b;
@@ -91,7 +105,7 @@ LoadedMesh generate(const std::string& gen, const std::map<std::string, double>&
     o.integer("nx", b.nx), o.integer("ny", b.ny), o.integer("nz", b.nz);
     o.num("jitter", b.jitter), o.integer("seed", b.seed), o.integer("label", b.label);
     o.finish();
-    if (run) out.mesh = mesh::generate_box(b);
+    if (run && fits(mesh::box_size(b))) out.mesh = mesh::generate_box(b);
   } else if (gen == "cylinder") {
     mesh::CylinderOptions c;
     o.vec("base_center", c.base_center);
@@ -99,12 +113,18 @@ LoadedMesh generate(const std::string& gen, const std::map<std::string, double>&
     o.integer("rings", c.rings), o.integer("layers", c.layers);
     common(o, c.target_tets, c.target_nodes, c.jitter, c.seed, c.label);
     o.finish();
-    if (run) out.mesh = mesh::generate_cylinder(c);
+    if (run) {
+      const auto r = mesh::resolve_cylinder(c);
+      fits(mesh::cylinder_size(r.rings, r.layers));
+      out.mesh = mesh::generate_cylinder(r);
+    }
   } else if (gen == "tube" || gen == "upper_leg") {
     mesh::TubeOptions t = gen == "tube" ? mesh::TubeOptions{} : mesh::upper_leg_preset();
     tube_options(o, t);
     o.finish();
     if (run) {
+      t = mesh::resolve_tube(t);
+      fits(mesh::tube_size(t.radial, t.around, t.layers));
       out.mesh = mesh::generate_tube(t);
       out.named_sets["hole"] = mesh::tube_hole_nodes(out.mesh, t);
     }
@@ -112,7 +132,11 @@ LoadedMesh generate(const std::string& gen, const std::map<std::string, double>&
     mesh::BandOptions b = gen == "band" ? mesh::BandOptions{} : mesh::ligament_preset();
     band_options(o, b);
     o.finish();
-    if (run) out.mesh = mesh::generate_band(b);
+    if (run) {
+      const auto r = mesh::resolve_band(b);
+      fits(mesh::band_size(r.along, r.across, r.through));
+      out.mesh = mesh::generate_band(r);
+    }
   } else {
     fail(what, ": unknown generator '", gen, "' (use box, cylinder, tube, band, ligament or upper_leg)");
   }
@@ -128,7 +152,7 @@ std::vector<std::string> generator_options(const std::string& generator) {
   return names;
 }
 
-LoadedMesh load_mesh_source(const MeshSource& src, Diagnostics& diag) {
+LoadedMesh load_mesh_source(const MeshSource& src, Diagnostics& diag, double max_tets) {
   const std::string what = src.where.empty() ? std::string("mesh") : src.where + ": mesh";
   const int given = src.given.num_tets() > 0;
   const int sources = given + !src.file.empty() + !src.generator.empty();
@@ -143,10 +167,12 @@ LoadedMesh load_mesh_source(const MeshSource& src, Diagnostics& diag) {
   } else if (!src.file.empty()) {
     if (!src.options.empty()) fail(what, ": generator options given with a mesh file ", src.file.string());
     out.mesh = mesh::read_mesh(src.file, diag);
+    if (out.mesh.num_tets() > max_tets)
+      fail(what, ": ", src.file.string(), " has ", too_many_tets(out.mesh.num_tets(), max_tets, "use a coarser mesh"));
     out.named_sets = src.named_sets;
     out.description = "file " + src.file.string();
   } else {
-    out = generate(src.generator, src.options, what + " generator '" + src.generator + "'", true, nullptr);
+    out = generate(src.generator, src.options, what + " generator '" + src.generator + "'", true, nullptr, max_tets);
     mesh::validate(out.mesh, out.description, diag);
   }
   for (const auto& [name, ids] : out.named_sets)

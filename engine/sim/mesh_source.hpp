@@ -17,10 +17,15 @@ struct LoadedMesh {
   std::string description;                              // "file liver.msh" / "generator tube"
 };
 
+constexpr double kNoTetLimit = 2147483647.0;  // int ids
+
 // Generators: box, cylinder, tube, band, ligament (band preset), upper_leg
 // (tube preset). Options are the generator's option names; vectors as
 // name.x / name.y / name.z. Throws naming the source and the bad option.
-LoadedMesh load_mesh_source(const MeshSource& src, Diagnostics& diag);
+// A mesh over `max_tets` tetrahedra is refused: a generator's before it is
+// allocated (the sandbox's bound on what a few bytes of script may ask for),
+// a file's after reading (its memory is bounded by the file's size).
+LoadedMesh load_mesh_source(const MeshSource& src, Diagnostics& diag, double max_tets = kNoTetLimit);
 
 // Option names a generator accepts (for messages and docs).
 std::vector<std::string> generator_options(const std::string& generator);

@@ -97,4 +97,15 @@ TEST_SUITE("cli/cmd_check") {
                                  ":3: material: unknown field 'youngs' (did you mean 'young'?)"));
     CHECK(contains(b.output, "0 passed, 2 failed"));
   }
+
+  TEST_CASE("--max-tets bounds the mesh a scenario may generate, naming the line and the flag") {
+    const std::string s = softcut::test::source("scenarios/through_cut.lua");  // a 960-tet box
+    const auto r = run_cli("check --backend cpu --max-tets 959 " + s);
+    CHECK(r.status == 1);
+    CHECK(contains(r.output, "through_cut.lua:16: mesh generator 'box': this resolution gives 960 tetrahedra, over "
+                             "this run's limit of 959; use a coarser one (softcut run/check --max-tets N raises the "
+                             "limit, --trust lifts it)"));
+    CHECK(run_cli("check --backend cpu --max-tets 960 " + s).status == 0);
+    CHECK(contains(run_cli("check --max-tets lots " + s).output, "--max-tets lots: expected a whole number"));
+  }
 }

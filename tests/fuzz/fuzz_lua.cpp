@@ -18,6 +18,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   req.render = false;
   req.instruction_budget = 100'000;
   req.memory_budget = 8u << 20;
+  req.max_tets = 5000;  // a generator is refused before it allocates; the default
+                        // (2e6) would spend seconds per input on native work
   fuzz::expect_clean([&] { lua::load_scenario_spec(req); });
   return 0;
 }

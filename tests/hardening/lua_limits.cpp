@@ -216,4 +216,52 @@ eq(('abcabc'):match('(b)c', 3), 'b') eq(#('a'):rep(5e5):match('^a*', 2), 499999)
     INFO(msg);
     CHECK(contains(msg, "too many"));
   }
+
+  TEST_CASE("a scenario asking for a billion-tet mesh is refused before it is generated") {
+    const char* requests[] = {
+        R"(generate = "box", options = { nx = 1000, ny = 1000, nz = 300 })",
+        R"(generate = "cylinder", options = { rings = 300, layers = 1000 })",
+        R"(generate = "tube", options = { target_tets = 1e9 })",
+        R"(generate = "ligament", options = { along = 1000, across = 1000, through = 100 })",
+    };
+    for (const std::string r : requests) {
+      CAPTURE(r);
+      const long long before = softcut::hardening::peak_rss_bytes();
+      softcut::lua::RunRequest req;
+      req.scenario = write_scenario("hardening_huge_mesh", std::string("local s = softcut.scenario{ duration = 1, fps = 1 }\n") +
+                                                                    "s:mesh{ " + r + " }\n");
+      const std::string msg = error_of([&] { softcut::lua::load_scenario_spec(req); });
+      INFO(msg);
+      CHECK(contains(msg, "scenario.lua:2"));
+      CHECK(contains(msg, "over this run's limit of 2000000"));
+      CHECK(contains(msg, "--max-tets"));
+      CHECK(softcut::hardening::peak_rss_bytes() - before < (64ll << 20));
+    }
+  }
+
+  TEST_CASE("a loop of mesh loads or of selections ends at the instruction budget") {
+    // Native work is charged: uncharged, each loop would run for hours on a
+    // budget of 2e7 instructions (a mesh load is ~40 instructions of Lua).
+    const char* loops[] = {
+        "for i = 1, 1e9 do\n  local s = softcut.scenario{ duration = 1, fps = 1 }\n"
+        "  s:mesh{ generate = 'box', options = { nx = 30, ny = 30, nz = 30 } }\nend\n",
+        "local s = softcut.scenario{ duration = 1, fps = 1 }\n"
+        "s:mesh{ generate = 'box', options = { nx = 30, ny = 30, nz = 30 } }\n"
+        "for i = 1, 1e9 do s:fix{ nodes = softcut.select.box{ min = {0, 0, 0}, max = {0.5, 1, 1} } } end\n",
+    };
+    for (const std::string code : loops) {
+      CAPTURE(code);
+      const int rc = softcut::hardening::in_child(RLIMIT_CPU, 60, [&] {
+        softcut::lua::RunRequest req;
+        req.scenario = write_scenario("hardening_native_loop", code);
+        req.instruction_budget = 20'000'000;
+        const std::string msg = error_of([&] { softcut::lua::load_scenario_spec(req); });
+        INFO(msg);
+        CHECK(contains(msg, "instruction budget of 20000000 instructions exceeded"));
+        CHECK((contains(msg, "scenario.lua:3") || contains(msg, "scenario.lua:4")));
+        return contains(msg, "instruction budget") ? 0 : 1;
+      });
+      CHECK(rc == 0);
+    }
+  }
 }

@@ -3,6 +3,7 @@
 #include <doctest/doctest.h>
 #include <lua.hpp>
 
+#include <cmath>
 #include <fstream>
 
 #include "lua_test_support.hpp"
@@ -158,5 +159,21 @@ TEST_SUITE("lua/runtime") {
     opt.instruction_budget = 1000;
     opt.memory_budget = 1u << 20;
     CHECK(lua_error("local t = {} for i = 1, 300000 do t[i] = i end", opt) == "");
+  }
+
+  TEST_CASE("native work is charged to the instruction budget and the mesh limit follows the sandbox") {
+    softcut::lua::SandboxOptions opt;
+    opt.instruction_budget = 1'000'000;
+    opt.max_tets = 1234;
+    softcut::lua::Runtime rt(opt);
+    CHECK(softcut::lua::max_tets(rt.state()) == 1234);
+    CHECK_NOTHROW(softcut::lua::charge_work(rt.state(), 6e5, "here"));
+    CHECK_THROWS_WITH_AS(softcut::lua::charge_work(rt.state(), 6e5, "here"),
+                         doctest::Contains("here: instruction budget of 1000000 instructions exceeded (engine work"),
+                         softcut::Error);
+    opt.trusted = true;
+    softcut::lua::Runtime trusted(opt);
+    CHECK(std::isinf(softcut::lua::max_tets(trusted.state())));
+    CHECK_NOTHROW(softcut::lua::charge_work(trusted.state(), 1e18, "here"));
   }
 }

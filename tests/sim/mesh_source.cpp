@@ -2,7 +2,14 @@
 
 #include <doctest/doctest.h>
 
+#include <map>
+#include <string>
+#include <utility>
+#include <vector>
+
 #include "core/error.hpp"
+#include "mesh/io/mesh_io.hpp"
+#include "test_support.hpp"
 
 namespace sim = softcut::sim;
 
@@ -46,5 +53,45 @@ TEST_SUITE("sim/mesh_source") {
     src.file = "x.msh";
     CHECK_THROWS_WITH_AS(sim::load_mesh_source(src, diag), doctest::Contains("exactly one"), Error);
     CHECK(!sim::generator_options("upper_leg").empty());
+  }
+
+  TEST_CASE("a mesh over max_tets is refused: a generator's before it allocates, a file's naming the file") {
+    using softcut::Error;
+    // Each generator at the limit loads (so the count the check uses is the
+    // count the generator makes) and one tet below it is refused.
+    const std::vector<std::pair<std::string, std::map<std::string, double>>> sources = {
+        {"box", {{"nx", 3}, {"ny", 2}, {"nz", 2}}},
+        {"cylinder", {{"rings", 2}, {"layers", 3}}},
+        {"cylinder", {{"target_tets", 700}}},
+        {"tube", {{"radial", 2}, {"around", 8}, {"layers", 2}}},
+        {"band", {{"target_nodes", 300}}},
+        {"ligament", {}},
+        {"upper_leg", {}},
+    };
+    for (const auto& [gen, options] : sources) {
+      CAPTURE(gen);
+      sim::MeshSource src;
+      src.generator = gen;
+      src.options = options;
+      softcut::Diagnostics diag;
+      const int n = sim::load_mesh_source(src, diag).mesh.num_tets();
+      CHECK(sim::load_mesh_source(src, diag, n).mesh.num_tets() == n);
+      const std::string refused = std::to_string(n) + " tetrahedra, over this run's limit of " + std::to_string(n - 1);
+      CHECK_THROWS_WITH_AS(sim::load_mesh_source(src, diag, n - 1), doctest::Contains(refused.c_str()), Error);
+    }
+    // A billion-tet request ends at once: generating it would need ~100 GB.
+    sim::MeshSource huge;
+    huge.generator = "box";
+    huge.options = {{"nx", 1000}, {"ny", 1000}, {"nz", 300}};
+    softcut::Diagnostics diag;
+    CHECK_THROWS_WITH_AS(sim::load_mesh_source(huge, diag, 2e6), doctest::Contains("1800000000 tetrahedra"), Error);
+
+    sim::MeshSource file;
+    file.file = softcut::test::scratch_dir("sim_mesh_source_limit") / "bar.msh";
+    sim::MeshSource box;
+    box.generator = "box";
+    softcut::mesh::write_mesh(file.file, sim::load_mesh_source(box, diag).mesh);  // 4x4x4 cells: 384 tets
+    CHECK(sim::load_mesh_source(file, diag, 384).mesh.num_tets() == 384);
+    CHECK_THROWS_WITH_AS(sim::load_mesh_source(file, diag, 383), doctest::Contains("bar.msh has 384 tetrahedra"), Error);
   }
 }

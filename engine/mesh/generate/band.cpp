@@ -8,6 +8,8 @@
 
 namespace softcut::mesh {
 
+MeshSize band_size(double a, double w, double t) { return {(a + 1) * (w + 1) * (t + 1), 6 * a * w * t}; }
+
 BandOptions resolve_band(const BandOptions& opt) {
   BandOptions o = opt;
   for (double v : {o.length, o.width, o.thickness})
@@ -19,9 +21,7 @@ BandOptions resolve_band(const BandOptions& opt) {
     fail("band: resolution and targets must be >= 0");
   const bool any = o.along > 0 || o.across > 0 || o.through > 0;
   if (any && !(o.along > 0 && o.across > 0 && o.through > 0)) fail("band: give along, across and through, or none");
-  const auto check_size = [](double a, double w, double t) {
-    check_mesh_size("band", (a + 1) * (w + 1) * (t + 1), 6 * a * w * t);
-  };
+  const auto check_size = [](double a, double w, double t) { check_mesh_size("band", band_size(a, w, t)); };
   if (any) {
     check_size(o.along, o.across, o.through);
     return o;

@@ -6,6 +6,7 @@
 // (see extrude.hpp). Surface: a sphere (Euler characteristic 2).
 #include <Eigen/Core>
 
+#include "mesh/generate/extrude.hpp"
 #include "mesh/tet_mesh.hpp"
 
 namespace softcut::mesh {
@@ -32,6 +33,8 @@ struct BandOptions {
 
 // Fills along, across and through; fails on bad options.
 BandOptions resolve_band(const BandOptions& opt);
+// Counts for a resolution (along, across, through).
+MeshSize band_size(double along, double across, double through);
 
 // Nodes: grid point (iw across, it through) of layer l has id
 // iw + (across+1) * (it + (through+1) * l).

@@ -7,11 +7,15 @@
 
 namespace softcut::mesh {
 
+MeshSize box_size(const BoxOptions& o) {
+  return {(o.nx + 1.0) * (o.ny + 1.0) * (o.nz + 1.0), 6.0 * o.nx * o.ny * o.nz};
+}
+
 TetMesh generate_box(const BoxOptions& o) {
   if (o.nx < 1 || o.ny < 1 || o.nz < 1) fail("box: cell counts must be >= 1, got ", o.nx, " ", o.ny, " ", o.nz);
   if (!((o.max_corner - o.min_corner).minCoeff() > 0)) fail("box: max corner must exceed min corner on every axis");
   if (!(o.jitter >= 0 && o.jitter < 0.25)) fail("box: jitter must lie in [0, 0.25), got ", o.jitter);
-  check_mesh_size("box", (o.nx + 1.0) * (o.ny + 1.0) * (o.nz + 1.0), 6.0 * o.nx * o.ny * o.nz);
+  check_mesh_size("box", box_size(o));
   const int px = o.nx + 1, py = o.ny + 1, pz = o.nz + 1;
   const Eigen::Vector3d h = (o.max_corner - o.min_corner).cwiseQuotient(Eigen::Vector3d(o.nx, o.ny, o.nz));
   TetMesh m;

@@ -4,6 +4,7 @@
 // cells share faces exactly and the mesh is conforming.
 #include <Eigen/Core>
 
+#include "mesh/generate/extrude.hpp"
 #include "mesh/tet_mesh.hpp"
 
 namespace softcut::mesh {
@@ -19,5 +20,7 @@ struct BoxOptions {
 
 // Nodes are numbered x fastest: id = i + (nx+1) * (j + (ny+1) * k).
 TetMesh generate_box(const BoxOptions& opt);
+// Counts of the mesh generate_box makes.
+MeshSize box_size(const BoxOptions& opt);
 
 }  // namespace softcut::mesh

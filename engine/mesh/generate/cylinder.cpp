@@ -8,6 +8,8 @@
 
 namespace softcut::mesh {
 
+MeshSize cylinder_size(double k, double l) { return {(1 + 3 * k * (k + 1)) * (l + 1), 18 * k * k * l}; }
+
 CylinderOptions resolve_cylinder(const CylinderOptions& opt) {
   CylinderOptions o = opt;
   if (!(o.radius > 0 && std::isfinite(o.radius))) fail("cylinder: radius must be > 0 m, got ", o.radius);
@@ -15,9 +17,7 @@ CylinderOptions resolve_cylinder(const CylinderOptions& opt) {
   if (o.rings < 0 || o.layers < 0 || o.target_tets < 0 || o.target_nodes < 0)
     fail("cylinder: resolution and targets must be >= 0");
   if ((o.rings > 0) != (o.layers > 0)) fail("cylinder: give both rings and layers, or neither");
-  const auto check_size = [](double k, double l) {
-    check_mesh_size("cylinder", (1 + 3 * k * (k + 1)) * (l + 1), 18 * k * k * l);
-  };
+  const auto check_size = [](double k, double l) { check_mesh_size("cylinder", cylinder_size(k, l)); };
   if (o.rings > 0) {
     check_size(o.rings, o.layers);
     return o;

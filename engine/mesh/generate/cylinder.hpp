@@ -5,6 +5,7 @@
 // three tets per prism (see extrude.hpp). Surface: a sphere (Euler characteristic 2).
 #include <Eigen/Core>
 
+#include "mesh/generate/extrude.hpp"
 #include "mesh/tet_mesh.hpp"
 
 namespace softcut::mesh {
@@ -25,6 +26,8 @@ struct CylinderOptions {
 
 // Fills rings and layers (from the targets when they are 0); fails on bad options.
 CylinderOptions resolve_cylinder(const CylinderOptions& opt);
+// Counts for a resolution (rings, layers).
+MeshSize cylinder_size(double rings, double layers);
 
 // Nodes: section point p (0 = centre, then ring by ring, counter-clockwise) of
 // layer l has id p + (1 + 3 rings (rings + 1)) * l.

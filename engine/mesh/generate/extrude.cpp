@@ -57,9 +57,9 @@ double resolution_score(long nodes, long tets, int target_nodes, int target_tets
   return miss + 0.05 * std::log(cell.maxCoeff() / cell.minCoeff());
 }
 
-void check_mesh_size(const char* what, double nodes, double tets) {
-  if (!(nodes <= INT_MAX && tets <= INT_MAX))
-    fail(what, ": the requested resolution gives too many nodes or tetrahedra (", nodes, " nodes, ", tets,
+void check_mesh_size(const char* what, const MeshSize& size) {
+  if (!(size.nodes <= INT_MAX && size.tets <= INT_MAX))
+    fail(what, ": the requested resolution gives too many nodes or tetrahedra (", size.nodes, " nodes, ", size.tets,
          " tets; at most ", INT_MAX, " each); use fewer cells");
 }
 

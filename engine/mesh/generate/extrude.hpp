@@ -38,8 +38,13 @@ TetMesh extrude_section(const Section& s, int layers, const PlacePoint& place, d
 // Smaller is better.
 double resolution_score(long nodes, long tets, int target_nodes, int target_tets, const Eigen::Vector3d& cell);
 
-// Fails, naming `what`, when a mesh of `nodes` nodes and `tets` tets would not
-// fit int ids. Counts are passed as doubles, so computing them cannot overflow.
-void check_mesh_size(const char* what, double nodes, double tets);
+// Node and tet counts of a generator resolution, as doubles so that computing
+// them cannot overflow (the *_size functions of each generator).
+struct MeshSize {
+  double nodes = 0, tets = 0;
+};
+
+// Fails, naming `what`, when a mesh of that size would not fit int ids.
+void check_mesh_size(const char* what, const MeshSize& size);
 
 }  // namespace softcut::mesh

@@ -8,6 +8,8 @@
 
 namespace softcut::mesh {
 
+MeshSize tube_size(double r, double a, double l) { return {(r + 1) * a * (l + 1), 6 * r * a * l}; }
+
 TubeOptions resolve_tube(const TubeOptions& opt) {
   TubeOptions o = opt;
   if (!(o.inner_radius > 0 && o.outer_radius > o.inner_radius && std::isfinite(o.outer_radius)))
@@ -18,9 +20,7 @@ TubeOptions resolve_tube(const TubeOptions& opt) {
   const bool any = o.radial > 0 || o.around > 0 || o.layers > 0;
   if (any && !(o.radial > 0 && o.around > 0 && o.layers > 0)) fail("tube: give radial, around and layers, or none");
   if (any && o.around < 3) fail("tube: need at least 3 cells around the axis, got ", o.around);
-  const auto check_size = [](double r, double a, double l) {
-    check_mesh_size("tube", (r + 1) * a * (l + 1), 6 * r * a * l);
-  };
+  const auto check_size = [](double r, double a, double l) { check_mesh_size("tube", tube_size(r, a, l)); };
   if (any) {
     check_size(o.radial, o.around, o.layers);
     return o;

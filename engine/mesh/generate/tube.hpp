@@ -7,6 +7,7 @@
 #include <Eigen/Core>
 #include <vector>
 
+#include "mesh/generate/extrude.hpp"
 #include "mesh/tet_mesh.hpp"
 
 namespace softcut::mesh {
@@ -29,6 +30,8 @@ struct TubeOptions {
 
 // Fills radial, around and layers; fails on bad options.
 TubeOptions resolve_tube(const TubeOptions& opt);
+// Counts for a resolution (radial, around, layers).
+MeshSize tube_size(double radial, double around, double layers);
 
 // Nodes: grid point (ir across the wall from the hole, it around) of layer l
 // has id ir + (radial+1) * (it + around * l); ir == 0 lies on the hole.
