@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "core/error.hpp"
+#include "runtime.hpp"
 
 namespace softcut::lua {
 
@@ -88,6 +89,10 @@ Eigen::Vector3d get_vec3(lua_State* L, int idx, const char* key, const Eigen::Ve
   }
 }
 
+// Reading a list from Lua is native work, charged to the sandbox's
+// instruction budget per entry (a rawgeti is about one Lua instruction's work).
+constexpr double kInstructionsPerEntry = 1;
+
 std::vector<double> get_numbers(lua_State* L, int idx, const char* key) {
   Pop p{L, 1};
   std::vector<double> out;
@@ -102,6 +107,7 @@ std::vector<double> get_numbers(lua_State* L, int idx, const char* key) {
     out.push_back(lua_tonumber(L, -1));
     lua_pop(L, 1);
   }
+  charge_work(L, kInstructionsPerEntry * double(n), cat(user_where(L), ": field '", key, "'"));
   return out;
 }
 
@@ -125,6 +131,7 @@ std::vector<Eigen::Vector3d> get_vec3s(lua_State* L, int idx, const char* key) {
     Pop q{L, 1};
     out.push_back(to_vec3(L, -1));
   }
+  charge_work(L, 3 * kInstructionsPerEntry * double(n), cat(user_where(L), ": field '", key, "'"));
   return out;
 }
 

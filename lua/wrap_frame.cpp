@@ -26,12 +26,20 @@ int node_of(lua_State* L, const FrameContext& c, int idx) {
   return int(n);
 }
 
-std::vector<int> ids_of(lua_State* L, int idx) {
+// Node ids from Lua (a selection's cached ids, which a script can overwrite),
+// each checked against the current node count (reading them is charged).
+std::vector<int> ids_of(lua_State* L, int idx, const FrameContext& c, const char* fname) {
   lua_newtable(L);
   lua_pushvalue(L, idx);
   lua_setfield(L, -2, "ids");
   std::vector<int> ids = get_ints(L, -1, "ids");
   lua_pop(L, 1);
+  const Eigen::Index nn = c.state->displacement.rows();  // grows when cutting adds nodes
+  for (int n : ids)
+    if (n < 0 || n >= nn) {
+      const std::string where = user_where(L);
+      fail(where == "?" ? "" : where + ": ", fname, ": node ", n, " out of range (the mesh has ", nn, " nodes now)");
+    }
   return ids;
 }
 
@@ -62,7 +70,7 @@ int frame_position(lua_State* L) {
 int frame_mean_displacement(lua_State* L) {
   return protect(L, [L] {
     FrameContext& c = ctx(L);
-    push_vec3(L, sim::mean_displacement(*c.state, ids_of(L, 2)));
+    push_vec3(L, sim::mean_displacement(*c.state, ids_of(L, 2, c, "mean_displacement")));
     return 1;
   });
 }
@@ -71,7 +79,7 @@ int frame_max_displacement(lua_State* L) {
   return protect(L, [L] {
     FrameContext& c = ctx(L);
     double m = 0;
-    for (int n : ids_of(L, 2)) m = std::max(m, c.state->displacement.row(n).norm());
+    for (int n : ids_of(L, 2, c, "max_displacement")) m = std::max(m, c.state->displacement.row(n).norm());
     lua_pushnumber(L, m);
     return 1;
   });
@@ -84,7 +92,7 @@ int frame_max_component(lua_State* L) {
     FrameContext& c = ctx(L);
     const std::string comp = luaL_checkstring(L, 3);
     double best = 0;
-    for (int n : ids_of(L, 2)) {
+    for (int n : ids_of(L, 2, c, "expect")) {
       const Eigen::RowVector3d u = c.state->displacement.row(n);
       const double v = comp == "magnitude" ? u.norm() : u(comp == "x" ? 0 : comp == "y" ? 1 : 2);
       if (std::abs(v) > std::abs(best)) best = v;

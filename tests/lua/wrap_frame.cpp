@@ -108,6 +108,20 @@ s:on_frame(function(f) if f.frame == 0 then kept = f else kept:displacement(0) e
                    "scenario.lua:7: fix: the scenario is already running; change it from on_frame with f:set_load"));
     CHECK(contains(run_box("frame_node", "s:on_frame(function(f) f:displacement(10000) end)"),
                    "scenario.lua:7: displacement: node 10000 out of range (the mesh has 45 nodes, ids 0..44)"));
+    // A selection caches its ids in a field the script can overwrite: every
+    // binding that reads ids checks them (max_displacement read out of range).
+    for (const std::string call : {"f:max_displacement(fake)", "f:mean_displacement(fake)"}) {
+      CAPTURE(call);
+      const std::string e = run_box("frame_fake_ids", "local fake = softcut.select.all()\nfake._ids = { 44, 123456789 }\n"
+                                                      "s:on_frame(function(f) local u = " + call + " end)");
+      INFO(e);
+      CHECK(contains(e, "scenario.lua:9: " + call.substr(2, call.find('(') - 2) +
+                            ": node 123456789 out of range (the mesh has 45 nodes now)"));
+    }
+    const std::string e = run_box("frame_fake_expect", "local fake = softcut.select.all()\nfake._ids = { -1 }\n"
+                                                       "s:expect{ name = 'e', at = 0, nodes = fake, component = 'x', min = 0 }");
+    INFO(e);
+    CHECK(contains(e, "node -1 out of range (the mesh has 45 nodes now)"));
   }
 
   TEST_CASE("an error in on_frame ends the run with a traceback - outputs are finished and marked") {
