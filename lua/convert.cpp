@@ -201,10 +201,59 @@ void read_shape_fields(lua_State* L, int idx, Selector& s) {
   s.ids = get_ints(L, idx, "ids");
 }
 
-sim::NodeSelector to_node_selector(lua_State* L, int idx) {
+namespace {
+
+// Nesting a script cannot build by accident: chains of one set operation
+// (`sel = sel + box` in a loop) are spliced flat below, so only alternating
+// operations nest. The limits also end a selection that contains itself.
+constexpr int kMaxSelectionDepth = 200;
+constexpr int kMaxSelectionParts = 100000;
+
+sim::NodeSelector convert_node_selector(lua_State* L, int idx, int depth, int& parts);
+
+std::string where_prefix(const sim::NodeSelector& s) {
+  return s.where.empty() || s.where == "?" ? "" : s.where + ": ";
+}
+
+// Appends the members of the selection at `idx` (whose kind is `kind`) to
+// s.children. A member of the same kind is spliced in (union and
+// intersection are associative; a difference's first member may be a
+// difference: (a - b) - c = a - b - c) with a worklist, not recursion.
+void convert_children(lua_State* L, int idx, const std::string& kind, sim::NodeSelector& s, int depth, int& parts) {
+  lua_newtable(L);  // worklist: pending member tables, the next one on top
+  const int work = lua_gettop(L);
+  lua_Integer top = 0;
+  const auto push_members = [&](int tbl) {  // in reverse, so they come off in order
+    if (field(L, tbl, "children") == LUA_TTABLE)
+      for (lua_Integer i = luaL_len(L, -1); i >= 1; --i) {
+        lua_rawgeti(L, -1, i);
+        lua_rawseti(L, work, ++top);
+      }
+    lua_pop(L, 1);
+  };
+  push_members(idx);
+  while (top > 0) {
+    lua_rawgeti(L, work, top);
+    lua_pushnil(L);
+    lua_rawseti(L, work, top--);
+    Pop q{L, 1};
+    if (++parts > kMaxSelectionParts)
+      fail(where_prefix(s), "selection: more than ", kMaxSelectionParts,
+           " shapes and set operations (built in a loop? or containing itself?); select the nodes with fewer "
+           "shapes, or list them with softcut.select.nodes{...}");
+    const bool splice = lua_istable(L, -1) && get_string(L, -1, "kind") == kind &&
+                        (kind != "difference" || s.children.empty());
+    if (splice) push_members(lua_gettop(L));
+    else s.children.push_back(convert_node_selector(L, -1, depth + 1, parts));
+  }
+  lua_pop(L, 1);
+}
+
+sim::NodeSelector convert_node_selector(lua_State* L, int idx, int depth, int& parts) {
   using K = sim::NodeSelector::Kind;
   idx = lua_absindex(L, idx);
   if (!lua_istable(L, idx)) fail("expected a node selection (softcut.select.*)");
+  if (!lua_checkstack(L, 8)) fail("selection: nested too deep for the Lua stack");  // 4 slots a level
   sim::NodeSelector s;
   const std::string kind = get_string(L, idx, "kind");
   static const std::pair<const char*, K> kinds[] = {
@@ -217,16 +266,25 @@ sim::NodeSelector to_node_selector(lua_State* L, int idx) {
   if (!found) fail("unknown selection kind '", kind, "'");
   read_shape_fields(L, idx, s);
   s.name = get_string(L, idx, "name");
-  if (field(L, idx, "children") == LUA_TTABLE) {
-    const lua_Integer n = luaL_len(L, -1);
-    for (lua_Integer i = 1; i <= n; ++i) {
-      lua_rawgeti(L, -1, i);
-      Pop q{L, 1};
-      s.children.push_back(to_node_selector(L, -1));
-    }
-  }
-  lua_pop(L, 1);
+  if (depth > kMaxSelectionDepth)
+    fail(where_prefix(s), "selection: set operations nested more than ", kMaxSelectionDepth,
+         " deep (does it contain itself?); combine the shapes in fewer steps");
+  if (s.kind == K::union_of || s.kind == K::intersection || s.kind == K::difference)
+    convert_children(L, idx, kind, s, depth, parts);
   return s;
+}
+
+}  // namespace
+
+sim::NodeSelector to_node_selector(lua_State* L, int idx) {
+  int parts = 0;
+  return convert_node_selector(L, idx, 0, parts);
+}
+
+int selection_parts(const sim::NodeSelector& s) {
+  int n = 1;
+  for (const auto& c : s.children) n += selection_parts(c);
+  return n;
 }
 
 sim::TetSelector to_tet_selector(lua_State* L, int idx) {

@@ -33,7 +33,12 @@ void push_ints(lua_State* L, const std::vector<int>& v);
 
 tools::Ramp to_ramp(lua_State* L, int idx);
 tools::Path to_path(lua_State* L, int idx);
+// Set operations come out flat where they chain (a + b + c: one union of
+// three); nesting over 200 levels or over 1e5 parts is an Error.
 sim::NodeSelector to_node_selector(lua_State* L, int idx);
+// Shapes and set operations in a selection (the work of evaluating it is
+// about this many passes over the nodes).
+int selection_parts(const sim::NodeSelector& s);
 sim::TetSelector to_tet_selector(lua_State* L, int idx);
 
 // One line describing a selection or region table (for "selects no node").

@@ -141,7 +141,8 @@ int select_nodes(lua_State* L) {
     MeshHandle& h = check_handle(L, 1);
     const sim::NodeSelector sel = to_node_selector(L, 2);
     const std::string fname = luaL_optstring(L, 3, "select");
-    charge_work(L, kSelectInstructionsPerItem * h.loaded.mesh.num_nodes(), user_where(L) + ": " + fname);
+    charge_work(L, kSelectInstructionsPerItem * h.loaded.mesh.num_nodes() * selection_parts(sel),
+                user_where(L) + ": " + fname);
     try {
       push_ints(L, sim::select_nodes(sel, h.context(), fname));
       return 1;

@@ -264,4 +264,34 @@ eq(('abcabc'):match('(b)c', 3), 'b') eq(#('a'):rep(5e5):match('^a*', 2), 499999)
       CHECK(rc == 0);
     }
   }
+
+  TEST_CASE("selections built in long loops or containing themselves: no stack overflow") {
+    // Before: converting a 2e5-deep union recursed once per level and
+    // overflowed the C++ stack (segfault). Chains are now spliced flat, so a
+    // union of 2000 slabs selects exactly what one box does.
+    const std::string head = "local s = softcut.scenario{ duration = 1, fps = 1 }\n"
+                             "s:mesh{ generate = 'box', options = { nx = 20, ny = 2, nz = 2 } }\n";
+    softcut::lua::RunRequest req;
+    req.scenario = write_scenario("hardening_long_union", head + R"(
+local u = softcut.select.box{ min = {-1, -1, -1}, max = {0, 1, 1} }
+for i = 1, 2000 do u = u + softcut.select.box{ min = {0, -1, -1}, max = {i / 4000, 1, 1} } end
+local one = softcut.select.box{ min = {-1, -1, -1}, max = {0.5, 1, 1} }
+local a, b = s:select(u), s:select(one)
+assert(#a == #b and #a == 11 * 9, #a .. " vs " .. #b)
+for k = 1, #a do assert(a[k] == b[k]) end
+local t = softcut.select.all()
+for i = 1, 2000 do t = t - softcut.select.box{ min = {0.5, -1, -1}, max = {1, 1, 1} } end
+assert(#s:select(t) == 10 * 9)
+s:fix{ nodes = u }
+)");
+    CHECK(error_of([&] { softcut::lua::load_scenario_spec(req); }) == "");
+    req.scenario = write_scenario("hardening_self_union", head + R"(
+local u = softcut.select.all() + softcut.select.all()
+u.children[2] = u
+s:fix{ nodes = u }
+)");
+    const std::string msg = error_of([&] { softcut::lua::load_scenario_spec(req); });
+    INFO(msg);
+    CHECK(contains(msg, "scenario.lua:4: selection: more than 100000 shapes and set operations"));
+  }
 }

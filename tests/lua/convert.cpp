@@ -3,6 +3,9 @@
 #include <doctest/doctest.h>
 #include <lua.hpp>
 
+#include <cstdio>
+#include <vector>
+
 #include "lua_test_support.hpp"
 
 namespace {
@@ -65,5 +68,58 @@ TEST_SUITE("lua/convert") {
     CHECK_THROWS_WITH(softcut::lua::to_node_selector(L, -1), doctest::Contains("unknown selection kind 'blob'"));
     rt.run_string("return { kind = 'linear', t1 = 'x' }", "=t", 1);
     CHECK_THROWS_WITH(softcut::lua::to_ramp(L, -1), doctest::Contains("field 't1' must be a number"));
+  }
+
+  TEST_CASE("chained set operations come out flat - deep or self-containing selections are errors") {
+    using K = softcut::sim::NodeSelector::Kind;
+    const auto labels = [](const softcut::sim::NodeSelector& s) {
+      std::vector<int> out;
+      for (const auto& c : s.children) out.push_back(c.label);
+      return out;
+    };
+    const char* chain = "(function() local s = softcut.select.label(1) for i = 2, 3000 do s = s %s softcut.select.label(i) end "
+                        "return s end)()";
+    for (const char* op : {"+", "*", "-"}) {
+      CAPTURE(op);
+      char code[256];
+      std::snprintf(code, sizeof code, chain, op);
+      const auto s = convert(code, softcut::lua::to_node_selector);
+      CHECK(s.kind == (*op == '+' ? K::union_of : *op == '*' ? K::intersection : K::difference));
+      REQUIRE(s.children.size() == 3000);
+      std::vector<int> expect(3000);
+      for (int i = 0; i < 3000; ++i) expect[i] = i + 1;
+      CHECK(labels(s) == expect);
+      CHECK(softcut::lua::selection_parts(s) == 3001);
+    }
+    // Only a difference's first member is spliced: a - (b - c) keeps its shape.
+    const auto d = convert("softcut.select.label(1) - (softcut.select.label(2) - softcut.select.label(3))",
+                           softcut::lua::to_node_selector);
+    REQUIRE(d.children.size() == 2);
+    CHECK(d.children[1].kind == K::difference);
+    CHECK(labels(d.children[1]) == std::vector<int>{2, 3});
+    // Different operations nest as written.
+    const auto m = convert("(softcut.select.label(1) + softcut.select.label(2)) * softcut.select.label(3) + "
+                           "softcut.select.label(4)",
+                           softcut::lua::to_node_selector);
+    CHECK(m.kind == K::union_of);
+    REQUIRE(m.children.size() == 2);
+    CHECK(m.children[0].kind == K::intersection);
+    CHECK(m.children[0].children[0].kind == K::union_of);
+    CHECK(m.children[1].label == 4);
+
+    using softcut::Error;
+    CHECK_THROWS_WITH_AS(convert("(function() local s = softcut.select.label(1) for i = 1, 300 do "
+                                 "if i % 2 == 0 then s = s + softcut.select.label(i) else s = s * softcut.select.label(i) end "
+                                 "end return s end)()",
+                                 softcut::lua::to_node_selector),
+                         doctest::Contains("set operations nested more than 200 deep"), Error);
+    CHECK_THROWS_WITH_AS(convert("(function() local u = softcut.select.label(1) + softcut.select.label(2) "
+                                 "u.children[2] = u return u end)()",
+                                 softcut::lua::to_node_selector),
+                         doctest::Contains("containing itself"), Error);
+    CHECK_THROWS_WITH_AS(convert("(function() local u = softcut.select.label(1) * softcut.select.label(2) "
+                                 "u.children[2] = softcut.select.label(3) + u return u end)()",
+                                 softcut::lua::to_node_selector),
+                         doctest::Contains("contain"), Error);
   }
 }
