@@ -36,7 +36,8 @@ error at the scenario's line, e.g. `liver.lua:12: material: unknown field 'young
 `load` of text only; `string`, `table`, `math`, `utf8`, `coroutine`; `os.clock/time/date`),
 `io.open` reading below the scenario's folder and writing below the output folder, an instruction
 budget per call (the main chunk, each on_frame; engine work such as loading meshes and evaluating selections is
-charged to it too), a memory budget, and meshes of at most 2,000,000 tetrahedra (`--max-tets N` changes it).
+charged to it too), a memory budget (the Lua heap plus the meshes the script holds), and meshes of at most
+2,000,000 tetrahedra (`--max-tets N` changes it).
 `require` loads only the embedded library. `--trust` lifts all of it.
 ]]
 

@@ -25,7 +25,8 @@ namespace softcut::lua {
 
 // Heap and instruction accounting shared by the allocator and the count hook.
 struct Runtime::Budget {
-  std::size_t used = 0;
+  std::size_t used = 0;           // Lua heap
+  std::size_t native = 0;         // engine memory held for the script (mesh handles)
   std::size_t limit = 0;          // 0: unlimited
   bool memory_exceeded = false;   // set when an allocation was refused
   long long instructions = 0;
@@ -49,7 +50,7 @@ void* budget_alloc(void* ud, void* ptr, size_t osize, size_t nsize) {
     std::free(ptr);
     return nullptr;
   }
-  if (b->limit && nsize > old && b->used - old + nsize > b->limit) {
+  if (b->limit && nsize > old && b->used - old + nsize + b->native > b->limit) {
     b->memory_exceeded = true;
     return nullptr;  // Lua raises LUA_ERRMEM after an emergency collection
   }
@@ -459,6 +460,22 @@ void charge_work(lua_State* L, double instructions, const std::string& what) {
          "run with --trust to lift the sandbox budgets");
 }
 
+void charge_memory(lua_State* L, std::size_t bytes, const std::string& what) {
+  Runtime::Budget* b = budget_of(L);
+  const auto fits = [&] { return !b->limit || b->used + b->native + bytes <= b->limit; };
+  if (!fits()) lua_gc(L, LUA_GCCOLLECT);  // dead handles give their memory back in __gc
+  if (!fits())
+    fail(what, ": memory budget of ", b->limit >> 20, " MiB exceeded: this mesh needs ", (bytes + (1 << 20) - 1) >> 20,
+         " MiB next to ", (b->used + b->native) >> 20, " MiB of Lua data and meshes the scenario holds (meshes kept "
+         "in a loop?); run with --trust to lift the sandbox budgets");
+  b->native += bytes;
+}
+
+void release_memory(lua_State* L, std::size_t bytes) {
+  Runtime::Budget* b = budget_of(L);
+  b->native -= std::min(bytes, b->native);
+}
+
 bool may_read(lua_State* L, const fs::path& path) {
   const SandboxOptions& opt = options_of(L);
   return opt.trusted || inside(path, opt.read_dir);
@@ -572,7 +589,7 @@ void Runtime::set_interruptible(bool on) { budget_->interrupt = on ? opt_.interr
 
 void Runtime::push_internal() { lua_getfield(L_, LUA_REGISTRYINDEX, kInternalKey); }
 
-std::size_t Runtime::memory_used() const { return budget_->used; }
+std::size_t Runtime::memory_used() const { return budget_->used + budget_->native; }
 long long Runtime::instructions_used() const { return budget_->instructions; }
 
 void Runtime::call(int nargs, int nresults) {
@@ -587,7 +604,7 @@ void Runtime::call(int nargs, int nresults) {
   std::string msg;
   if (status == LUA_ERRMEM || budget_->memory_exceeded) {
     msg = cat(chunk_.empty() ? "" : chunk_ + ": ", "memory budget of ", budget_->limit >> 20,
-              " MiB exceeded by the scenario's Lua code (a huge table or string?); "
+              " MiB exceeded by the scenario's Lua data and meshes (a huge table or string?); "
               "run with --trust to lift the sandbox budgets");
     if (status != LUA_ERRMEM) msg += cat(" [", lua_tostring(L_, -1) ? lua_tostring(L_, -1) : "", "]");
   } else {

@@ -21,7 +21,7 @@ struct SandboxOptions {
   std::filesystem::path read_dir;           // io.open(..., "r") allowed below it (scenario folder)
   std::filesystem::path write_dir;          // io.open(..., "w"/"a") allowed below it (output folder)
   long long instruction_budget = 200'000'000;  // Lua VM instructions per call from C++ (main chunk, each on_frame)
-  std::size_t memory_budget = 512u << 20;      // bytes held by the Lua heap at any time
+  std::size_t memory_budget = 512u << 20;      // bytes held by the Lua heap and the script's meshes at any time
   double max_tets = 2'000'000;                 // tetrahedra of the mesh the script loads or generates
   const std::atomic<bool>* interrupt = nullptr;  // when set, running Lua code stops with "interrupted"
 };
@@ -54,7 +54,7 @@ class Runtime {
   // so an interrupted run ends "interrupted", not with an error).
   void set_interruptible(bool on);
 
-  // Lua heap in use, bytes; VM instructions executed by the current or last
+  // Lua heap plus engine memory held for the script, bytes; VM instructions executed by the current or last
   // call (in steps of the hook interval).
   std::size_t memory_used() const;
   long long instructions_used() const;
@@ -85,6 +85,13 @@ double max_tets(lua_State* L);
 // expensive calls also ends at the budget. Throws softcut::Error naming
 // `what` once it is spent (call it inside protect()). No-op with --trust.
 void charge_work(lua_State* L, double instructions, const std::string& what);
+
+// Engine memory a binding keeps alive for the script (a mesh handle) counts
+// with the Lua heap against the memory budget. charge_memory throws naming
+// `what` when it does not fit, after a full collection has let dead handles
+// go; release_memory gives it back (from __gc). No limit with --trust.
+void charge_memory(lua_State* L, std::size_t bytes, const std::string& what);
+void release_memory(lua_State* L, std::size_t bytes);
 
 // Whether the sandbox lets the scenario read `path` (always with --trust):
 // engine bindings that open files (mesh files) ask this first.

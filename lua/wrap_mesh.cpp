@@ -32,6 +32,7 @@ MeshHandle& check_handle(lua_State* L, int idx) {
 
 int handle_gc(lua_State* L) {
   auto** p = static_cast<MeshHandle**>(luaL_checkudata(L, 1, kMeshMeta));
+  if (*p) release_memory(L, (*p)->charged);
   delete *p;
   *p = nullptr;
   return 0;
@@ -97,8 +98,11 @@ int mesh_load(lua_State* L) {
     charge_work(L, kLoadInstructionsPerTet * m.num_tets(), h->source.where + ": mesh");
 
     auto** ud = static_cast<MeshHandle**>(lua_newuserdatauv(L, sizeof(MeshHandle*), 0));
-    *ud = h.release();
+    *ud = nullptr;  // owns the handle from here; __gc gives back what it was charged
     luaL_setmetatable(L, kMeshMeta);
+    charge_memory(L, h->bytes(), h->source.where + ": mesh");
+    h->charged = h->bytes();
+    *ud = h.release();
 
     lua_newtable(L);
     lua_pushinteger(L, m.num_nodes());
@@ -215,6 +219,14 @@ int format_vec(lua_State* L) {
 }  // namespace
 
 sim::SelectContext MeshHandle::context() const { return {loaded.mesh, surface, loaded.named_sets}; }
+
+std::size_t MeshHandle::bytes() const {
+  const mesh::TetMesh& m = loaded.mesh;
+  std::size_t n = sizeof(MeshHandle) + sizeof(double) * m.nodes.size() + sizeof(int) * (m.tets.size() + m.labels.size()) +
+                  sizeof(int) * (surface.faces.size() + surface.face_tet.size() + surface.nodes.size());
+  for (const auto& [name, ids] : loaded.named_sets) n += name.size() + sizeof(int) * ids.size();
+  return n;
+}
 
 MeshHandle* to_mesh_handle(lua_State* L, int idx) {
   void* p = luaL_testudata(L, idx, kMeshMeta);

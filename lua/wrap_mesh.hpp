@@ -17,7 +17,9 @@ struct MeshHandle {
   sim::LoadedMesh loaded;     // rest mesh and named node sets
   mesh::Surface surface;      // whole-body boundary
   std::vector<std::string> warnings;  // from loading (validate)
+  std::size_t charged = 0;            // bytes counted against the sandbox's memory budget
   sim::SelectContext context() const;
+  std::size_t bytes() const;          // memory held, bytes (estimate: the big arrays)
 };
 
 // The handle at `idx`, or nullptr when it is not one.

@@ -294,4 +294,23 @@ s:fix{ nodes = u }
     INFO(msg);
     CHECK(contains(msg, "scenario.lua:4: selection: more than 100000 shapes and set operations"));
   }
+
+  TEST_CASE("meshes a script keeps count against the memory budget - dropped ones are given back") {
+    // Before: each mesh handle's arrays lived outside the Lua heap, so a
+    // script keeping a 2M-tet mesh per on_frame call grew without bound.
+    const std::string loop = "local keep = {}\nfor i = 1, 40 do\n  local s = softcut.scenario{ duration = 1, fps = 1 }\n"
+                             "  s:mesh{ generate = 'box', options = { nx = 20, ny = 20, nz = 20 } }\n";
+    softcut::lua::RunRequest req;
+    req.memory_budget = 16u << 20;
+    req.instruction_budget = 1'000'000'000;
+    req.scenario = write_scenario("hardening_kept_meshes", loop + "  keep[i] = s\nend\n");
+    const std::string msg = error_of([&] { softcut::lua::load_scenario_spec(req); });
+    INFO(msg);
+    CHECK(contains(msg, "scenario.lua:4: mesh: memory budget of 16 MiB exceeded: this mesh needs 2 MiB"));
+    req.scenario = write_scenario("hardening_dropped_meshes", loop + "end\nreturn softcut.scenario{ duration = 1 }\n");
+    const std::string dropped = error_of([&] { softcut::lua::load_scenario_spec(req); });
+    INFO(dropped);
+    CHECK(!contains(dropped, "memory budget"));
+    CHECK(contains(dropped, "no mesh"));  // the last scenario has none: the loop itself ran through
+  }
 }

@@ -176,4 +176,26 @@ TEST_SUITE("lua/runtime") {
     CHECK(std::isinf(softcut::lua::max_tets(trusted.state())));
     CHECK_NOTHROW(softcut::lua::charge_work(trusted.state(), 1e18, "here"));
   }
+
+  TEST_CASE("engine memory held for the script counts with the Lua heap against the memory budget") {
+    softcut::lua::SandboxOptions opt;
+    opt.memory_budget = 32u << 20;
+    softcut::lua::Runtime rt(opt);
+    lua_State* L = rt.state();
+    const std::size_t heap = rt.memory_used();
+    softcut::lua::charge_memory(L, 20u << 20, "here");
+    CHECK(rt.memory_used() == heap + (20u << 20));
+    CHECK_THROWS_WITH_AS(softcut::lua::charge_memory(L, 20u << 20, "here"),
+                         doctest::Contains("here: memory budget of 32 MiB exceeded: this mesh needs 20 MiB"),
+                         softcut::Error);
+    // Lua allocations see it too, and the message names both.
+    CHECK_THROWS_WITH(rt.run_string("local s = string.rep('x', 8 * 1024 * 1024)", "=t", 0),
+                      doctest::Contains("memory budget of 32 MiB exceeded by the scenario's Lua data and meshes"));
+    softcut::lua::release_memory(L, 20u << 20);
+    CHECK(rt.memory_used() < heap + (1u << 20));
+    CHECK_NOTHROW(rt.run_string("local s = string.rep('x', 8 * 1024 * 1024)", "=t", 0));
+    opt.trusted = true;
+    softcut::lua::Runtime trusted(opt);
+    CHECK_NOTHROW(softcut::lua::charge_memory(trusted.state(), std::size_t(1) << 40, "here"));
+  }
 }
