@@ -139,6 +139,7 @@ TEST_SUITE("lua/runtime") {
     req.render = false;
     req.instruction_budget = opt.instruction_budget;
     req.memory_budget = opt.memory_budget;
+    req.max_tets = 5000;
     CHECK_NOTHROW(softcut::lua::load_scenario_spec(req));
   }
 
