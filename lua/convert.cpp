@@ -98,7 +98,7 @@ std::vector<double> get_numbers(lua_State* L, int idx, const char* key) {
   std::vector<double> out;
   if (field(L, idx, key) == LUA_TNIL) return out;
   if (!lua_istable(L, -1)) fail("field '", key, "' must be a list of numbers");
-  const lua_Integer n = luaL_len(L, -1);
+  const auto n = static_cast<lua_Integer>(lua_rawlen(L, -1));  // raw: no __len runs here
   for (lua_Integer i = 1; i <= n; ++i) {
     if (lua_rawgeti(L, -1, i) != LUA_TNUMBER) {
       lua_pop(L, 1);
@@ -107,7 +107,7 @@ std::vector<double> get_numbers(lua_State* L, int idx, const char* key) {
     out.push_back(lua_tonumber(L, -1));
     lua_pop(L, 1);
   }
-  charge_work(L, kInstructionsPerEntry * double(n), cat(user_where(L), ": field '", key, "'"));
+  charge_work(L, kInstructionsPerEntry * double(n), cat("field '", key, "'"));
   return out;
 }
 
@@ -125,13 +125,13 @@ std::vector<Eigen::Vector3d> get_vec3s(lua_State* L, int idx, const char* key) {
   std::vector<Eigen::Vector3d> out;
   if (field(L, idx, key) == LUA_TNIL) return out;
   if (!lua_istable(L, -1)) fail("field '", key, "' must be a list of 3-vectors");
-  const lua_Integer n = luaL_len(L, -1);
+  const auto n = static_cast<lua_Integer>(lua_rawlen(L, -1));  // raw: no __len runs here
   for (lua_Integer i = 1; i <= n; ++i) {
     lua_rawgeti(L, -1, i);
     Pop q{L, 1};
     out.push_back(to_vec3(L, -1));
   }
-  charge_work(L, 3 * kInstructionsPerEntry * double(n), cat(user_where(L), ": field '", key, "'"));
+  charge_work(L, 3 * kInstructionsPerEntry * double(n), cat("field '", key, "'"));
   return out;
 }
 
@@ -216,37 +216,49 @@ std::string where_prefix(const sim::NodeSelector& s) {
 }
 
 // Appends the members of the selection at `idx` (whose kind is `kind`) to
-// s.children. A member of the same kind is spliced in (union and
-// intersection are associative; a difference's first member may be a
-// difference: (a - b) - c = a - b - c) with a worklist, not recursion.
+// s.children. A member of the same kind with members of its own is spliced
+// in (union and intersection are associative; a difference's first member
+// may be a difference: (a - b) - c = a - b - c). The pending members wait on
+// the Lua stack, so that deep chains need neither recursion nor Lua
+// allocations (which could raise a Lua error across these C++ frames);
+// lengths are raw, so no metamethod runs.
 void convert_children(lua_State* L, int idx, const std::string& kind, sim::NodeSelector& s, int depth, int& parts) {
-  lua_newtable(L);  // worklist: pending member tables, the next one on top
-  const int work = lua_gettop(L);
-  lua_Integer top = 0;
+  const int base = lua_gettop(L);  // pending members above it, the next one on top
   const auto push_members = [&](int tbl) {  // in reverse, so they come off in order
-    if (field(L, tbl, "children") == LUA_TTABLE)
-      for (lua_Integer i = luaL_len(L, -1); i >= 1; --i) {
-        lua_rawgeti(L, -1, i);
-        lua_rawseti(L, work, ++top);
-      }
-    lua_pop(L, 1);
-  };
-  push_members(idx);
-  while (top > 0) {
-    lua_rawgeti(L, work, top);
-    lua_pushnil(L);
-    lua_rawseti(L, work, top--);
-    Pop q{L, 1};
-    if (++parts > kMaxSelectionParts)
+    const int list = lua_gettop(L) + 1;
+    if (field(L, tbl, "children") != LUA_TTABLE) {
+      lua_pop(L, 1);
+      return;
+    }
+    const auto n = static_cast<lua_Integer>(lua_rawlen(L, list));
+    if (n > kMaxSelectionParts - parts || !lua_checkstack(L, int(n) + 8))
       fail(where_prefix(s), "selection: more than ", kMaxSelectionParts,
            " shapes and set operations (built in a loop? or containing itself?); select the nodes with fewer "
            "shapes, or list them with softcut.select.nodes{...}");
-    const bool splice = lua_istable(L, -1) && get_string(L, -1, "kind") == kind &&
-                        (kind != "difference" || s.children.empty());
-    if (splice) push_members(lua_gettop(L));
-    else s.children.push_back(convert_node_selector(L, -1, depth + 1, parts));
+    parts += int(n);
+    for (lua_Integer i = n; i >= 1; --i) lua_rawgeti(L, list, i);
+    lua_remove(L, list);
+  };
+  const auto has_members = [&](int tbl) {
+    const bool yes = field(L, tbl, "children") == LUA_TTABLE && lua_rawlen(L, -1) > 0;
+    lua_pop(L, 1);
+    return yes;
+  };
+  push_members(idx);
+  bool first = true;  // the next member stands first in the (spliced) operation
+  while (lua_gettop(L) > base) {
+    const int member = lua_gettop(L);
+    const bool splice = lua_istable(L, member) && get_string(L, member, "kind") == kind &&
+                        (kind != "difference" || first) && has_members(member);
+    if (splice) {  // its members take its place; a difference's first member stays first
+      push_members(member);
+      lua_remove(L, member);
+    } else {
+      s.children.push_back(convert_node_selector(L, member, depth + 1, parts));
+      lua_pop(L, 1);
+      first = false;
+    }
   }
-  lua_pop(L, 1);
 }
 
 sim::NodeSelector convert_node_selector(lua_State* L, int idx, int depth, int& parts) {

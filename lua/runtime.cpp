@@ -453,17 +453,23 @@ double max_tets(lua_State* L) {
 void charge_work(lua_State* L, double instructions, const std::string& what) {
   Runtime::Budget* b = budget_of(L);
   if (!b->instruction_limit) return;
+  const std::string where = user_where(L);
+  if (where == "?") return;  // the engine's own reading (the spec, after the script): not the script's work
   b->instructions += static_cast<long long>(std::min(instructions, 1e15));
   if (b->instructions > b->instruction_limit)
-    fail(what, ": instruction budget of ", b->instruction_limit, " instructions exceeded (engine work such as "
-         "generating meshes and evaluating selections counts too; a loop of them?); "
+    fail(where, ": ", what, ": instruction budget of ", b->instruction_limit, " instructions exceeded (engine work "
+         "such as generating meshes and evaluating selections counts too; a loop of them?); "
          "run with --trust to lift the sandbox budgets");
 }
 
 void charge_memory(lua_State* L, std::size_t bytes, const std::string& what) {
   Runtime::Budget* b = budget_of(L);
   const auto fits = [&] { return !b->limit || b->used + b->native + bytes <= b->limit; };
-  if (!fits()) lua_gc(L, LUA_GCCOLLECT);  // dead handles give their memory back in __gc
+  // The collector paces itself by the Lua heap alone: a step sized by the
+  // engine memory lets dead handles go over time, and a full collection runs
+  // before a charge is refused (their __gc gives their memory back).
+  lua_gc(L, LUA_GCSTEP, int(std::min<std::size_t>(bytes >> 10, 1 << 20)));
+  if (!fits()) lua_gc(L, LUA_GCCOLLECT);
   if (!fits())
     fail(what, ": memory budget of ", b->limit >> 20, " MiB exceeded: this mesh needs ", (bytes + (1 << 20) - 1) >> 20,
          " MiB next to ", (b->used + b->native) >> 20, " MiB of Lua data and meshes the scenario holds (meshes kept "
@@ -489,6 +495,11 @@ std::string user_where(lua_State* L) {
       return cat(ar.source + 1, ":", ar.currentline);  // the full name (short_src cuts at 60 chars)
   }
   return "?";
+}
+
+std::string user_prefix(lua_State* L) {
+  const std::string w = user_where(L);
+  return w == "?" ? std::string() : w + ": ";
 }
 
 int protect(lua_State* L, const std::function<int()>& f) {

@@ -82,8 +82,10 @@ double max_tets(lua_State* L);
 
 // Charges `instructions` of native work (a binding's loops, where the count
 // hook never fires) to the instruction budget, so that a short loop of
-// expensive calls also ends at the budget. Throws softcut::Error naming
-// `what` once it is spent (call it inside protect()). No-op with --trust.
+// expensive calls also ends at the budget. Throws softcut::Error naming the
+// script's line and `what` once it is spent (call it inside protect()).
+// No-op with --trust, and when no script function is on the stack (the
+// engine reading the spec after the script has run).
 void charge_work(lua_State* L, double instructions, const std::string& what);
 
 // Engine memory a binding keeps alive for the script (a mesh handle) counts
@@ -100,5 +102,7 @@ bool may_read(lua_State* L, const std::filesystem::path& path);
 // "file:line" of the innermost function that runs from a user chunk (source
 // "@..."), or "?" when none: where a binding's error should point.
 std::string user_where(lua_State* L);
+// user_where(L) + ": ", or "" when it is "?": a message prefix.
+std::string user_prefix(lua_State* L);
 
 }  // namespace softcut::lua

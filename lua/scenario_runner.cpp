@@ -33,7 +33,7 @@ int push_field(lua_State* L, int idx, const char* key) {
 template <class Fn>
 void each(lua_State* L, int idx, const char* key, Fn&& fn) {
   if (push_field(L, idx, key) == LUA_TTABLE) {
-    const lua_Integer n = luaL_len(L, -1);
+    const auto n = static_cast<lua_Integer>(lua_rawlen(L, -1));  // raw: no metamethod runs outside a pcall
     for (lua_Integer i = 1; i <= n; ++i) {
       lua_rawgeti(L, -1, i);
       fn(lua_gettop(L));
@@ -217,7 +217,8 @@ int run_script(Runtime& rt, const RunRequest& req) {
   const int top = lua_gettop(L);
   auto is_scenario = [L](int idx) {
     if (!lua_istable(L, idx) || !lua_getmetatable(L, idx)) return false;
-    lua_getfield(L, -1, "__name");
+    lua_pushliteral(L, "__name");
+    lua_rawget(L, -2);  // raw: a script's metatable may have a metatable of its own
     const bool yes = lua_isstring(L, -1) && std::string(lua_tostring(L, -1)) == "Scenario";
     lua_pop(L, 2);
     return yes;
@@ -242,6 +243,35 @@ int run_script(Runtime& rt, const RunRequest& req) {
 
 std::string first_line(const std::string& s) { return s.substr(0, s.find('\n')); }
 
+// spec_from_table inside lua_pcall. It reads the script's tables with raw
+// access only, so no script code runs; but a Lua error raised while reading
+// (out of memory) must become an Error, not a panic outside any protected call.
+sim::ScenarioSpec read_spec(lua_State* L, int s, const fs::path& source) {
+  struct Job {
+    fs::path source;
+    sim::ScenarioSpec spec;
+  } job{source, {}};
+  lua_pushcfunction(L, [](lua_State* L) -> int {
+    auto* j = static_cast<Job*>(lua_touserdata(L, 1));
+    return protect(L, [L, j] {
+      j->spec = spec_from_table(L, 2, j->source);
+      return 0;
+    });
+  });
+  lua_pushlightuserdata(L, &job);
+  lua_pushvalue(L, s);
+  const int status = lua_pcall(L, 2, 0, 0);
+  if (status != LUA_OK) {
+    std::string msg = status == LUA_ERRMEM ? cat(source.filename().string(), ": memory budget exceeded while reading "
+                                                 "the scenario; run with --trust to lift the sandbox budgets")
+                      : lua_type(L, -1) == LUA_TSTRING ? lua_tostring(L, -1)
+                                                       : "error while reading the scenario";
+    lua_pop(L, 1);
+    throw Error(msg);
+  }
+  return std::move(job.spec);
+}
+
 SandboxOptions sandbox_of(const RunRequest& req) {
   SandboxOptions opt;
   opt.trusted = req.trusted;
@@ -258,7 +288,7 @@ SandboxOptions sandbox_of(const RunRequest& req) {
 sim::ScenarioSpec load_scenario_spec(const RunRequest& req) {
   Runtime rt(sandbox_of(req));
   const int s = run_script(rt, req);
-  return spec_from_table(rt.state(), s, fs::absolute(req.scenario).lexically_normal());
+  return read_spec(rt.state(), s, fs::absolute(req.scenario).lexically_normal());
 }
 
 RunOutcome run_scenario(const RunRequest& req) {
@@ -266,7 +296,7 @@ RunOutcome run_scenario(const RunRequest& req) {
   lua_State* L = rt.state();
   const int s = run_script(rt, req);
   RunOutcome out;
-  sim::ScenarioSpec spec = spec_from_table(L, s, fs::absolute(req.scenario).lexically_normal());
+  sim::ScenarioSpec spec = read_spec(L, s, fs::absolute(req.scenario).lexically_normal());
   out.name = spec.name;
   out.description = get_string(L, s, "description");
   out.tolerance = get_number(L, s, "tolerance", 1e-6);
@@ -374,7 +404,7 @@ RunOutcome run_scenario(const RunRequest& req) {
   lua_rawgeti(L, LUA_REGISTRYINDEX, s_ref);
   rt.call(1, 1);
   const int p = lua_gettop(L);
-  for (lua_Integer i = 1, n = luaL_len(L, p); i <= n; ++i) {
+  for (lua_Integer i = 1, n = lua_Integer(lua_rawlen(L, p)); i <= n; ++i) {
     lua_rawgeti(L, p, i);
     ExpectationResult r;
     r.name = get_string(L, -1, "name");

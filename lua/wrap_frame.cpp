@@ -36,10 +36,7 @@ std::vector<int> ids_of(lua_State* L, int idx, const FrameContext& c, const char
   lua_pop(L, 1);
   const Eigen::Index nn = c.state->displacement.rows();  // grows when cutting adds nodes
   for (int n : ids)
-    if (n < 0 || n >= nn) {
-      const std::string where = user_where(L);
-      fail(where == "?" ? "" : where + ": ", fname, ": node ", n, " out of range (the mesh has ", nn, " nodes now)");
-    }
+    if (n < 0 || n >= nn) fail(user_prefix(L), fname, ": node ", n, " out of range (the mesh has ", nn, " nodes now)");
   return ids;
 }
 

@@ -27,7 +27,9 @@ constexpr double kLoadInstructionsPerTet = 50;
 constexpr double kSelectInstructionsPerItem = 4;
 
 MeshHandle& check_handle(lua_State* L, int idx) {
-  return **static_cast<MeshHandle**>(luaL_checkudata(L, idx, kMeshMeta));
+  MeshHandle* h = *static_cast<MeshHandle**>(luaL_checkudata(L, idx, kMeshMeta));
+  if (!h) fail("mesh: this mesh handle was released (a handle kept alive past its collection)");
+  return *h;
 }
 
 int handle_gc(lua_State* L) {
@@ -75,13 +77,21 @@ std::map<std::string, double> read_options(lua_State* L, int idx) {
 int mesh_load(lua_State* L) {
   return protect(L, [L] {
     luaL_checktype(L, 1, LUA_TTABLE);
-    const fs::path dir = luaL_checkstring(L, 2);
+    luaL_checkstring(L, 2);
+    // The userdata comes first, while no C++ object is alive: a Lua error
+    // (out of memory) raised here skips no destructor, and later the
+    // userdata owns the mesh. __gc gives back what the handle was charged.
+    auto** ud = static_cast<MeshHandle**>(lua_newuserdatauv(L, sizeof(MeshHandle*), 0));
+    *ud = nullptr;
+    luaL_setmetatable(L, kMeshMeta);
+    const fs::path dir = lua_tostring(L, 2);
     auto h = std::make_unique<MeshHandle>();
     h->source.where = user_where(L);
     const std::string file = get_string(L, 1, "file");
     if (!file.empty()) h->source.file = fs::absolute(dir / file).lexically_normal();
     h->source.generator = get_string(L, 1, "generate");
-    lua_getfield(L, 1, "options");
+    lua_pushliteral(L, "options");
+    lua_rawget(L, 1);  // raw: no __index of the script's runs here
     h->source.options = read_options(L, -1);
     lua_pop(L, 1);
     if (!file.empty() && !may_read(L, h->source.file))
@@ -95,11 +105,7 @@ int mesh_load(lua_State* L) {
     h->warnings = diag.warnings;
     h->surface = mesh::extract_surface(h->loaded.mesh);
     const mesh::TetMesh& m = h->loaded.mesh;
-    charge_work(L, kLoadInstructionsPerTet * m.num_tets(), h->source.where + ": mesh");
-
-    auto** ud = static_cast<MeshHandle**>(lua_newuserdatauv(L, sizeof(MeshHandle*), 0));
-    *ud = nullptr;  // owns the handle from here; __gc gives back what it was charged
-    luaL_setmetatable(L, kMeshMeta);
+    charge_work(L, kLoadInstructionsPerTet * m.num_tets(), "mesh");
     charge_memory(L, h->bytes(), h->source.where + ": mesh");
     h->charged = h->bytes();
     *ud = h.release();
@@ -146,7 +152,7 @@ int select_nodes(lua_State* L) {
     const sim::NodeSelector sel = to_node_selector(L, 2);
     const std::string fname = luaL_optstring(L, 3, "select");
     charge_work(L, kSelectInstructionsPerItem * h.loaded.mesh.num_nodes() * selection_parts(sel),
-                user_where(L) + ": " + fname);
+                fname);
     try {
       push_ints(L, sim::select_nodes(sel, h.context(), fname));
       return 1;
@@ -164,7 +170,7 @@ int count_tets(lua_State* L) {
     MeshHandle& h = check_handle(L, 1);
     const sim::TetSelector sel = to_tet_selector(L, 2);
     const std::string fname = luaL_optstring(L, 3, "region");
-    charge_work(L, kSelectInstructionsPerItem * h.loaded.mesh.num_tets(), user_where(L) + ": " + fname);
+    charge_work(L, kSelectInstructionsPerItem * h.loaded.mesh.num_tets(), fname);
     try {
       lua_pushinteger(L, lua_Integer(sim::select_tets(sel, h.context(), fname).size()));
       return 1;

@@ -313,4 +313,27 @@ s:fix{ nodes = u }
     CHECK(!contains(dropped, "memory budget"));
     CHECK(contains(dropped, "no mesh"));  // the last scenario has none: the loop itself ran through
   }
+
+  TEST_CASE("metamethods on the script's tables do not run while the engine reads them") {
+    // Before: the engine read lists with luaL_len after the script had ended,
+    // outside any protected call: a __len that raised an error aborted the
+    // process (Lua panic), one returning maxinteger hung it.
+    const std::string head = "local s = softcut.scenario{ duration = 1, fps = 1 }\n"
+                             "s:mesh{ generate = 'box' }\n"
+                             "local u = softcut.select.box{ min = {-1, -1, -1}, max = {0, 1, 1} } + softcut.select.box{ "
+                             "min = {-1, -1, -1}, max = {0, 0.5, 1} }\n"
+                             "s:fix{ nodes = u }\n";
+    for (const std::string tail : {
+             "setmetatable(u.children, { __len = function() error('boom') end })\n",
+             "setmetatable(u.children, { __len = function() return math.maxinteger end })\n",
+             "setmetatable(s._fixed, { __len = function() while true do end end })\n",
+             "setmetatable(getmetatable(s), { __index = function() error('boom') end })\nreturn s\n",
+         }) {
+      CAPTURE(tail);
+      softcut::lua::RunRequest req;
+      req.scenario = write_scenario("hardening_metamethods", head + tail);
+      const std::string msg = error_of([&] { softcut::lua::load_scenario_spec(req); });
+      CHECK(msg == "");
+    }
+  }
 }

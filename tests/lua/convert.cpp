@@ -107,6 +107,27 @@ TEST_SUITE("lua/convert") {
     CHECK(m.children[0].children[0].kind == K::union_of);
     CHECK(m.children[1].label == 4);
 
+    // An empty operation is not spliced away (evaluating it is an error), and
+    // only the first member of a difference is spliced.
+    const auto e = convert("(function() local u = softcut.select.label(1) + softcut.select.label(2) "
+                           "u.children[2] = { kind = 'union_of', children = {} } return u end)()",
+                           softcut::lua::to_node_selector);
+    REQUIRE(e.children.size() == 2);
+    CHECK(e.children[1].kind == K::union_of);
+    CHECK(e.children[1].children.empty());
+    const auto f = convert("(function() local d = softcut.select.label(1) - softcut.select.label(2) "
+                           "d.children[1] = { kind = 'difference', children = {} } "
+                           "d.children[2] = softcut.select.label(3) - softcut.select.label(4) return d end)()",
+                           softcut::lua::to_node_selector);
+    REQUIRE(f.children.size() == 2);
+    CHECK(f.children[0].children.empty());
+    CHECK(labels(f.children[1]) == std::vector<int>{3, 4});
+    // Lengths are raw: a __len on a member list does not run.
+    const auto g = convert("(function() local u = softcut.select.label(1) + softcut.select.label(2) "
+                           "setmetatable(u.children, { __len = function() return math.maxinteger end }) return u end)()",
+                           softcut::lua::to_node_selector);
+    CHECK(labels(g) == std::vector<int>{1, 2});
+
     using softcut::Error;
     CHECK_THROWS_WITH_AS(convert("(function() local s = softcut.select.label(1) for i = 1, 300 do "
                                  "if i % 2 == 0 then s = s + softcut.select.label(i) else s = s * softcut.select.label(i) end "
