@@ -68,11 +68,12 @@ TEST_SUITE("sim/mesh_source") {
         {"ligament", {}},
         {"upper_leg", {}},
     };
-    for (const auto& [gen, options] : sources) {
+    for (const auto& source : sources) {
+      const std::string gen = source.first;  // a local, not a structured binding: clang 14 cannot capture those
       CAPTURE(gen);
       sim::MeshSource src;
       src.generator = gen;
-      src.options = options;
+      src.options = source.second;
       softcut::Diagnostics diag;
       const int n = sim::load_mesh_source(src, diag).mesh.num_tets();
       CHECK(sim::load_mesh_source(src, diag, n).mesh.num_tets() == n);
