@@ -269,11 +269,10 @@ int guarded_pattern(lua_State* L) {
     for (char& c : shown)
       if (static_cast<unsigned char>(c) < 32 || static_cast<unsigned char>(c) > 126) c = '?';
     if (m > 60) shown += "...";
-    const std::string where = user_where(L);
     char steps[32], budget[32];
     std::snprintf(steps, sizeof steps, "%.3g", w.steps);
     std::snprintf(budget, sizeof budget, "%.3g", allowed);
-    const std::string head = cat(where == "?" ? "" : where + ": ", name, ": ");
+    const std::string head = cat(user_prefix(L), name, ": ");
     const std::string tail = cat(" steps, over the sandbox budget of ", budget, " steps; ");
     const std::string msg =
         plain ? cat(head, "searching a ", m, "-byte string in a ", n - skip, "-byte subject could take up to ~",

@@ -106,8 +106,9 @@ int mesh_load(lua_State* L) {
     h->surface = mesh::extract_surface(h->loaded.mesh);
     const mesh::TetMesh& m = h->loaded.mesh;
     charge_work(L, kLoadInstructionsPerTet * m.num_tets(), "mesh");
-    charge_memory(L, h->bytes(), h->source.where + ": mesh");
-    h->charged = h->bytes();
+    const std::size_t bytes = h->bytes();
+    charge_memory(L, bytes, h->source.where + ": mesh");
+    h->charged = bytes;
     *ud = h.release();
 
     lua_newtable(L);

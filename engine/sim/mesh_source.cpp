@@ -94,9 +94,8 @@ LoadedMesh generate(const std::string& gen, const std::map<std::string, double>&
   Options o(opts, what);
   LoadedMesh out;
   // Refuses the resolution before anything is allocated.
-  const auto fits = [&](const mesh::MeshSize& size) {
+  const auto check_fits = [&](const mesh::MeshSize& size) {
     if (size.tets > max_tets) fail(what, ": this resolution gives ", too_many_tets(size.tets, max_tets, "use a coarser one"));
-    return true;
   };
   out.description = "generator " + gen;
   if (gen == "box") {
@@ -105,7 +104,10 @@ LoadedMesh generate(const std::string& gen, const std::map<std::string, double>&
     o.integer("nx", b.nx), o.integer("ny", b.ny), o.integer("nz", b.nz);
     o.num("jitter", b.jitter), o.integer("seed", b.seed), o.integer("label", b.label);
     o.finish();
-    if (run && fits(mesh::box_size(b))) out.mesh = mesh::generate_box(b);
+    if (run) {
+      check_fits(mesh::box_size(b));
+      out.mesh = mesh::generate_box(b);
+    }
   } else if (gen == "cylinder") {
     mesh::CylinderOptions c;
     o.vec("base_center", c.base_center);
@@ -115,7 +117,7 @@ LoadedMesh generate(const std::string& gen, const std::map<std::string, double>&
     o.finish();
     if (run) {
       const auto r = mesh::resolve_cylinder(c);
-      fits(mesh::cylinder_size(r.rings, r.layers));
+      check_fits(mesh::cylinder_size(r.rings, r.layers));
       out.mesh = mesh::generate_cylinder(r);
     }
   } else if (gen == "tube" || gen == "upper_leg") {
@@ -124,7 +126,7 @@ LoadedMesh generate(const std::string& gen, const std::map<std::string, double>&
     o.finish();
     if (run) {
       t = mesh::resolve_tube(t);
-      fits(mesh::tube_size(t.radial, t.around, t.layers));
+      check_fits(mesh::tube_size(t.radial, t.around, t.layers));
       out.mesh = mesh::generate_tube(t);
       out.named_sets["hole"] = mesh::tube_hole_nodes(out.mesh, t);
     }
@@ -134,7 +136,7 @@ LoadedMesh generate(const std::string& gen, const std::map<std::string, double>&
     o.finish();
     if (run) {
       const auto r = mesh::resolve_band(b);
-      fits(mesh::band_size(r.along, r.across, r.through));
+      check_fits(mesh::band_size(r.along, r.across, r.through));
       out.mesh = mesh::generate_band(r);
     }
   } else {
