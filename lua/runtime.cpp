@@ -15,75 +15,22 @@
 #include <utility>
 
 #include "bindings.hpp"
+#include "core/checked_file.hpp"
 #include "core/error.hpp"
 #include "lua_embedded.hpp"
 #include "runtime_patterns.hpp"
+#include "sandbox_limits.hpp"
 
 namespace fs = std::filesystem;
 
 namespace softcut::lua {
 
-// Heap and instruction accounting shared by the allocator and the count hook.
-struct Runtime::Budget {
-  std::size_t used = 0;           // Lua heap
-  std::size_t native = 0;         // engine memory held for the script (mesh handles)
-  std::size_t limit = 0;          // 0: unlimited
-  bool memory_exceeded = false;   // set when an allocation was refused
-  long long instructions = 0;
-  long long instruction_limit = 0;  // 0: unlimited
-  const std::atomic<bool>* interrupt = nullptr;  // SIGINT/SIGTERM: ends long-running Lua code too
-};
-
 namespace {
 
-constexpr int kHookInterval = 1000;  // instructions between count-hook calls
 const char* kBudgetKey = "softcut.budget";
 const char* kOptionsKey = "softcut.options";
 const char* kInternalKey = "softcut.internal";
 const char* kLoadedKey = "softcut.loaded";
-
-void* budget_alloc(void* ud, void* ptr, size_t osize, size_t nsize) {
-  auto* b = static_cast<Runtime::Budget*>(ud);
-  const std::size_t old = ptr ? osize : 0;
-  if (nsize == 0) {
-    b->used -= old;
-    std::free(ptr);
-    return nullptr;
-  }
-  if (b->limit && nsize > old && b->used - old + nsize + b->native > b->limit) {
-    b->memory_exceeded = true;
-    return nullptr;  // Lua raises LUA_ERRMEM after an emergency collection
-  }
-  void* p = std::realloc(ptr, nsize);
-  if (p) b->used = b->used - old + nsize;
-  return p;
-}
-
-Runtime::Budget* budget_of(lua_State* L) {
-  void* ud = nullptr;
-  lua_getallocf(L, &ud);
-  return static_cast<Runtime::Budget*>(ud);
-}
-
-void count_hook(lua_State* L, lua_Debug*) {
-  Runtime::Budget* b = budget_of(L);
-  b->instructions += kHookInterval;
-  if (b->interrupt && b->interrupt->load()) {
-    {
-      const std::string where = user_where(L);
-      lua_pushfstring(L, "%s: interrupted", where.c_str());
-    }
-    lua_error(L);
-  }
-  if (!(b->instruction_limit && b->instructions > b->instruction_limit)) return;
-  {
-    const std::string where = user_where(L);
-    lua_pushfstring(L, "%s: instruction budget of %I instructions exceeded (an endless loop?); "
-                       "run with --trust to lift the sandbox budgets",
-                    where.c_str(), (lua_Integer)b->instruction_limit);
-  }  // `where` destroyed before the longjmp; lua_error, not luaL_error (that would prefix the caller's line)
-  lua_error(L);
-}
 
 // Message handler: API misuse errors (tables {message=...}) stay one line;
 // everything else gets a traceback.
@@ -104,58 +51,11 @@ int message_handler(lua_State* L) {
   return 1;
 }
 
-const SandboxOptions& options_of(lua_State* L) {
+const SandboxOptions& registry_options(lua_State* L) {
   lua_getfield(L, LUA_REGISTRYINDEX, kOptionsKey);
   auto* opt = static_cast<const SandboxOptions*>(lua_touserdata(L, -1));
   lua_pop(L, 1);
   return *opt;
-}
-
-bool inside(const fs::path& p, const fs::path& dir) {
-  if (dir.empty()) return false;
-  std::error_code ec;
-  const fs::path a = fs::weakly_canonical(p, ec);
-  const fs::path d = fs::weakly_canonical(dir, ec);
-  auto [di, ai] = std::mismatch(d.begin(), d.end(), a.begin(), a.end());
-  return di == d.end() || (std::next(di) == d.end() && di->empty());
-}
-
-// io.open / io.lines restricted to the scenario folder (read) and the output
-// folder (write). Relative paths resolve against those folders.
-int sandboxed_open(lua_State* L) {
-  const char* name = luaL_checkstring(L, 1);
-  const char* mode = luaL_optstring(L, 2, "r");
-  const bool lines = lua_toboolean(L, lua_upvalueindex(2));
-  const bool write = !lines && (std::strpbrk(mode, "wa+") != nullptr);
-  const SandboxOptions& opt = options_of(L);
-  const fs::path& dir = write ? opt.write_dir : opt.read_dir;
-  bool ok = false;
-  {
-    fs::path p(name);
-    if (p.is_relative() && !dir.empty()) p = dir / p;
-    std::string out;
-    if (inside(p, dir)) {
-      ok = true;
-      out = p.string();
-    } else {
-      out = cat(lines ? "io.lines" : "io.open", ": '", name, "' is outside the ",
-                write ? "output folder '" : "scenario folder '", dir.string(),
-                "' (the sandbox reads below the scenario folder and writes below the output folder; "
-                "run with --trust to lift this)");
-    }
-    lua_pushlstring(L, out.data(), out.size());
-  }  // C++ strings and paths gone before anything below can longjmp
-  if (!ok) {
-    luaL_where(L, 1);
-    lua_insert(L, -2);
-    lua_concat(L, 2);
-    return lua_error(L);
-  }
-  lua_replace(L, 1);
-  lua_pushvalue(L, lua_upvalueindex(1));
-  lua_insert(L, 1);
-  lua_call(L, lua_gettop(L) - 1, LUA_MULTRET);
-  return lua_gettop(L);
 }
 
 // load(chunk [, name [, mode [, env]]]) with mode forced to text.
@@ -319,15 +219,7 @@ void open_sandbox(lua_State* L) {
   lua_pushcclosure(L, sandboxed_load, 1);
   lua_setglobal(L, "load");
 
-  push_trimmed(L, luaopen_io, LUA_IOLIBNAME, {"write", "read", "type", "stdout", "stderr"});
-  for (int lines = 0; lines < 2; ++lines) {
-    luaL_requiref(L, LUA_IOLIBNAME, luaopen_io, 0);
-    lua_getfield(L, -1, lines ? "lines" : "open");
-    lua_remove(L, -2);
-    lua_pushboolean(L, lines);
-    lua_pushcclosure(L, sandboxed_open, 2);
-    lua_setfield(L, -2, lines ? "lines" : "open");
-  }
+  push_sandboxed_io(L);
   set_refusing_metatable(L, -1, "io");
   lua_setglobal(L, "io");
 
@@ -341,6 +233,7 @@ void open_sandbox(lua_State* L) {
   lua_newtable(L);
   set_refusing_metatable(L, -1, "debug");
   lua_setglobal(L, "debug");
+  install_sandbox_limits(L);
 }
 
 // The embedded library compiled once per process: every Runtime loads
@@ -444,6 +337,8 @@ void open_internal(lua_State* L) {
 
 }  // namespace
 
+const SandboxOptions& options_of(lua_State* L) { return registry_options(L); }
+
 double max_tets(lua_State* L) {
   const SandboxOptions& opt = options_of(L);
   return opt.trusted ? HUGE_VAL : opt.max_tets;
@@ -483,7 +378,7 @@ void release_memory(lua_State* L, std::size_t bytes) {
 
 bool may_read(lua_State* L, const fs::path& path) {
   const SandboxOptions& opt = options_of(L);
-  return opt.trusted || inside(path, opt.read_dir);
+  return opt.trusted || !relative_below(opt.read_dir, path).empty();
 }
 
 std::string user_where(lua_State* L) {
@@ -542,6 +437,7 @@ Runtime::Runtime(const SandboxOptions& opt) : opt_(opt), budget_(new Budget) {
   lua_setfield(L_, LUA_REGISTRYINDEX, kBudgetKey);
   if (opt_.trusted) {
     luaL_openlibs(L_);
+    install_sticky_stops(L_);
   } else {
     open_sandbox(L_);
   }
@@ -574,7 +470,10 @@ Runtime::Runtime(const SandboxOptions& opt) : opt_(opt), budget_(new Budget) {
     lua_setglobal(L_, "require");
   }
   budget_->interrupt = opt_.interrupt;
-  if (!opt_.trusted || opt_.interrupt) lua_sethook(L_, count_hook, LUA_MASKCOUNT, kHookInterval);
+  budget_->deadline = opt_.deadline;
+  budget_->timeout_s = opt_.timeout_s;
+  if (!opt_.trusted) budget_->output = opt_.output;
+  if (!opt_.trusted || opt_.interrupt || opt_.deadline) lua_sethook(L_, count_hook, LUA_MASKCOUNT, kHookInterval);
   try {
     lua_pushcfunction(L_, [](lua_State* L) -> int {
       open_internal(L);
@@ -595,7 +494,7 @@ Runtime::~Runtime() {
   delete budget_;
 }
 
-void Runtime::set_interruptible(bool on) { budget_->interrupt = on ? opt_.interrupt : nullptr; }
+bool Runtime::stopped() const { return budget_->fatal; }
 
 void Runtime::push_internal() { lua_getfield(L_, LUA_REGISTRYINDEX, kInternalKey); }
 
@@ -603,6 +502,10 @@ std::size_t Runtime::memory_used() const { return budget_->used + budget_->nativ
 long long Runtime::instructions_used() const { return budget_->instructions; }
 
 void Runtime::call(int nargs, int nresults) {
+  if (budget_->fatal) {  // sticky: nothing runs after the budget, an interrupt or the deadline
+    lua_pop(L_, nargs + 1);
+    throw Error(budget_->fatal_message);
+  }
   const int base = lua_gettop(L_) - nargs;  // index of the function
   lua_pushcfunction(L_, message_handler);
   lua_insert(L_, base);
@@ -621,6 +524,8 @@ void Runtime::call(int nargs, int nresults) {
     const char* m = lua_tostring(L_, -1);
     msg = m ? m : "(error object is not a string)";
   }
+  // A fatal stop is what ends the call, whatever the script raised after it.
+  if (budget_->fatal && msg.find(budget_->fatal_message) == std::string::npos) msg = budget_->fatal_message;
   lua_pop(L_, 1);
   throw Error(msg);
 }
@@ -628,15 +533,7 @@ void Runtime::call(int nargs, int nresults) {
 void Runtime::run_file(const fs::path& path, int nresults) {
   chunk_ = path.string();
   const std::string chunk = "@" + path.string();
-  std::string text;
-  {
-    FILE* f = std::fopen(path.c_str(), "rb");
-    if (!f) fail(path.string(), ": cannot open the scenario file (", std::strerror(errno), ")");
-    char buf[65536];
-    size_t n;
-    while ((n = std::fread(buf, 1, sizeof buf, f)) > 0) text.append(buf, n);
-    std::fclose(f);
-  }
+  std::string text = read_regular_file(path, "the scenario file");
   if (!text.empty() && text[0] == '#') text.insert(0, "--");  // shebang line stays a comment
   if (luaL_loadbufferx(L_, text.data(), text.size(), chunk.c_str(), opt_.trusted ? "bt" : "t") != LUA_OK) {
     std::string msg = lua_tostring(L_, -1);

@@ -14,6 +14,10 @@
 
 struct lua_State;
 
+namespace softcut {
+class OutputBudget;
+}
+
 namespace softcut::lua {
 
 struct SandboxOptions {
@@ -24,6 +28,9 @@ struct SandboxOptions {
   std::size_t memory_budget = 512u << 20;      // bytes held by the Lua heap and the script's meshes at any time
   double max_tets = 2'000'000;                 // tetrahedra of the mesh the script loads or generates
   const std::atomic<bool>* interrupt = nullptr;  // when set, running Lua code stops with "interrupted"
+  const std::atomic<bool>* deadline = nullptr;   // when set (the watchdog), running Lua code stops
+  double timeout_s = 0;                          // the watchdog's limit, for messages
+  OutputBudget* output = nullptr;                // bytes the script may write (with the engine's outputs)
 };
 
 class Runtime {
@@ -49,10 +56,9 @@ class Runtime {
   void push_internal();
   // The output folder, once known (io.open for writing is allowed below it).
   void set_write_dir(const std::filesystem::path& dir) { opt_.write_dir = dir; }
-  // Whether the interrupt flag stops running Lua code (on while the script is
-  // set up; the frame loop turns it off and honours the flag between frames,
-  // so an interrupted run ends "interrupted", not with an error).
-  void set_interruptible(bool on);
+  // Whether the instruction budget, an interrupt or the deadline has stopped
+  // the script: then every later call() fails at once (sandbox_limits.hpp).
+  bool stopped() const;
 
   // Lua heap plus engine memory held for the script, bytes; VM instructions executed by the current or last
   // call (in steps of the hook interval).

@@ -7,7 +7,10 @@
 #include <memory>
 
 #include "convert.hpp"
+#include "core/checked_file.hpp"
 #include "core/error.hpp"
+#include "core/output_budget.hpp"
+#include "core/watchdog.hpp"
 #include "gpu/egl_context.hpp"
 #include "render/frame_writer.hpp"
 #include "runtime.hpp"
@@ -272,15 +275,53 @@ sim::ScenarioSpec read_spec(lua_State* L, int s, const fs::path& source) {
   return std::move(job.spec);
 }
 
-SandboxOptions sandbox_of(const RunRequest& req) {
+SandboxOptions sandbox_of(const RunRequest& req, OutputBudget* output = nullptr, const Watchdog* dog = nullptr) {
   SandboxOptions opt;
+  opt.output = output;
+  if (dog && dog->seconds() > 0) opt.deadline = &dog->expired(), opt.timeout_s = dog->seconds();
   opt.trusted = req.trusted;
-  opt.read_dir = fs::absolute(req.scenario).lexically_normal().parent_path();
+  // Resolved once: the checked opens then work below the real folder, and
+  // any link below it is refused.
+  std::error_code ec;
+  const fs::path folder = fs::absolute(req.scenario).lexically_normal().parent_path();
+  opt.read_dir = fs::canonical(folder, ec);
+  if (ec) opt.read_dir = folder;
   opt.instruction_budget = req.instruction_budget;
   opt.memory_budget = req.memory_budget;
   opt.max_tets = req.max_tets;
   opt.interrupt = req.interrupt;
   return opt;
+}
+
+// The output folder from the final spec, made and resolved once: `--out DIR`
+// as the user gave it, else renders/<name>/ with the name checked (after the
+// script has run: a script may change s.name at any time) and the folder made
+// below renders/ without following a link there.
+fs::path make_output_folder(const RunRequest& req, const std::string& name) {
+  fs::path dir;
+  if (!req.out_dir.empty()) {
+    std::error_code ec;
+    fs::create_directories(req.out_dir, ec);
+    if (ec || !fs::is_directory(req.out_dir))
+      fail(req.out_dir.string(), ": cannot create the output folder (", ec ? ec.message() : "not a folder",
+           "); choose another with --out or fix the path");
+    dir = req.out_dir;
+  } else {
+    sim::check_scenario_name(name);
+    const fs::path root = fs::absolute("renders");
+    std::error_code ec;
+    fs::create_directories(root, ec);
+    if (ec) fail(root.string(), ": cannot create the output root (", ec.message(), "); choose a folder with --out");
+    dir = make_folder_below(root, name, "output folder");
+  }
+  return fs::canonical(dir);
+}
+
+// Frame buffers of a rendered frame, bytes: colour and depth per sample,
+// the resolved and read-back images and the PNG encoder's copy.
+double render_bytes(const sim::RenderSettings& r) {
+  const double pixels = double(r.width) * double(r.height);
+  return pixels * 8.0 * std::max(1, r.msaa_samples) + pixels * 4.0 * 3.0;
 }
 
 }  // namespace
@@ -292,7 +333,14 @@ sim::ScenarioSpec load_scenario_spec(const RunRequest& req) {
 }
 
 RunOutcome run_scenario(const RunRequest& req) {
-  Runtime rt(sandbox_of(req));
+  // Declared before the Lua state: the watchdog outlives it, so a hang while
+  // the state is closed is still ended.
+  Watchdog dog(req.timeout_s, std::clamp(req.timeout_s / 10, 5.0, 60.0),
+               cat(req.scenario.string(), ": the wall-clock limit of ", req.timeout_s,
+                   " s (--timeout) passed and the run did not stop (stuck outside the script); exiting without "
+                   "finishing the outputs"));
+  OutputBudget output(req.max_output);
+  Runtime rt(sandbox_of(req, &output, &dog));
   lua_State* L = rt.state();
   const int s = run_script(rt, req);
   RunOutcome out;
@@ -300,22 +348,38 @@ RunOutcome run_scenario(const RunRequest& req) {
   out.name = spec.name;
   out.description = get_string(L, s, "description");
   out.tolerance = get_number(L, s, "tolerance", 1e-6);
-  out.out_dir = req.out_dir.empty() ? fs::path("renders") / spec.name : req.out_dir;
   {
-    std::error_code ec;
-    fs::create_directories(out.out_dir, ec);
-    if (ec)
-      fail(out.out_dir.string(), ": cannot create the output folder (", ec.message(),
-           "); choose another with --out or fix the path");
+    const std::string file = req.scenario.string();
+    try {
+      sim::check_spec(spec);  // before anything is made from it (compile checks again)
+      out.out_dir = make_output_folder(req, spec.name);
+    } catch (const Error& e) {
+      const std::string msg = e.what();
+      if (msg.rfind(file, 0) == 0) throw;
+      fail(file, ": ", msg);
+    }
   }
-  rt.set_write_dir(fs::absolute(out.out_dir));
+  rt.set_write_dir(out.out_dir);
   spec.outputs.dir = out.out_dir;
+  spec.outputs.timeout_s = std::max(0.0, req.timeout_s);
+  spec.outputs.max_bytes = req.max_output;
   if (req.render_every > 0) spec.outputs.render.enabled = true, spec.outputs.render.every = req.render_every;
   if (!req.render) spec.outputs.render.enabled = false;
   if (req.width > 0) spec.outputs.render.width = req.width;
   if (req.height > 0) spec.outputs.render.height = req.height;
   if (req.msaa_samples >= 0) spec.outputs.render.msaa_samples = req.msaa_samples;
   if (!req.backend.empty()) spec.solver.backend = req.backend;
+  if (!req.trusted) {
+    // What the scenario's numbers make the engine allocate counts against
+    // the sandbox's memory budget too, checked before it is allocated.
+    spec.solver.max_bytes = double(req.memory_budget);
+    const sim::RenderSettings& r = spec.outputs.render;
+    if (r.enabled && render_bytes(r) > double(req.memory_budget))
+      fail(req.scenario.string(), ": rendering ", r.width, " x ", r.height, " frames with ", r.msaa_samples,
+           " MSAA samples needs about ", int(render_bytes(r) / (1 << 20)), " MiB of frame buffers, more than the ",
+           req.memory_budget >> 20, " MiB memory budget of the sandbox; render smaller (--size WxH), with fewer "
+           "samples (--msaa N), or run with --trust");
+  }
 
   // One EGL context for the GPU backend and rendering, made here (the engine
   // never creates one) and outliving the Model and the renderer.
@@ -335,9 +399,11 @@ RunOutcome run_scenario(const RunRequest& req) {
   std::unique_ptr<render::FrameWriter> frames;
   if (spec.outputs.render.enabled) {
     const bool solver_on_gpu = model.solver->backend().backend == "gpu";
-    frames = std::make_unique<render::FrameWriter>(*context, solver_on_gpu || req.render_inline
-                                                                 ? render::FrameWriter::Mode::inline_draw
-                                                                 : render::FrameWriter::Mode::worker);
+    frames = std::make_unique<render::FrameWriter>(*context,
+                                                   solver_on_gpu || req.render_inline
+                                                       ? render::FrameWriter::Mode::inline_draw
+                                                       : render::FrameWriter::Mode::worker,
+                                                   2, &output);
   }
   out.num_frames = model.num_frames;
   sim::State state = sim::make_state(model);
@@ -351,6 +417,7 @@ RunOutcome run_scenario(const RunRequest& req) {
 
   sim::RunHooks hooks;
   hooks.interrupt = req.interrupt;
+  hooks.timed_out = &dog.expired();
   hooks.max_frames = req.max_frames;
   hooks.progress = req.progress;
   hooks.on_frame = [&](const sim::Model& m, sim::State& st) {
@@ -374,8 +441,7 @@ RunOutcome run_scenario(const RunRequest& req) {
     return go_on && !st.stop_requested;
   };
 
-  rt.set_interruptible(false);  // from here on the frame loop polls the flag
-  sim::Recorder rec(model, out.out_dir);
+  sim::Recorder rec(model, out.out_dir, &output);
   if (frames) rec.set_frame_writer(frames.get());
   out.result = sim::run(model, state, rec, hooks);
   out.step_ms = state.stats.total.sum / std::max(1, state.stats.frames);
@@ -400,6 +466,7 @@ RunOutcome run_scenario(const RunRequest& req) {
     out.expectations.push_back(r);
   });
   lua_pop(L, 1);
+  if (rt.stopped()) return out;  // the script was stopped: no more of its code runs (none was reached)
   rt.run_string("return require('scenario').pending", "=softcut/pending", 1);
   lua_rawgeti(L, LUA_REGISTRYINDEX, s_ref);
   rt.call(1, 1);

@@ -4,6 +4,7 @@
 // displacements.csv + summary.json. The CLI (softcut run / check) calls this;
 // it needs no Lua headers.
 #include <atomic>
+#include <cstdint>
 #include <filesystem>
 #include <functional>
 #include <map>
@@ -31,6 +32,8 @@ struct RunRequest {
   long long instruction_budget = 200'000'000;     // sandbox: Lua VM instructions per call (main chunk, each on_frame)
   std::size_t memory_budget = 512u << 20;         // sandbox: Lua heap, bytes
   double max_tets = 2'000'000;                    // sandbox: tetrahedra of the scenario's mesh (--max-tets)
+  double timeout_s = 3600;                        // wall-clock limit of the whole run, s (--timeout; 0: none)
+  std::uint64_t max_output = std::uint64_t(4) << 30;  // bytes the run may write, all files (--max-output; 0: none)
   std::function<void(int frame, int num_frames, double elapsed_s)> progress;
   const std::atomic<bool>* interrupt = nullptr;   // set by SIGINT/SIGTERM
 };

@@ -189,6 +189,8 @@ FrameContext* push_frame_context(lua_State* L) {
   if (luaL_newmetatable(L, kFrameMeta)) {
     lua_pushstring(L, "Frame");
     lua_setfield(L, -2, "__name");
+    lua_pushboolean(L, 0);  // locked: no script can give frame handles a __gc
+    lua_setfield(L, -2, "__metatable");
   }
   lua_setmetatable(L, -2);
   return c;

@@ -244,6 +244,8 @@ void register_mesh_meta(lua_State* L) {
   if (luaL_newmetatable(L, kMeshMeta)) {
     lua_pushcfunction(L, handle_gc);
     lua_setfield(L, -2, "__gc");
+    lua_pushboolean(L, 0);  // locked: getmetatable(handle) is false, its __gc stays ours
+    lua_setfield(L, -2, "__metatable");
   }
   lua_pop(L, 1);
 }

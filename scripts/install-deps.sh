@@ -7,6 +7,7 @@ pkgs=(
   libeigen3-dev libsuitesparse-dev liblua5.4-dev lua5.4
   libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri
   libstb-dev doctest-dev zlib1g-dev
+  nlohmann-json3-dev  # JSON strings escaped by a well-kept library: summary.json is valid for every byte
   libopenblas0-pthread  # optimised BLAS/LAPACK behind CHOLMOD's supernodal factor (reference BLAS is ~10x slower)
   clang-14 libclang-rt-14-dev llvm-14  # the test suite's sanitizer + libFuzzer build (scripts/test.sh), symbolized traces
 )

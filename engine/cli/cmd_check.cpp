@@ -120,16 +120,16 @@ int cmd_check(const Args& args) {
     if (a == "--record") record = true;
     else if (a == "--trust") base.trusted = true;
     else if (a == "--backend") {
-      if (i + 1 >= args.size()) fail("softcut check: --backend needs a value");
+      if (i + 1 >= args.size()) usage_fail("softcut check: --backend needs a value");
       base.backend = parse_backend(args[++i]);
     } else if (a == "--max-tets") {
-      if (i + 1 >= args.size()) fail("softcut check: --max-tets needs a number");
+      if (i + 1 >= args.size()) usage_fail("softcut check: --max-tets needs a number");
       base.max_tets = parse_count(args[++i], "--max-tets");
     }
     else if (a == "--out") {
-      if (i + 1 >= args.size()) fail("softcut check: --out needs a folder");
+      if (i + 1 >= args.size()) usage_fail("softcut check: --out needs a folder");
       out_root = args[++i];
-    } else if (a.rfind("-", 0) == 0) fail("softcut check: unknown option '", a, "' (see softcut check --help)");
+    } else if (a.rfind("-", 0) == 0) usage_fail("softcut check: unknown option '", a, "' (see softcut check --help)");
     else paths.push_back(a);
   }
   const std::vector<fs::path> scenarios = collect(paths);

@@ -17,7 +17,8 @@ namespace {
 
 const char* kRunUsage =
     "usage: softcut run SCENARIO.lua [--out DIR] [--set key=value ...] [--frames N] [--backend B]\n"
-    "                   [--render-every N] [--size WxH] [--msaa N] [--max-tets N] [--quiet] [--trust] [--no-render]\n"
+    "                   [--render-every N] [--size WxH] [--msaa N] [--max-tets N] [--timeout S]\n"
+    "                   [--max-output BYTES] [--quiet] [--trust] [--no-render]\n"
     "\n"
     "Runs a Lua scenario headless and writes DIR/displacements.csv and DIR/summary.json\n"
     "(default DIR: renders/<scenario name>/).\n"
@@ -30,12 +31,17 @@ const char* kRunUsage =
     "  --msaa N         multisample count of rendered frames (0: none; overrides the scenario's)\n"
     "  --quiet          no progress output\n"
     "  --max-tets N     sandbox: largest mesh the scenario may load or generate (default 2000000 tets)\n"
+    "  --timeout S      wall-clock limit of the run in seconds (default 3600; 0: none); the run then\n"
+    "                   stops, writes its outputs and exits 124 (exit_reason \"timeout\")\n"
+    "  --max-output B   bytes the run may write, all files together (default 4G; 0: none; K/M/G suffix)\n"
     "  --trust          no sandbox: full Lua standard library, no instruction, memory or mesh budget\n"
     "  --no-render      write no frames (also when no OpenGL context can be made)\n"
-    "Ctrl-C (SIGINT) or SIGTERM finishes the current frame, writes the outputs and marks the\n"
-    "summary interrupted.\n"
+    "Ctrl-C (SIGINT) or SIGTERM stops the script at once (also inside pcall), finishes the current\n"
+    "frame, writes the outputs and marks the summary interrupted; a second one ends the process\n"
+    "at once, without outputs.\n"
     "Exit status: 0 done, 1 an error or a failed expectation (outputs still written; one the\n"
-    "run did not reach counts only if the run completed), 2 usage, 130 interrupted.\n";
+    "run did not reach counts only if the run completed), 2 usage, 124 wall-clock limit\n"
+    "(--timeout), 130 interrupted.\n";
 
 }  // namespace
 
@@ -50,7 +56,7 @@ int cmd_run(const Args& args) {
   for (size_t i = 0; i < args.size(); ++i) {
     const std::string& a = args[i];
     auto value = [&](const char* opt) -> const std::string& {
-      if (i + 1 >= args.size()) fail("softcut run: ", opt, " needs a value (see softcut run --help)");
+      if (i + 1 >= args.size()) usage_fail("softcut run: ", opt, " needs a value (see softcut run --help)");
       return args[++i];
     };
     if (a == "--out") req.out_dir = value("--out");
@@ -63,12 +69,14 @@ int cmd_run(const Args& args) {
     else if (a == "--msaa") req.msaa_samples = parse_count(value("--msaa"), "--msaa");
     else if (a == "--quiet" || a == "-q") quiet = true;
     else if (a == "--max-tets") req.max_tets = parse_count(value("--max-tets"), "--max-tets");
+    else if (a == "--timeout") req.timeout_s = parse_seconds(value("--timeout"), "--timeout");
+    else if (a == "--max-output") req.max_output = parse_bytes(value("--max-output"), "--max-output");
     else if (a == "--trust") req.trusted = true;
     else if (a == "--no-render") req.render = false;
-    else if (a.rfind("-", 0) == 0) fail("softcut run: unknown option '", a, "' (see softcut run --help)");
+    else if (a.rfind("-", 0) == 0) usage_fail("softcut run: unknown option '", a, "' (see softcut run --help)");
     else files.push_back(a);
   }
-  if (files.size() != 1) fail("softcut run: give exactly one scenario file (got ", files.size(), ")");
+  if (files.size() != 1) usage_fail("softcut run: give exactly one scenario file (got ", files.size(), ")");
   req.scenario = files[0];
 
   Progress progress(quiet ? Progress::Mode::quiet : ::isatty(STDERR_FILENO) ? Progress::Mode::bar : Progress::Mode::lines);
@@ -103,6 +111,11 @@ int cmd_run(const Args& args) {
                    sim::to_string(out.result.reason));
   }
   if (out.result.reason == sim::ExitReason::interrupted) return 130;
+  if (out.result.reason == sim::ExitReason::timeout) {
+    std::fprintf(stderr, "softcut: error: %s: %s\n", out.name.c_str(), out.result.message.empty()
+                 ? "the wall-clock limit (--timeout) was reached" : out.result.message.c_str());
+    return 124;
+  }
   return failed ? 1 : 0;  // outputs are written either way; CI sees the failed expectation
 }
 

@@ -54,6 +54,9 @@ int main(int argc, char** argv) {
     if (cmd == "check") return cmd_check(args);
     std::fprintf(stderr, "softcut: unknown command '%s' (see softcut --help)\n", cmd.c_str());
     return 2;
+  } catch (const softcut::UsageError& e) {
+    std::fprintf(stderr, "softcut: error: %s\n", e.what());
+    return 2;
   } catch (const softcut::Error& e) {
     std::fprintf(stderr, "softcut: error: %s\n", e.what());
     return 1;

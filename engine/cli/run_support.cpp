@@ -10,14 +10,14 @@ namespace softcut::cli {
 void add_override(std::map<std::string, std::string>& overrides, const std::string& pair) {
   const auto eq = pair.find('=');
   if (eq == std::string::npos || eq == 0)
-    fail("--set ", pair, ": expected key=value (e.g. --set force=0.5)");
+    usage_fail("--set ", pair, ": expected key=value (e.g. --set force=0.5)");
   overrides[pair.substr(0, eq)] = pair.substr(eq + 1);
 }
 
 std::string parse_backend(const std::string& text) {
   for (const char* b : {"auto", "cpu", "gpu", "direct", "monolithic"})
     if (text == b) return text;
-  fail("--backend ", text, ": expected auto, cpu, gpu, direct or monolithic");
+  usage_fail("--backend ", text, ": expected auto, cpu, gpu, direct or monolithic");
 }
 
 int parse_count(const std::string& text, const char* option) {
@@ -28,7 +28,7 @@ int parse_count(const std::string& text, const char* option) {
   } catch (...) {
     used = 0;
   }
-  if (used != text.size() || v < 0 || v > 100000000) fail(option, " ", text, ": expected a whole number from 0 to 100000000");
+  if (used != text.size() || v < 0 || v > 100000000) usage_fail(option, " ", text, ": expected a whole number from 0 to 100000000");
   return int(v);
 }
 
@@ -43,11 +43,43 @@ std::pair<int, int> parse_size(const std::string& text, const char* option) {
       used = 0;
     }
     if (t.empty() || used != t.size() || v < 1 || v > 16384)
-      fail(option, " ", text, ": expected WIDTHxHEIGHT in pixels, each from 1 to 16384 (e.g. 640x480)");
+      usage_fail(option, " ", text, ": expected WIDTHxHEIGHT in pixels, each from 1 to 16384 (e.g. 640x480)");
     return int(v);
   };
   if (x == std::string::npos) side("");
   return {side(text.substr(0, x)), side(text.substr(x + 1))};
+}
+
+double parse_seconds(const std::string& text, const char* option) {
+  size_t used = 0;
+  double v = -1;
+  try {
+    v = std::stod(text, &used);
+  } catch (...) {
+    used = 0;
+  }
+  if (used != text.size() || !(v >= 0) || v > 1e7)
+    usage_fail(option, " ", text, ": expected seconds from 0 (no limit) to 10000000");
+  return v;
+}
+
+std::uint64_t parse_bytes(const std::string& text, const char* option) {
+  size_t used = 0;
+  double v = -1;
+  try {
+    v = std::stod(text, &used);
+  } catch (...) {
+    used = 0;
+  }
+  double unit = 1;
+  const std::string suffix = text.substr(used);
+  if (suffix == "K" || suffix == "k") unit = 1 << 10;
+  else if (suffix == "M") unit = 1 << 20;
+  else if (suffix == "G") unit = double(1 << 30);
+  else if (!suffix.empty()) used = 0;
+  if (used == 0 || !(v >= 0) || v * unit > 1e18)
+    usage_fail(option, " ", text, ": expected a number of bytes (0: no limit), optionally with K, M or G (e.g. 8G)");
+  return std::uint64_t(v * unit);
 }
 
 void Progress::update(int frame, int num_frames, double elapsed_s) {

@@ -14,6 +14,13 @@ class Error : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// A command line the program cannot use (unknown option, bad value): the
+// CLI exits with status 2 for it, 1 for every other Error.
+class UsageError : public Error {
+ public:
+  using Error::Error;
+};
+
 // cat("a", 1, 'b') -> "a1b": message building without <format> (GCC 12).
 template <class... Args>
 std::string cat(const Args&... args) {
@@ -26,6 +33,11 @@ std::string cat(const Args&... args) {
 template <class... Args>
 [[noreturn]] void fail(const Args&... args) {
   throw Error(cat(args...));
+}
+
+template <class... Args>
+[[noreturn]] void usage_fail(const Args&... args) {
+  throw UsageError(cat(args...));
 }
 
 // Non-fatal findings collected by a stage and reported by the caller

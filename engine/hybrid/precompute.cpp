@@ -86,6 +86,12 @@ Model precompute(const mesh::TetMesh& m, const std::vector<fem::Material>& tet_m
               : M.memory.dense_bytes <= opt.memory_budget_bytes ? Storage::dense
                                                                : Storage::factor;
   const bool dense = M.storage == Storage::dense;
+  const double need = dense ? M.memory.dense_bytes : M.memory.factor_bytes;
+  if (need > opt.max_bytes)
+    fail("hybrid precompute: storage mode '", to_string(M.storage), "' needs about ", int(need / (1 << 20)),
+         " MiB (", ns3 / 3, " surface and ", ni3 / 3, " interface nodes), more than the ", int(opt.max_bytes / (1 << 20)),
+         " MiB allowed (the sandbox's memory budget); ", dense ? "use solver mode 'factor' or 'auto', " : "",
+         "make the operational region's border smaller, or run with --trust");
 
   t.reset();
   if (n23 > 0) M.K22.factor(K22, "hybrid precompute: K22 (free nonoperational nodes)");

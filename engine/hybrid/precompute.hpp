@@ -22,6 +22,7 @@
 //   State state = make_state(model);                 // update.hpp
 //   update(model, state, loads);                     // per frame
 #include <Eigen/Core>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -40,6 +41,10 @@ const char* to_string(Storage s);
 struct PrecomputeOptions {
   Storage storage = Storage::automatic;
   double memory_budget_bytes = 512.0 * 1024 * 1024;  // automatic: dense if its blocks fit
+  // The most the chosen mode's blocks may take, bytes (the sandbox's memory
+  // budget); a mode that needs more, asked for or not, is an error before
+  // anything large is allocated.
+  double max_bytes = std::numeric_limits<double>::infinity();
   Eigen::MatrixX3d initial_loads;  // (nnode x 3) N, Ps0 and initial operational loads; empty = none
   int block_columns = 256;         // right-hand sides per CHOLMOD solve (bounds temporary memory)
 };

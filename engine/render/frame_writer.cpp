@@ -12,6 +12,7 @@
 #include <utility>
 
 #include "core/atomic_file.hpp"
+#include "core/output_budget.hpp"
 #include "core/error.hpp"
 #include "core/timer.hpp"
 
@@ -24,6 +25,7 @@ struct FrameWriter::Impl {
   };
 
   gpu::EglContext& ctx;
+  OutputBudget* budget = nullptr;  // bytes written, all outputs of the run (optional)
   const Mode mode;
   const size_t max_pending;
   std::optional<Renderer> renderer;  // inline mode; the worker keeps its own
@@ -37,7 +39,8 @@ struct FrameWriter::Impl {
   int samples = 0;
   std::thread worker;
 
-  Impl(gpu::EglContext& c, Mode m, int pending) : ctx(c), mode(m), max_pending(size_t(std::max(1, pending))) {
+  Impl(gpu::EglContext& c, Mode m, int pending, OutputBudget* b)
+      : ctx(c), budget(b), mode(m), max_pending(size_t(std::max(1, pending))) {
     if (mode == Mode::inline_draw) {
       renderer.emplace(ctx);
       return;
@@ -80,7 +83,7 @@ struct FrameWriter::Impl {
   }
 
   // Draws, encodes and writes one frame; returns its timings.
-  static FrameTimings write_frame(Renderer& r, const Job& job) {
+  static FrameTimings write_frame(Renderer& r, const Job& job, OutputBudget* budget) {
     try {
       FrameTimings t;
       const Image img = r.draw(job.scene, &t);
@@ -88,6 +91,7 @@ struct FrameWriter::Impl {
       const std::string png = encode_png(img);
       t.encode_ms = timer.ms();
       timer.reset();
+      if (budget) budget->charge(png.size(), job.png.filename().string());
       write_file_atomic(job.png, png);
       t.write_ms = timer.ms();
       return t;
@@ -130,7 +134,7 @@ struct FrameWriter::Impl {
       std::exception_ptr error;
       FrameTimings t;
       try {
-        t = write_frame(*r, job);
+        t = write_frame(*r, job, budget);
       } catch (...) {
         error = std::current_exception();
       }
@@ -159,7 +163,7 @@ struct FrameWriter::Impl {
   void submit(Scene scene, std::filesystem::path png) {
     if (mode == Mode::inline_draw) {
       Timer timer;
-      const FrameTimings t = write_frame(*renderer, Job{std::move(scene), std::move(png)});
+      const FrameTimings t = write_frame(*renderer, Job{std::move(scene), std::move(png)}, budget);
       stats.wait_ms += timer.ms();
       account(t, renderer->samples());
       return;
@@ -184,8 +188,8 @@ struct FrameWriter::Impl {
   }
 };
 
-FrameWriter::FrameWriter(gpu::EglContext& context, Mode mode, int max_pending)
-    : impl_(std::make_unique<Impl>(context, mode, max_pending)) {}
+FrameWriter::FrameWriter(gpu::EglContext& context, Mode mode, int max_pending, OutputBudget* budget)
+    : impl_(std::make_unique<Impl>(context, mode, max_pending, budget)) {}
 FrameWriter::~FrameWriter() = default;
 
 void FrameWriter::submit(Scene scene, std::filesystem::path png) { impl_->submit(std::move(scene), std::move(png)); }

@@ -18,6 +18,9 @@
 #include "render/renderer.hpp"
 #include "render/scene.hpp"
 
+namespace softcut {
+class OutputBudget;
+}
 namespace softcut::render {
 
 struct FrameWriterStats {
@@ -33,7 +36,8 @@ class FrameWriter {
 
   // `context` must outlive the writer. In worker mode it is detached from the
   // calling thread (made current again by whoever uses it next).
-  FrameWriter(gpu::EglContext& context, Mode mode, int max_pending = 2);
+  // `budget` (optional, outlives the writer) bounds the bytes of all outputs.
+  FrameWriter(gpu::EglContext& context, Mode mode, int max_pending = 2, OutputBudget* budget = nullptr);
   // Stops after the frame in progress; frames still queued are dropped (no
   // partial files: every write is atomic). Call finish() to keep them.
   ~FrameWriter();

@@ -7,8 +7,17 @@
 #include <set>
 #include <system_error>
 
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+
 #include "core/atomic_file.hpp"
+#include "core/checked_file.hpp"
 #include "core/error.hpp"
+#include "core/json_text.hpp"
+#include "core/output_budget.hpp"
 #include "render/contact_sheet.hpp"
 #include "core/timer.hpp"
 #include "render/frame_writer.hpp"
@@ -30,22 +39,7 @@ std::string num(double v, const char* fmt = "%.9e") {
 std::string jnum(double v) { return std::isfinite(v) ? num(v, "%.15g") : "null"; }
 std::string jms(double v) { return std::isfinite(v) ? num(v, "%.6g") : "null"; }
 
-std::string jstr(const std::string& s) {
-  std::string o = "\"";
-  for (unsigned char c : s) {
-    switch (c) {
-      case '"': o += "\\\""; break;
-      case '\\': o += "\\\\"; break;
-      case '\n': o += "\\n"; break;
-      case '\r': o += "\\r"; break;
-      case '\t': o += "\\t"; break;
-      default:
-        if (c < 0x20) o += num(c, "\\u%04x");
-        else o += char(c);
-    }
-  }
-  return o + "\"";
-}
+std::string jstr(const std::string& s) { return json_string(s); }
 
 std::string vtu_name(int frame) {
   char buf[32];
@@ -109,59 +103,65 @@ std::string render_work_json(const Recorder* rec) {
 
 }  // namespace
 
-Recorder::Recorder(const Model& m, fs::path dir) : dir_(dir.empty() ? m.spec.outputs.dir : std::move(dir)) {
+Recorder::Recorder(const Model& m, fs::path dir, OutputBudget* budget)
+    : dir_(dir.empty() ? m.spec.outputs.dir : std::move(dir)), budget_(budget) {
   if (dir_.empty()) dir_ = fs::path("renders") / m.spec.name;
   std::error_code ec;
   fs::create_directories(dir_, ec);
   if (ec || !fs::is_directory(dir_))
     fail("outputs: cannot create the output folder ", dir_.string(), ": ", ec ? ec.message() : "not a folder");
-  if (m.spec.outputs.vtu) {
-    fs::create_directories(dir_ / "vtu", ec);
-    if (ec) fail("outputs: cannot create ", (dir_ / "vtu").string(), ": ", ec.message());
-  }
+  if (m.spec.outputs.vtu) make_folder_below(dir_, "vtu", "outputs");
   if (m.spec.outputs.csv) {
     csv_tmp_ = dir_ / "displacements.csv.partial";
-    csv_.open(csv_tmp_, std::ios::binary | std::ios::trunc);
-    if (!csv_) fail("outputs: cannot write ", csv_tmp_.string(), " (is the folder writable?)");
-    csv_ << "frame,time,node,ux,uy,uz\n";
+    // A stale one (an earlier run killed) or a planted link goes first: the
+    // file is then made new, never opened through a link.
+    fs::remove(csv_tmp_, ec);
+    const int fd = ::open(csv_tmp_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
+    if (fd < 0 || !(csv_ = ::fdopen(fd, "wb"))) {
+      const int err = errno;
+      if (fd >= 0) ::close(fd);
+      fail("outputs: cannot write ", csv_tmp_.string(), " (", std::strerror(err), ")");
+    }
+    write_csv("frame,time,node,ux,uy,uz\n");
   }
 }
 
 Recorder::~Recorder() {
-  if (finished_ || csv_tmp_.empty()) return;
-  csv_.close();
+  if (!csv_) return;
+  std::fclose(csv_);
   std::error_code ec;
   fs::remove(csv_tmp_, ec);
 }
 
+void Recorder::write_csv(std::string_view text) {
+  if (budget_) budget_->charge(text.size(), "displacements.csv");
+  if (std::fwrite(text.data(), 1, text.size(), csv_) != text.size())
+    fail("outputs: writing ", csv_tmp_.string(), " failed (disk full?)");
+}
+
 void Recorder::record(const Model& m, const State& s) {
   if (finished_) fail("outputs: record() after finish()");
-  if (csv_.is_open()) {
+  if (csv_) {
+    std::string rows;
     char buf[160];
-    for (int n : m.log_nodes) {
+    auto row = [&](int n) {
       const int len = std::snprintf(buf, sizeof buf, "%d,%.9e,%d,%.9e,%.9e,%.9e\n", s.frame, s.time, n,
                                     s.displacement(n, 0), s.displacement(n, 1), s.displacement(n, 2));
-      csv_.write(buf, len);
-    }
+      rows.append(buf, std::size_t(len));
+    };
+    for (int n : m.log_nodes) row(n);
     // Nodes made by cutting (ids after the rest mesh's), every frame they exist.
-    for (int n = m.mesh.num_nodes(); n < s.displacement.rows(); ++n) {
-      const int len = std::snprintf(buf, sizeof buf, "%d,%.9e,%d,%.9e,%.9e,%.9e\n", s.frame, s.time, n,
-                                    s.displacement(n, 0), s.displacement(n, 1), s.displacement(n, 2));
-      csv_.write(buf, len);
-    }
-    if (!csv_) fail("outputs: writing ", csv_tmp_.string(), " failed (disk full?)");
+    for (int n = m.mesh.num_nodes(); n < s.displacement.rows(); ++n) row(n);
+    write_csv(rows);
   }
   if (m.spec.outputs.vtu && s.frame % m.spec.outputs.vtu_every == 0) {
-    write_vtu(dir_ / "vtu" / vtu_name(s.frame), m, s);
+    const std::uintmax_t bytes = write_vtu(dir_ / "vtu" / vtu_name(s.frame), m, s);
+    if (budget_) budget_->charge(bytes, "vtu/" + vtu_name(s.frame));
     vtu_frames_.emplace_back(s.frame, s.time);
   }
   const RenderSettings& rs = m.spec.outputs.render;
   if (writer_ && rs.enabled && s.frame % rs.every == 0) {
-    if (rendered_ == 0) {
-      std::error_code ec;
-      fs::create_directories(dir_ / "frames", ec);
-      if (ec) fail("outputs: cannot create ", (dir_ / "frames").string(), ": ", ec.message());
-    }
+    if (rendered_ == 0) make_folder_below(dir_, "frames", "outputs");
     Timer timer;
     writer_->submit(extractor_.extract(current_mesh(m, s), deformed_positions(m, s), scene_content(m, s),
                                        render_settings(m, s)),
@@ -185,10 +185,10 @@ void Recorder::finish(const Model& m, const State& s, const RunResult& run_resul
       render_failure = std::current_exception();
       if (r.reason != ExitReason::error) r.reason = ExitReason::error, r.message = e.what();
     }
-  if (csv_.is_open()) {
-    csv_.flush();
-    const bool ok = bool(csv_);
-    csv_.close();
+  if (csv_) {
+    const bool ok = std::fflush(csv_) == 0 && !std::ferror(csv_);
+    std::fclose(csv_);
+    csv_ = nullptr;
     std::error_code ec;
     if (!ok) {
       fs::remove(csv_tmp_, ec);
@@ -204,12 +204,16 @@ void Recorder::finish(const Model& m, const State& s, const RunResult& run_resul
     for (const auto& [frame, time] : vtu_frames_)
       pvd += "    <DataSet timestep=\"" + num(time, "%.9g") + "\" part=\"0\" file=\"vtu/" + vtu_name(frame) + "\"/>\n";
     pvd += "  </Collection>\n</VTKFile>\n";
+    if (budget_) budget_->charge(pvd.size(), "series.pvd");
     write_file_atomic(dir_ / "series.pvd", pvd);
   }
   if (rendered_ > 0 && m.spec.outputs.render.contact_sheet && r.reason != ExitReason::error) {
     // At most ~24 tiles: a quick look at the whole run.
     const int stride = std::max(1, (rendered_ + 23) / 24);
     render::write_contact_sheet(dir_ / "frames", dir_ / "contact_sheet.png", stride);
+    std::error_code ec;
+    const std::uintmax_t bytes = fs::file_size(dir_ / "contact_sheet.png", ec);
+    if (budget_ && !ec) budget_->charge(bytes, "contact_sheet.png");
   }
   write_file_atomic(dir_ / "summary.json", summary_json(m, s, r, this));
   if (render_failure) std::rethrow_exception(render_failure);
@@ -262,6 +266,10 @@ std::string summary_json(const Model& m, const State& s, const RunResult& r, con
        ", \"last_time_s\": " + jnum(s.time) + ", \"wall_s\": " + jms(r.wall_s) + ", \"exit_reason\": " +
        jstr(to_string(r.reason)) + ", \"interrupted\": " + (r.reason == ExitReason::interrupted ? "true" : "false") +
        ", \"message\": " + jstr(r.message) + "},\n";
+  // The run's bounds (--timeout, --max-output; 0: none) and what it wrote.
+  j += "  \"limits\": {\"timeout_s\": " + jnum(sp.outputs.timeout_s) + ", \"max_output_bytes\": " +
+       std::to_string(sp.outputs.max_bytes) + ", \"output_bytes\": " +
+       std::to_string(rec && rec->output_budget() ? rec->output_budget()->used() : 0) + "},\n";
   j += "  \"stage_ms\": {\n";
   j += stage("collision", st.collision, false);
   j += stage("cutting", st.cutting, false);
@@ -299,11 +307,11 @@ std::string summary_json(const Model& m, const State& s, const RunResult& r, con
   return j;
 }
 
-void write_vtu(const fs::path& path, const Model& m, const State& s) {
+std::uintmax_t write_vtu(const fs::path& path, const Model& m, const State& s) {
   const mesh::TetMesh& mesh = current_mesh(m, s);
   const Eigen::MatrixX3d& u = s.displacement;
   const std::vector<char>& operational = s.cut ? s.cut->operational_tet : m.partition.operational_tet;
-  write_file_atomic(path, [&](std::ostream& os) {
+  return write_file_atomic(path, [&](std::ostream& os) {
     char buf[128];
     os << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
        << "  <UnstructuredGrid>\n    <Piece NumberOfPoints=\"" << mesh.num_nodes() << "\" NumberOfCells=\""

@@ -3,15 +3,20 @@
 // displacements.csv streamed to a temporary file and renamed at the end,
 // optional VTU per frame + series.pvd, summary.json; all atomic.
 #include <Eigen/Core>
+#include <cstdio>
 #include <filesystem>
-#include <fstream>
+#include <cstdint>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "render/scene.hpp"
 #include "sim/model.hpp"
 #include "sim/run.hpp"
 
+namespace softcut {
+class OutputBudget;
+}
 namespace softcut::render {
 class FrameWriter;
 }
@@ -21,7 +26,10 @@ namespace softcut::sim {
 class Recorder {
  public:
   // Creates `dir` (default: m.spec.outputs.dir) and opens the temporary CSV.
-  explicit Recorder(const Model& m, std::filesystem::path dir = {});
+  // Its subfolders (frames/, vtu/) and every file in it are made without
+  // following links: a symlink planted there is refused, never written through.
+  // `budget` (optional, outlives the recorder) bounds the bytes written.
+  explicit Recorder(const Model& m, std::filesystem::path dir = {}, OutputBudget* budget = nullptr);
   ~Recorder();  // removes the temporary CSV when finish() was never called
   Recorder(const Recorder&) = delete;
   Recorder& operator=(const Recorder&) = delete;
@@ -45,10 +53,14 @@ class Recorder {
   const StageStat& render_frame_thread_ms() const { return render_ms_; }
   int frames_rendered() const { return rendered_; }
   const render::FrameWriter* frame_writer() const { return writer_; }
+  const OutputBudget* output_budget() const { return budget_; }
 
  private:
+  void write_csv(std::string_view text);  // counted against the output budget
+
   std::filesystem::path dir_, csv_tmp_;
-  std::ofstream csv_;
+  std::FILE* csv_ = nullptr;
+  OutputBudget* budget_ = nullptr;
   std::vector<std::pair<int, double>> vtu_frames_;  // (frame, time) written
   int frames_ = 0, rendered_ = 0;
   StageStat render_ms_;
@@ -64,6 +76,7 @@ std::string summary_json(const Model& m, const State& s, const RunResult& r, con
 // VTU (XML, ascii) of the current (possibly cut) mesh with point data
 // "displacement" (nnode x 3) and "node_set", cell data "label" and
 // "operational"; atomic.
-void write_vtu(const std::filesystem::path& path, const Model& m, const State& s);
+// Returns the bytes written.
+std::uintmax_t write_vtu(const std::filesystem::path& path, const Model& m, const State& s);
 
 }  // namespace softcut::sim

@@ -15,6 +15,7 @@ const char* to_string(ExitReason r) {
     case ExitReason::frame_limit: return "frame_limit";
     case ExitReason::stopped: return "stopped";
     case ExitReason::interrupted: return "interrupted";
+    case ExitReason::timeout: return "timeout";
     case ExitReason::error: return "error";
   }
   return "?";
@@ -28,31 +29,35 @@ RunResult run(const Model& m, State& s, Recorder& rec, const RunHooks& hooks) {
     last = s.frame + hooks.max_frames;
     r.reason = ExitReason::frame_limit;
   }
-  auto interrupted = [&] { return hooks.interrupt && hooks.interrupt->load(); };
+  // An interrupt or the deadline ends the run after the frame in progress.
+  auto stop_reason = [&](ExitReason& why) {
+    if (hooks.interrupt && hooks.interrupt->load()) why = ExitReason::interrupted;
+    else if (hooks.timed_out && hooks.timed_out->load()) why = ExitReason::timeout;
+    else return false;
+    return true;
+  };
   try {
     while (s.frame < last) {
-      if (interrupted()) {
-        r.reason = ExitReason::interrupted;
-        break;
-      }
+      if (stop_reason(r.reason)) break;
       step(m, s);
       rec.record(m, s);
       r.frames++;
       const bool go_on = hooks.on_frame ? hooks.on_frame(m, s) : true;
       if (hooks.progress) hooks.progress(s.frame, m.num_frames, wall.seconds());
-      if (interrupted()) {
-        r.reason = ExitReason::interrupted;
-        break;
-      }
+      if (stop_reason(r.reason)) break;
       if (!go_on || s.stop_requested) {
         r.reason = ExitReason::stopped;
         break;
       }
     }
   } catch (const std::exception& e) {
-    r.reason = ExitReason::error;
     r.message = e.what();
     r.wall_s = wall.seconds();
+    if (stop_reason(r.reason)) {  // the stop reached the script inside on_frame: not an error
+      rec.finish(m, s, r);
+      return r;
+    }
+    r.reason = ExitReason::error;
     try {
       rec.finish(m, s, r);
     } catch (...) {

@@ -13,7 +13,7 @@ class Recorder;
 
 // completed: all frames; frame_limit: RunHooks::max_frames reached; stopped:
 // by the script; interrupted: by the interrupt flag; error: an exception.
-enum class ExitReason { completed, frame_limit, stopped, interrupted, error };
+enum class ExitReason { completed, frame_limit, stopped, interrupted, timeout, error };
 const char* to_string(ExitReason r);
 
 struct RunHooks {
@@ -25,6 +25,11 @@ struct RunHooks {
   // Set by the CLI's signal handler: the current frame is finished and
   // recorded, then the run ends with ExitReason::interrupted.
   const std::atomic<bool>* interrupt = nullptr;
+  // Set by the run's wall-clock watchdog (core/watchdog.hpp): the run ends
+  // with ExitReason::timeout, like an interrupt. A hook that fails while
+  // either flag is set (a script stopped inside on_frame) ends the run the
+  // same way, not as an error.
+  const std::atomic<bool>* timed_out = nullptr;
   int max_frames = -1;  // >= 0: stop after this many frames (CLI --frames)
 };
 

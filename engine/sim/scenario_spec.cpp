@@ -4,6 +4,7 @@
 #include <set>
 
 #include "core/error.hpp"
+#include "core/printable.hpp"
 
 namespace softcut::sim {
 
@@ -15,10 +16,22 @@ std::string prefixed(const std::string& where, const std::string& item) {
 
 }  // namespace
 
+void check_scenario_name(const std::string& name) {
+  const auto bad = [&](const char* why) {
+    fail("scenario '", printable(name, 120), "': name ", why,
+         "; it names the output folder renders/<name>/: use letters, digits, '_', '-' and '.' (e.g. liver_cut)");
+  };
+  if (name.empty()) bad("must not be empty");
+  if (name == "." || name == "..") bad("must not be '.' or '..'");
+  if (name.size() > 100) bad("must not be longer than 100 bytes");
+  for (unsigned char c : name) {
+    if (c == '/' || c == '\\') bad("must not contain path separators");
+    if (c < 0x20 || c == 0x7F) bad("must not contain control characters");
+  }
+}
+
 void check_spec(const ScenarioSpec& s) {
-  if (s.name.empty()) fail("scenario: name must not be empty");
-  for (char c : s.name)
-    if (c == '/' || c == '\\' || c == '\0') fail("scenario '", s.name, "': name must not contain path separators");
+  check_scenario_name(s.name);
   const Timeline& tl = s.timeline;
   if (!(tl.duration >= 0) || !std::isfinite(tl.duration))
     fail("timeline: duration must be a finite number >= 0 s, got ", tl.duration);

@@ -3,7 +3,9 @@
 // (adding file:line to its own messages); compile() turns it into a Model.
 // No Lua here. Every item carries a `name` used in error messages and outputs.
 #include <Eigen/Core>
+#include <cstdint>
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <string>
 #include <vector>
@@ -89,6 +91,8 @@ struct RenderSettings {
 
 struct OutputSpec {
   std::filesystem::path dir;        // output folder (the CLI's --out, default renders/<scenario>)
+  double timeout_s = 0;             // the run's wall-clock limit (--timeout), 0: none; for the summary
+  std::uint64_t max_bytes = 0;      // the run's output limit (--max-output), 0: none; for the summary
   bool log_all_surface = true;      // log every whole-body surface node ...
   NodeSelector log_nodes;           // ... else these (kind all = every node)
   bool csv = true;                  // displacements.csv
@@ -108,6 +112,9 @@ struct SolverSpec {
   std::string backend = "auto";
   bool gpu_fp64 = false;        // gpu: fp64 kernels instead of fp32 + fp64 refinement
   std::string mode = "auto";    // nonoperational data: "auto", "dense", "factor"
+  // The most the precomputed nonoperational data may take, bytes (the
+  // runner sets the sandbox's memory budget); more is an error.
+  double max_bytes = std::numeric_limits<double>::infinity();
 };
 
 // Cutter options (cut::CutOptions, docs/cutting.md).
@@ -131,6 +138,11 @@ struct ScenarioSpec {
   SolverSpec solver;
   CuttingSpec cutting;
 };
+
+// A scenario's name becomes its output folder renders/<name>/: a plain
+// folder name (not '.', '..' or empty; no '/', '\\', control characters or
+// NUL; at most 100 bytes). Throws naming the name (escaped) otherwise.
+void check_scenario_name(const std::string& name);
 
 // Checks everything that can be checked without the mesh (numbers, ramps,
 // paths, names unique); throws softcut::Error naming the item, e.g.

@@ -132,6 +132,7 @@ class HybridSolver final : public Solver {
     opt.storage = spec.mode == "dense"    ? hybrid::Storage::dense
                   : spec.mode == "factor" ? hybrid::Storage::factor
                                           : hybrid::Storage::automatic;
+    opt.max_bytes = spec.max_bytes;
     model_ = hybrid::precompute(m, tet_material, p, opt);
     if (choice_.backend == "gpu") {
       // One device solver for every run of this Model: kernels compile once,

@@ -2,7 +2,9 @@
 // Per-format readers and writers behind read_mesh / write_mesh, and what they
 // share. Readers return the mesh as stored in the file (not yet validated) and
 // fail with `file:line: what is wrong` on anything they cannot make sense of.
+#include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <filesystem>
 #include <map>
 #include <string>
@@ -10,22 +12,26 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "mesh/io/mesh_io.hpp"
 #include "mesh/tet_mesh.hpp"
 
 namespace softcut::mesh::io {
 
 TetMesh read_gmsh(const std::string& source, std::string_view text, Diagnostics& diag);
 TetMesh read_tetgen(const std::filesystem::path& node_file, const std::filesystem::path& ele_file,
-                    Diagnostics& diag);
+                    Diagnostics& diag, const ReadOptions& opt = {});
 TetMesh read_medit(const std::string& source, std::string_view text, Diagnostics& diag);
 TetMesh read_vtk(const std::string& source, std::string_view text, Diagnostics& diag);
-TetMesh read_vtu(const std::string& source, std::string_view text, Diagnostics& diag);
+// `max_bytes`: the most any one decoded (base64, zlib) array may take.
+TetMesh read_vtu(const std::string& source, std::string_view text, Diagnostics& diag,
+                 std::size_t max_bytes = std::numeric_limits<std::size_t>::max());
 
 void write_vtu(const std::filesystem::path& path, const TetMesh& m);
 void write_gmsh(const std::filesystem::path& path, const TetMesh& m);
 
-// Whole file as bytes; fails naming the path when it cannot be read.
-std::string read_file(const std::filesystem::path& path);
+// Whole file as bytes, read as `opt` allows; fails naming the path when it
+// cannot be read.
+std::string read_file(const std::filesystem::path& path, const ReadOptions& opt = {});
 
 // Growing storage while a file is parsed (sizes in headers are not trusted).
 struct MeshBuffers {

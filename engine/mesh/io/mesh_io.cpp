@@ -4,8 +4,9 @@
 #include <cctype>
 #include <climits>
 #include <cmath>
-#include <fstream>
 
+#include "core/checked_file.hpp"
+#include "core/printable.hpp"
 #include "mesh/io/formats.hpp"
 
 namespace softcut::mesh {
@@ -18,7 +19,7 @@ std::string lower_extension(const std::filesystem::path& p) {
 }
 }  // namespace
 
-TetMesh read_mesh(const std::filesystem::path& path, Diagnostics& diag) {
+TetMesh read_mesh(const std::filesystem::path& path, Diagnostics& diag, const ReadOptions& opt) {
   const std::string source = path.string();
   const std::string ext = lower_extension(path);
   TetMesh m;
@@ -26,13 +27,13 @@ TetMesh read_mesh(const std::filesystem::path& path, Diagnostics& diag) {
     std::filesystem::path node = path, ele = path;
     node.replace_extension(ext == ".node" ? path.extension() : std::filesystem::path(".node"));
     ele.replace_extension(ext == ".ele" ? path.extension() : std::filesystem::path(".ele"));
-    m = io::read_tetgen(node, ele, diag);
+    m = io::read_tetgen(node, ele, diag, opt);
   } else if (ext == ".msh" || ext == ".mesh" || ext == ".vtk" || ext == ".vtu") {
-    const std::string text = io::read_file(path);
+    const std::string text = io::read_file(path, opt);
     if (ext == ".msh") m = io::read_gmsh(source, text, diag);
     else if (ext == ".mesh") m = io::read_medit(source, text, diag);
     else if (ext == ".vtk") m = io::read_vtk(source, text, diag);
-    else m = io::read_vtu(source, text, diag);
+    else m = io::read_vtu(source, text, diag, opt.max_bytes);
   } else {
     fail(source, ": unknown mesh file extension '", path.extension().string(),
          "'; supported: .msh (Gmsh ASCII 1, 2.2, 4.1), .node/.ele (TetGen), .mesh (medit), "
@@ -57,18 +58,18 @@ void write_mesh(const std::filesystem::path& path, const TetMesh& m) {
 
 namespace io {
 
-std::string read_file(const std::filesystem::path& path) {
+std::string read_file(const std::filesystem::path& path, const ReadOptions& opt) {
+  if (!opt.root.empty()) {
+    const std::filesystem::path rel = relative_below(opt.root, path);
+    if (rel.empty())
+      fail(printable(path.string()), ": outside the scenario's folder ", printable(opt.root.string()),
+           " (the sandbox reads only below it; run with --trust to lift this)");
+    return read_below(opt.root, rel, "mesh file", opt.max_bytes);
+  }
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec))
     fail(path.string(), ": no such file (or not a regular file)");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) fail(path.string(), ": cannot open the file for reading");
-  const auto size = std::filesystem::file_size(path, ec);
-  if (ec) fail(path.string(), ": cannot determine the file size: ", ec.message());
-  std::string bytes(std::size_t(size), '\0');
-  in.read(bytes.data(), std::streamsize(size));
-  if (std::uint64_t(in.gcount()) != size) fail(path.string(), ": read error (file changed while reading?)");
-  return bytes;
+  return read_regular_file(path, "the mesh file", opt.max_bytes);
 }
 
 TetMesh MeshBuffers::finish() const {

@@ -21,12 +21,13 @@ void read_header(TextReader& r, std::string_view what, std::int64_t* v, std::siz
 
 }  // namespace
 
-TetMesh read_tetgen(const std::filesystem::path& node_file, const std::filesystem::path& ele_file, Diagnostics& diag) {
+TetMesh read_tetgen(const std::filesystem::path& node_file, const std::filesystem::path& ele_file, Diagnostics& diag,
+                    const ReadOptions& opt) {
   MeshBuffers buf;
   int base = 0;
   std::int64_t npoint = 0;
   {
-    const std::string text = read_file(node_file);
+    const std::string text = read_file(node_file, opt);
     TextReader r(node_file.string(), text);
     r.set_comment('#');
     std::int64_t h[4] = {0, 3, 0, 0};  // points, dimension, attributes, boundary markers
@@ -60,7 +61,7 @@ TetMesh read_tetgen(const std::filesystem::path& node_file, const std::filesyste
     if (r.next_line()) r.fail_here("unexpected data after the ", npoint, " announced points");
   }
   {
-    const std::string text = read_file(ele_file);
+    const std::string text = read_file(ele_file, opt);
     TextReader r(ele_file.string(), text);
     r.set_comment('#');
     std::int64_t h[3] = {0, 4, 0};  // tetrahedra, nodes per tetrahedron, attributes

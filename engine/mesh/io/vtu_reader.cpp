@@ -50,7 +50,8 @@ int type_size(const std::string& t) {
 
 class VtuFile {
  public:
-  VtuFile(const std::string& source, std::string_view text) : source_(source), text_(text) {}
+  VtuFile(const std::string& source, std::string_view text, std::size_t max_bytes)
+      : source_(source), text_(text), max_bytes_(max_bytes) {}
 
   TetMesh read(Diagnostics& diag);
 
@@ -77,12 +78,14 @@ class VtuFile {
   bool next_tag(XmlTag& tag);
   void scan();
   std::int64_t int_attr(const XmlTag& t, std::string_view key, bool required);
-  std::string block_bytes(const ArrayRef& a, std::string_view bytes) const;
+  // `need`: the bytes the array must hold, checked before anything is inflated.
+  std::string block_bytes(const ArrayRef& a, std::string_view bytes, std::uint64_t need) const;
   std::uint64_t header_value(std::string_view bytes, std::size_t i) const;
   std::vector<double> decode(const ArrayRef& a, std::int64_t expected) const;
 
   std::string source_;
   std::string_view text_;
+  std::size_t max_bytes_;  // the most one decoded array may take (ReadOptions::max_bytes)
   std::size_t pos_ = 0;
   std::size_t line_pos_ = 0;  // scan_line_at cursor
   int line_ = 1;
@@ -247,7 +250,7 @@ std::uint64_t VtuFile::header_value(std::string_view bytes, std::size_t i) const
 }
 
 // Header plus data of one binary block -> the (decompressed) data bytes.
-std::string VtuFile::block_bytes(const ArrayRef& a, std::string_view bytes) const {
+std::string VtuFile::block_bytes(const ArrayRef& a, std::string_view bytes, std::uint64_t need) const {
   const std::size_t hs = std::size_t(header_size_);
   if (!compressed_) {
     if (bytes.size() < hs) fail_array(a, "binary block ends inside its header");
@@ -272,6 +275,7 @@ std::string VtuFile::block_bytes(const ArrayRef& a, std::string_view bytes) cons
   const std::uint64_t total = nb == 0 ? 0 : (nb - 1) * bs + (last == 0 ? bs : last);
   if (bs > 1032 * (csum + 64) || total > 1032 * (csum + 64))
     fail_array(a, "compressed header announces ", total, " bytes, more than ", csum, " compressed bytes can hold");
+  if (total != need) fail_array(a, "compressed header announces ", total, " bytes; the array needs ", need);
   std::string out(std::size_t(total), '\0');
   std::size_t in = data0, at = 0;
   for (std::size_t b = 0; b < nb; ++b) {
@@ -304,19 +308,26 @@ std::vector<double> VtuFile::decode(const ArrayRef& a, std::int64_t expected) co
     if (std::int64_t(out.size()) != expected) fail_array(a, "expected ", expected, " values, found ", out.size());
     return out;
   }
+  // Binary data: what it decodes to is bounded before it is allocated.
+  const std::uint64_t need = std::uint64_t(expected) * std::uint64_t(size);
+  if (a.format != "ascii" && (expected < 0 || need / std::uint64_t(size) != std::uint64_t(expected) ||
+                              need + std::uint64_t(expected) * sizeof(double) > max_bytes_))
+    fail_array(a, expected, " values of type ", a.type, " would take ", need + std::uint64_t(expected) * sizeof(double),
+               " bytes decoded, more than the ", max_bytes_, " bytes allowed (the sandbox's memory budget; run with "
+               "--trust to lift it)");
   std::string data;
   if (a.format == "binary") {
     std::size_t bad = 0;
     auto bytes = base64_decode(text_.substr(a.begin, a.end - a.begin), &bad);
     if (!bytes) fail_at(a.begin + bad, "DataArray '", a.name, "': invalid base64 data");
-    data = block_bytes(a, *bytes);
+    data = block_bytes(a, *bytes, need);
   } else if (a.format == "appended") {
     if (!have_appended_) fail_array(a, "format=\"appended\" but the file has no <AppendedData>");
     const std::size_t len = appended_end_ - appended_begin_;
     if (std::uint64_t(a.offset) > len) fail_array(a, "offset ", a.offset, " lies beyond the appended data (", len, " bytes)");
     const std::size_t from = appended_begin_ + std::size_t(a.offset);
     if (appended_encoding_ == "raw") {
-      data = block_bytes(a, text_.substr(from, appended_end_ - from));
+      data = block_bytes(a, text_.substr(from, appended_end_ - from), need);
     } else {
       auto next = std::upper_bound(appended_offsets_.begin(), appended_offsets_.end(), a.offset);
       const std::size_t to = next == appended_offsets_.end() ? appended_end_
@@ -324,7 +335,7 @@ std::vector<double> VtuFile::decode(const ArrayRef& a, std::int64_t expected) co
       std::size_t bad = 0;
       auto bytes = base64_decode(text_.substr(from, to - from), &bad);
       if (!bytes) fail_at(from + bad, "DataArray '", a.name, "': invalid base64 appended data");
-      data = block_bytes(a, *bytes);
+      data = block_bytes(a, *bytes, need);
     }
   } else {
     fail_array(a, "format '", a.format, "' is not supported (ascii, binary or appended)");
@@ -412,8 +423,8 @@ TetMesh VtuFile::read(Diagnostics& diag) {
 
 }  // namespace
 
-TetMesh read_vtu(const std::string& source, std::string_view text, Diagnostics& diag) {
-  VtuFile f(source, text);
+TetMesh read_vtu(const std::string& source, std::string_view text, Diagnostics& diag, std::size_t max_bytes) {
+  VtuFile f(source, text, max_bytes);
   return f.read(diag);
 }
 

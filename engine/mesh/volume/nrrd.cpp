@@ -13,15 +13,14 @@
 #include <map>
 #include <sstream>
 
+#include "core/checked_file.hpp"
+#include "core/printable.hpp"
+
 namespace softcut::mesh {
 namespace {
 
 std::string read_all(const std::filesystem::path& p, const std::string& what) {
-  std::ifstream in(p, std::ios::binary);
-  if (!in) fail(p.string(), ": cannot open ", what, " (missing or unreadable)");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
+  return read_regular_file(p, what);
 }
 
 std::string trim(std::string_view s) {
@@ -336,10 +335,20 @@ LabelVolume read_nrrd_labels(const std::filesystem::path& path, Diagnostics& dia
     const auto ws = words(h.get("data file"));
     if (ws.size() != 1 || ws[0] == "LIST" || h.get("data file").find('%') != std::string::npos)
       h.fail_at("data file", "only a single data file is supported, got '", h.get("data file"), "'");
-    std::filesystem::path dp = ws[0];
-    if (dp.is_relative()) dp = path.parent_path() / dp;
+    // A detached data file lies below the header's folder and is opened
+    // through the checked open: a shared header cannot name (or link to) a
+    // file elsewhere and have its bytes echoed in a message.
+    const std::filesystem::path root = std::filesystem::absolute(path).parent_path();
+    const std::filesystem::path dp = std::filesystem::path(ws[0]).is_relative() ? root / ws[0] : std::filesystem::path(ws[0]);
+    const std::filesystem::path rel = relative_below(root, dp);
+    if (rel.empty())
+      h.fail_at("data file", "'", printable(ws[0]), "' must lie beside the header or in a folder below it");
     data_name = dp.string();
-    data = read_all(dp, cat("data file named on ", file, ":", h.fields["data file"].line));
+    const std::string what = cat("data file named on ", file, ":", h.fields["data file"].line);
+    int missing = 0;
+    const UniqueFd fd = open_below_if_exists(root, rel, Access::read, what, &missing);
+    if (!fd) fail(dp.string(), ": cannot open ", what, " (missing or unreadable)");
+    data = read_whole(fd, what, dp.string());
   } else {
     if (!blank_seen)
       fail(file, ": no data: the header has no 'data file:' and no blank line followed by attached data");

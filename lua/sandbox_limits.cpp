@@ -1,0 +1,283 @@
+#include "sandbox_limits.hpp"
+
+#include <lua.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+
+#include "core/error.hpp"
+
+namespace softcut::lua {
+
+namespace {
+
+// Work inside C functions is charged as instructions: one per element moved
+// or visited, one per kBytesPerInstruction bytes copied or allocated (a Lua
+// VM instruction costs a few ns; memcpy moves a few bytes per ns).
+constexpr double kBytesPerInstruction = 8;
+
+// Turns the budget fatal with `msg` (what the script will see, once, and
+// every later attempt too).
+void make_fatal(Runtime::Budget* b, std::string msg) {
+  if (b->fatal) return;
+  b->fatal = true;
+  b->fatal_message = std::move(msg);
+}
+
+std::string budget_message(lua_State* L, Runtime::Budget* b, const char* what) {
+  const std::string where = user_where(L);
+  return cat(where, ": ", what ? what : "", what ? ": " : "", "instruction budget of ", b->instruction_limit,
+             " instructions exceeded (an endless loop?); run with --trust to lift the sandbox budgets");
+}
+
+}  // namespace
+
+Runtime::Budget* budget_of(lua_State* L) {
+  void* ud = nullptr;
+  lua_getallocf(L, &ud);
+  return static_cast<Runtime::Budget*>(ud);
+}
+
+void* budget_alloc(void* ud, void* ptr, std::size_t osize, std::size_t nsize) {
+  auto* b = static_cast<Runtime::Budget*>(ud);
+  const std::size_t old = ptr ? osize : 0;
+  if (nsize == 0) {
+    b->used -= old;
+    std::free(ptr);
+    return nullptr;
+  }
+  if (b->limit && nsize > old && b->used - old + nsize + b->native > b->limit) {
+    b->memory_exceeded = true;
+    return nullptr;  // Lua raises LUA_ERRMEM after an emergency collection
+  }
+  void* p = std::realloc(ptr, nsize);
+  if (!p) return nullptr;
+  b->used = b->used - old + nsize;
+  // Bytes allocated are work done in C (string.rep, concatenation, upper on
+  // a huge string): charged here, raised by the hook within kHookInterval
+  // instructions. An allocation may not raise itself.
+  if (b->instruction_limit && nsize > old) b->instructions += (long long)(double(nsize - old) / kBytesPerInstruction);
+  return p;
+}
+
+void count_hook(lua_State* L, lua_Debug*) {
+  Runtime::Budget* b = budget_of(L);
+  b->instructions += kHookInterval;
+  if (!b->fatal) {
+    if (b->interrupt && b->interrupt->load()) {
+      make_fatal(b, user_where(L) + ": interrupted");
+    } else if (b->deadline && b->deadline->load()) {
+      make_fatal(b, cat(user_where(L), ": the scenario's wall-clock limit of ", b->timeout_s,
+                        " s was reached (--timeout SECONDS raises it)"));
+    } else if (b->instruction_limit && b->instructions > b->instruction_limit) {
+      make_fatal(b, budget_message(L, b, nullptr));
+    }
+  }
+  if (b->fatal) raise_fatal(L);
+}
+
+int raise_fatal(lua_State* L) {
+  Runtime::Budget* b = budget_of(L);
+  // Every later instruction hits the hook again at once.
+  lua_sethook(L, count_hook, LUA_MASKCOUNT, 1);
+  lua_pushlstring(L, b->fatal_message.data(), b->fatal_message.size());
+  return lua_error(L);
+}
+
+void charge_or_raise(lua_State* L, double instructions, const char* what) {
+  Runtime::Budget* b = budget_of(L);
+  if (b->fatal) raise_fatal(L);
+  if (!b->instruction_limit || !(instructions > 0)) return;
+  const double left = double(b->instruction_limit - std::min(b->instructions, b->instruction_limit));
+  if (!(instructions <= left)) {
+    make_fatal(b, budget_message(L, b, what));
+    raise_fatal(L);
+  }
+  b->instructions += (long long)instructions;
+}
+
+namespace {
+
+// --- calls that catch errors: fatal ones go on up -------------------------
+
+// Calls the original (upvalue 1) with all arguments; when it reports a
+// failure (first result false) while the budget is fatal, raises instead.
+int rethrowing_call(lua_State* L) {
+  lua_pushvalue(L, lua_upvalueindex(1));
+  lua_insert(L, 1);
+  lua_call(L, lua_gettop(L) - 1, LUA_MULTRET);
+  if (budget_of(L)->fatal && lua_gettop(L) >= 1 && lua_isboolean(L, 1) && !lua_toboolean(L, 1)) raise_fatal(L);
+  return lua_gettop(L);
+}
+
+void wrap_rethrowing(lua_State* L, const char* table, const char* name) {
+  if (table) lua_getglobal(L, table); else lua_pushglobaltable(L);
+  lua_getfield(L, -1, name);
+  if (lua_isfunction(L, -1)) {
+    lua_pushcclosure(L, rethrowing_call, 1);
+    lua_setfield(L, -2, name);
+  } else {
+    lua_pop(L, 1);
+  }
+  lua_pop(L, 1);
+}
+
+// setmetatable(t, mt) refusing a metatable with __gc: Lua runs finalizers
+// with its hooks off, so an endless __gc would hang the run (or its end,
+// when the state is closed) beyond any budget. An object is only ever
+// finalized if its metatable had __gc when it was set, so checking here is
+// enough.
+int sandboxed_setmetatable(lua_State* L) {
+  if (lua_type(L, 2) == LUA_TTABLE) {
+    lua_pushliteral(L, "__gc");
+    const bool gc = lua_rawget(L, 2) != LUA_TNIL;
+    lua_pop(L, 1);
+    if (gc)
+      return luaL_error(L, "setmetatable: __gc metamethods (finalizers) are not available in the sandbox: Lua runs "
+                           "them outside the instruction budget; close resources explicitly, or run with --trust");
+  }
+  lua_pushvalue(L, lua_upvalueindex(1));
+  lua_insert(L, 1);
+  lua_call(L, lua_gettop(L) - 1, 1);
+  return 1;
+}
+
+// --- C library functions charged by the size of their work ---------------
+
+enum class Cost { rep, concat, move, shift, sort, unpack, bytes_arg1, load, collect };
+
+lua_Integer opt_int(lua_State* L, int i, lua_Integer def) {
+  return lua_isinteger(L, i) ? lua_tointeger(L, i) : lua_isnumber(L, i) ? lua_Integer(lua_tonumber(L, i)) : def;
+}
+
+double span(lua_Integer from, lua_Integer to) { return to >= from ? double(to) - double(from) + 1 : 0; }
+
+double raw_length(lua_State* L, int i) { return lua_type(L, i) == LUA_TTABLE ? double(lua_rawlen(L, i)) : 0; }
+
+double cost_of(lua_State* L, Cost c) {
+  switch (c) {
+    case Cost::rep: {  // string.rep(s, n [, sep]): n rounds, n * (#s + #sep) bytes
+      size_t ls = 0, lsep = 0;
+      if (!lua_isstring(L, 1)) return 0;
+      lua_tolstring(L, 1, &ls);
+      if (lua_isstring(L, 3)) lua_tolstring(L, 3, &lsep);
+      const double n = double(std::max<lua_Integer>(0, opt_int(L, 2, 0)));
+      const Runtime::Budget* b = budget_of(L);
+      // A result over the memory budget is refused by the allocator before
+      // any work; an empty one ("" x n) is n rounds of work and no memory.
+      if (b->limit && n * double(ls + lsep) > double(b->limit)) return 0;
+      return n + n * double(ls + lsep) / kBytesPerInstruction;
+    }
+    case Cost::concat:  // table.concat(t [, sep [, i [, j]]]): elements visited
+      return span(opt_int(L, 3, 1), opt_int(L, 4, lua_Integer(raw_length(L, 1))));
+    case Cost::move:  // table.move(a1, f, e, t [, a2])
+      return span(opt_int(L, 2, 1), opt_int(L, 3, 0));
+    case Cost::shift:  // table.insert / table.remove: shift the elements after the position
+      return raw_length(L, 1);
+    case Cost::sort: {
+      const double n = raw_length(L, 1);
+      return n * std::log2(n + 2);
+    }
+    case Cost::unpack:  // table.unpack(t [, i [, j]])
+      return span(opt_int(L, 2, 1), opt_int(L, 3, lua_Integer(raw_length(L, 1))));
+    case Cost::bytes_arg1: {  // utf8.len / utf8.offset scan their string
+      size_t n = 0;
+      if (lua_type(L, 1) == LUA_TSTRING) lua_tolstring(L, 1, &n);
+      return double(n) / kBytesPerInstruction;
+    }
+    case Cost::load: {  // parsing: a byte of source costs about an instruction
+      size_t n = 0;
+      if (lua_type(L, 1) == LUA_TSTRING) lua_tolstring(L, 1, &n);
+      return double(n);
+    }
+    case Cost::collect: {  // a full collection walks the whole heap
+      const char* opt = lua_type(L, 1) == LUA_TSTRING ? lua_tostring(L, 1) : "collect";
+      const Runtime::Budget* b = budget_of(L);
+      return std::strcmp(opt, "collect") == 0 || std::strcmp(opt, "step") == 0
+                 ? double(b->used) / kBytesPerInstruction
+                 : 0;
+    }
+  }
+  return 0;
+}
+
+int charged_call(lua_State* L) {
+  const auto c = static_cast<Cost>(lua_tointeger(L, lua_upvalueindex(2)));
+  charge_or_raise(L, cost_of(L, c), lua_tostring(L, lua_upvalueindex(3)));
+  lua_pushvalue(L, lua_upvalueindex(1));
+  lua_insert(L, 1);
+  lua_call(L, lua_gettop(L) - 1, LUA_MULTRET);
+  return lua_gettop(L);
+}
+
+void wrap_charged(lua_State* L, const char* table, const char* name, Cost c) {
+  if (table) lua_getglobal(L, table); else lua_pushglobaltable(L);
+  lua_getfield(L, -1, name);
+  if (!lua_isfunction(L, -1)) {
+    lua_pop(L, 2);
+    return;
+  }
+  lua_pushinteger(L, lua_Integer(c));
+  if (table) lua_pushfstring(L, "%s.%s", table, name); else lua_pushstring(L, name);
+  lua_pushcclosure(L, charged_call, 3);
+  lua_setfield(L, -2, name);
+  lua_pop(L, 1);
+}
+
+// load(reader_function, ...): each piece the reader returns is parsed, so
+// each is charged like a source string.
+int charged_reader(lua_State* L) {
+  lua_pushvalue(L, lua_upvalueindex(1));
+  lua_call(L, 0, 1);
+  size_t n = 0;
+  if (lua_type(L, -1) == LUA_TSTRING) lua_tolstring(L, -1, &n);
+  charge_or_raise(L, double(n), "load");
+  return 1;
+}
+
+int charged_load(lua_State* L) {
+  if (lua_type(L, 1) == LUA_TFUNCTION) {
+    lua_pushvalue(L, 1);
+    lua_pushcclosure(L, charged_reader, 1);
+    lua_replace(L, 1);
+  } else {
+    charge_or_raise(L, cost_of(L, Cost::load), "load");
+  }
+  lua_pushvalue(L, lua_upvalueindex(1));
+  lua_insert(L, 1);
+  lua_call(L, lua_gettop(L) - 1, LUA_MULTRET);
+  return lua_gettop(L);
+}
+
+}  // namespace
+
+void install_sticky_stops(lua_State* L) {
+  wrap_rethrowing(L, nullptr, "pcall");
+  wrap_rethrowing(L, nullptr, "xpcall");
+  wrap_rethrowing(L, LUA_COLIBNAME, "resume");
+  wrap_rethrowing(L, LUA_COLIBNAME, "close");
+}
+
+void install_sandbox_limits(lua_State* L) {
+  install_sticky_stops(L);
+  lua_getglobal(L, "setmetatable");
+  lua_pushcclosure(L, sandboxed_setmetatable, 1);
+  lua_setglobal(L, "setmetatable");
+  wrap_charged(L, LUA_STRLIBNAME, "rep", Cost::rep);
+  wrap_charged(L, LUA_TABLIBNAME, "concat", Cost::concat);
+  wrap_charged(L, LUA_TABLIBNAME, "move", Cost::move);
+  wrap_charged(L, LUA_TABLIBNAME, "insert", Cost::shift);
+  wrap_charged(L, LUA_TABLIBNAME, "remove", Cost::shift);
+  wrap_charged(L, LUA_TABLIBNAME, "sort", Cost::sort);
+  wrap_charged(L, LUA_TABLIBNAME, "unpack", Cost::unpack);
+  wrap_charged(L, LUA_UTF8LIBNAME, "len", Cost::bytes_arg1);
+  wrap_charged(L, LUA_UTF8LIBNAME, "offset", Cost::bytes_arg1);
+  wrap_charged(L, nullptr, "collectgarbage", Cost::collect);
+  lua_getglobal(L, "load");
+  lua_pushcclosure(L, charged_load, 1);
+  lua_setglobal(L, "load");
+}
+
+}  // namespace softcut::lua

@@ -1,0 +1,79 @@
+#pragma once
+// The sandbox's budgets, shared by the allocator, the count hook and the
+// wrapped library functions (sandbox_limits.cpp, sandbox_io.cpp):
+// - memory: every Lua allocation and the engine memory held for the script;
+// - instructions: counted by the hook, plus work done inside C functions,
+//   which the hook never sees, charged by size (bytes allocated, elements
+//   moved, bytes written);
+// - stops from outside: Ctrl-C / SIGTERM (interrupt) and the wall-clock
+//   watchdog (deadline).
+// Running out of instructions, an interrupt and the deadline are FATAL and
+// sticky: once hit, the hook fails every later instruction, pcall, xpcall
+// and coroutine.resume/close re-raise instead of returning, and the Runtime
+// refuses every later call, so no script can catch its way past them.
+#include <atomic>
+#include <cstddef>
+#include <string>
+
+#include "runtime.hpp"
+
+struct lua_State;
+struct lua_Debug;
+
+namespace softcut {
+class OutputBudget;
+}
+
+namespace softcut::lua {
+
+struct Runtime::Budget {
+  std::size_t used = 0;           // Lua heap, bytes
+  std::size_t native = 0;         // engine memory held for the script (mesh handles), bytes
+  std::size_t limit = 0;          // 0: unlimited
+  bool memory_exceeded = false;   // set when an allocation was refused
+  long long instructions = 0;     // this call's, including charged C work
+  long long instruction_limit = 0;  // 0: unlimited
+  const std::atomic<bool>* interrupt = nullptr;  // SIGINT/SIGTERM
+  const std::atomic<bool>* deadline = nullptr;   // the wall-clock watchdog fired
+  double timeout_s = 0;                          // for the deadline's message
+  OutputBudget* output = nullptr;                // bytes the script writes (io.write, file:write)
+  bool fatal = false;             // sticky: see above
+  std::string fatal_message;      // "file:line: instruction budget ... exceeded ..."
+};
+
+// The budget of the state (the allocator's user data), and its options.
+Runtime::Budget* budget_of(lua_State* L);
+const SandboxOptions& options_of(lua_State* L);
+
+// The allocator and count hook the Runtime installs.
+void* budget_alloc(void* ud, void* ptr, std::size_t osize, std::size_t nsize);
+void count_hook(lua_State* L, lua_Debug* ar);
+constexpr int kHookInterval = 1000;  // instructions between count-hook calls
+
+// Charges `instructions` of work a C function is about to do (`what`:
+// "string.rep"); when the budget cannot pay for it, turns fatal and raises
+// before the work is done. For use inside lua_CFunctions only (it may
+// longjmp: no C++ object with a destructor may be alive in the caller).
+void charge_or_raise(lua_State* L, double instructions, const char* what);
+
+// Raises the sticky fatal error (pushes its message; never returns).
+int raise_fatal(lua_State* L);
+
+// Replaces pcall, xpcall, coroutine.resume/close (re-raise fatal errors),
+// setmetatable (refuses __gc: finalizers run with Lua's hooks off, where no
+// budget reaches them) and wraps the C library functions whose work grows
+// with their arguments (string.rep, table.concat/move/insert/remove/sort/
+// unpack, utf8.len/offset, load, collectgarbage) so that work is charged.
+void install_sandbox_limits(lua_State* L);
+// Only the fatal-error half of it (pcall & co.): also used with --trust, so
+// that Ctrl-C and the deadline stop a trusted script too.
+void install_sticky_stops(lua_State* L);
+
+// Sandboxed io: io.open / io.lines through the checked open below the
+// scenario folder (read) or the output folder (write), file:write and
+// io.write charged to the instruction budget and the output budget, no
+// seeking past the end of a file, no reading from stdin. The io table is left
+// on the stack.
+void push_sandboxed_io(lua_State* L);
+
+}  // namespace softcut::lua
