@@ -1,8 +1,10 @@
 #include "runtime_patterns.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cmath>
+#include <cstdint>
 #include <vector>
 
 namespace softcut::lua {
@@ -129,62 +131,88 @@ void for_each_item(std::string_view pat, std::size_t p, F&& on_item) {
 // depth-first matcher can take is counted, whether or not it stops early).
 class SearchBound {
  public:
-  // Subjects longer than this are counted without positions (memory: 16
+  // Subjects longer than this are counted without positions (memory: 24
   // bytes per subject byte).
   static constexpr std::size_t kMaxPositions = std::size_t(1) << 20;
 
-  SearchBound(std::string_view subject, std::string_view pattern, bool anchored)
-      : s_(subject), pat_(pattern), n_(subject.size()) {
-    const double starts = anchored ? 1 : double(n_) + 1;
+  // The count's own work is linear in subject and pattern, but both may be
+  // megabytes, and a call refused after a second of counting is a call that
+  // ran for a second: `limit` caps that work too. Each cell it touches (a
+  // subject position in one pass, a byte test) is charged this many steps,
+  // so a count that gives up at the 1e9-step cap has spent well under a
+  // second (a cell costs a fraction of a nanosecond, a matcher step about one).
+  static constexpr double kCellSteps = 4;
+
+  SearchBound(std::string_view subject, std::string_view pattern, bool anchored, double limit)
+      : s_(subject), pat_(pattern), n_(subject.size()), limit_(limit) {
     if (n_ > kMaxPositions) {
-      to_scalar(starts);
+      to_scalar(anchored ? 1 : double(n_) + 1);
       return;
     }
-    ways_.assign(n_ + 2, 0.0);
-    next_.assign(n_ + 2, 0.0);
+    // The arrays grow with the positions paths reach: an anchored search
+    // over a long subject pays for what it can reach, not for the subject.
     if (anchored) {
-      ways_[0] = 1;
-    } else {
+      if (grow(0)) ways_[0] = 1;
+    } else if (spend(double(n_) + 1) && grow(n_)) {
       std::fill(ways_.begin(), ways_.begin() + std::ptrdiff_t(n_ + 1), 1.0);  // every start position
       hi_ = n_;
     }
   }
 
-  // Adds one item; false once this count's own work passes `limit` (the
-  // count is linear in subject and pattern, but both may be megabytes).
-  bool add(const Item& it, double limit) {
+  // Adds one item; false once this count's own work passes `limit`: no pass
+  // starts that would take it past, so it stops within the limit.
+  bool add(const Item& it) {
+    if (!spend(1)) return false;
+    ++item_;  // a fresh class memo
     if (scalar_) {
       scalar_item(it);
     } else if (it.kind == Item::single) {
       it.repeat ? repetition(it) : single(it);
     } else if (it.kind == Item::capture || it.kind == Item::frontier) {
       // Captures keep the position; %f only filters (not applied: an over-count).
+      if (!spend(range())) return false;
       steps_ += total() * it.cost;
-      scanned(double(hi_ - lo_ + 1));
+      scanned(range());
     } else if (it.kind == Item::end_anchor) {
+      if (!spend(range())) return false;
       steps_ += total();
       const double at_end = lo_ <= n_ && n_ <= hi_ ? ways_[n_] : 0.0;
-      std::fill(ways_.begin() + std::ptrdiff_t(lo_), ways_.begin() + std::ptrdiff_t(hi_ + 1), 0.0);
-      lo_ = hi_ = n_;
-      ways_[n_] = at_end;
+      if (at_end == 0) {
+        settle_failed();
+      } else {
+        lo_ = hi_ = n_;
+        ways_[n_] = at_end;
+      }
     } else {
       // %b and %1 move each path to one position this pass cannot tell
       // without running them: from here on, count paths, not positions.
+      if (!spend(range())) return false;
       to_scalar(total());
       scalar_item(it);
     }
-    return work_ <= limit;
+    return !over_;
   }
+
+  // Whether the count stayed within its limit (if not, finish() means nothing).
+  bool within() const { return !over_; }
 
   // Total steps, the last return included.
   double finish() const { return steps_ + (scalar_ ? paths_ : total()); }
 
  private:
-  // Work of this count itself, charged like the matcher's.
-  void scanned(double cells) {
-    steps_ += cells;
-    work_ += cells;
+  // Charges `cells` of the count's own work; false (and stays false) once
+  // that passes the limit, before the work is done.
+  bool spend(double cells) {
+    work_ += cells * kCellSteps;
+    if (work_ > limit_) over_ = true;
+    return !over_;
   }
+
+  // Part of the count's work also charged like the matcher's: the call pays
+  // for its own analysis.
+  void scanned(double cells) { steps_ += cells; }
+
+  double range() const { return double(hi_ - lo_ + 1); }
 
   double total() const {
     double t = 0;
@@ -192,34 +220,80 @@ class SearchBound {
     return t;
   }
 
-  bool in_class(const Item& it, std::size_t p) const {
-    return p < n_ &&
-           pattern_class_matches(pat_.substr(it.begin, it.end - it.begin), static_cast<unsigned char>(s_[p]));
+  // Makes positions up to `last` (and the one past it) addressable, growing
+  // geometrically; the new cells are charged.
+  bool grow(std::size_t last) {
+    const std::size_t need = std::min(last, n_) + 2;
+    if (ways_.size() >= need) return true;
+    const std::size_t size = std::max(need, std::min(2 * ways_.size(), n_ + 2));
+    if (!spend(2.0 * double(size))) return false;
+    ways_.resize(size);
+    next_.resize(size);
+    return true;
+  }
+
+  // A set's test walks its text, and a repetition's runs are tested byte by
+  // byte: each set is decided once per item and subject byte value.
+  bool in_class(const Item& it, std::size_t p) {
+    if (p >= n_) return false;
+    const auto c = static_cast<unsigned char>(s_[p]);
+    const std::string_view cls = pat_.substr(it.begin, it.end - it.begin);
+    if (cls[0] != '[') return pattern_class_matches(cls, c);
+    if (memo_item_[c] != item_) {
+      if (!spend(it.cost)) return false;
+      memo_item_[c] = item_;
+      memo_[c] = pattern_class_matches(cls, c);
+    }
+    return memo_[c];
+  }
+
+  // End of the run of class bytes from p: the first position past p whose
+  // byte is not in the class, or n. Charged byte by byte; a run longer than
+  // the limit leaves room for gives up.
+  std::size_t run_end(const Item& it, std::size_t p) {
+    const double room = std::max(0.0, (limit_ - work_) / kCellSteps);
+    const std::size_t stop = room < double(n_ - p) ? p + std::size_t(room) : n_;
+    std::size_t q = p;
+    while (q < stop && in_class(it, q)) ++q;
+    if (q == stop && stop < n_) over_ = true;
+    spend(double(q - p + 1));
+    scanned(double(q - p + 1));
+    return q;
   }
 
   // Moves the paths in next_[lo..hi] to ways_ (lo > hi: every path failed).
   void settle(std::size_t lo, std::size_t hi) {
     std::swap(ways_, next_);
     if (lo > hi) {
-      lo = hi = 0;
-      ways_[0] = 0;
+      settle_failed();
+      return;
     }
     lo_ = lo;
     hi_ = hi;
   }
 
+  void settle_failed() {
+    lo_ = hi_ = 0;
+    ways_[0] = 0;
+  }
+
   void single(const Item& it) {
-    std::fill(next_.begin() + std::ptrdiff_t(lo_), next_.begin() + std::ptrdiff_t(hi_ + 2), 0.0);
+    if (!spend(range()) || !grow(hi_ + 1)) return;
     std::size_t lo = n_ + 1, hi = 0;
     for (std::size_t p = lo_; p <= hi_; ++p) {
-      if (ways_[p] == 0) continue;
-      steps_ += ways_[p] * it.cost;
-      if (!in_class(it, p)) continue;
-      next_[p + 1] = ways_[p];
-      lo = std::min(lo, p + 1);
-      hi = p + 1;
+      const double w = ways_[p];
+      double kept = 0;
+      if (w != 0) {
+        steps_ += w * it.cost;
+        if (in_class(it, p)) {
+          kept = w;
+          lo = std::min(lo, p + 1);
+          hi = p + 1;
+        }
+      }
+      next_[p + 1] = kept;  // every cell of the new range written: no clearing pass
     }
-    scanned(double(hi_ - lo_ + 1));
+    scanned(range());
     settle(lo, hi);
   }
 
@@ -227,48 +301,61 @@ class SearchBound {
   // (at most one for '?', at least one for '+'), testing each byte of the
   // run once plus the byte that ends it.
   void repetition(const Item& it) {
-    longest_.assign(hi_ - lo_ + 1, 0);
+    const std::size_t count = hi_ - lo_ + 1;
+    if (!spend(3.0 * double(count))) return;  // the lengths, and the sweep's two cursors
+    if (last_.size() < count) last_.resize(count);
     const bool any = it.end - it.begin == 1 && pat_[it.begin] == '.';
-    std::size_t run = 0, hi = 0;
-    bool run_known = false;  // `run` is the run at p - 1
+    const std::size_t plus = it.repeat == '+' ? 1 : 0;
+    // Runs share their end: one scan serves every position of a run, so
+    // the subject is scanned once per item, however the paths lie on it.
+    std::size_t end = 0;
+    bool end_known = false;  // [p', end) are class bytes for some p' <= p, `end` is not
+    std::size_t lo = n_ + 1, hi = 0, last = lo_;
     for (std::size_t p = lo_; p <= hi_; ++p) {
       if (ways_[p] == 0) {
-        run_known = false;
+        last_[p - lo_] = std::max(last, p);  // no path: keeps the ends in order for the sweep
         continue;
       }
+      std::size_t longest;
       if (any) {
-        run = n_ - p;
-      } else if (run_known && run > 0) {
-        --run;  // the run at p - 1 less its first byte
+        longest = it.repeat == '?' ? std::min<std::size_t>(n_ - p, 1) : n_ - p;
+      } else if (it.repeat == '?') {
+        longest = in_class(it, p) ? 1 : 0;
+        scanned(1);
       } else {
-        run = 0;
-        while (in_class(it, p + run)) ++run;
-        scanned(double(run));
+        if (!end_known || end < p) {
+          end = run_end(it, p);
+          end_known = true;
+          if (over_) return;
+        }
+        longest = end - p;
       }
-      run_known = true;
-      const std::size_t longest = it.repeat == '?' ? std::min<std::size_t>(run, 1) : run;
-      longest_[p - lo_] = longest;
       steps_ += ways_[p] * (double(longest) + 2) * it.cost;
-      hi = std::max(hi, p + longest);
-    }
-    // next_[q] = sum of ways_[p] over p with first(p) <= q <= p + longest(p)
-    std::fill(next_.begin() + std::ptrdiff_t(lo_), next_.begin() + std::ptrdiff_t(std::max(hi, hi_) + 2), 0.0);
-    std::size_t lo = n_ + 1;
-    for (std::size_t p = lo_; p <= hi_; ++p) {
-      if (ways_[p] == 0) continue;
-      const std::size_t first = it.repeat == '+' ? p + 1 : p;
-      const std::size_t last = p + longest_[p - lo_];
-      if (first > last) continue;  // '+' without a class byte at p
-      next_[first] += ways_[p];
-      next_[last + 1] -= ways_[p];
-      lo = std::min(lo, first);
-    }
-    double acc = 0;
-    for (std::size_t q = lo_; q <= hi + 1 && q <= n_ + 1; ++q) {
-      acc += next_[q];
-      next_[q] = q <= hi ? std::max(acc, 0.0) : 0.0;
+      last = p + longest;
+      last_[p - lo_] = last;
+      if (p + plus <= last) {
+        lo = std::min(lo, p + plus);
+        hi = last;
+      }
     }
     scanned(2.0 * double(std::max(hi, hi_) - lo_ + 1));
+    if (lo > hi) {
+      settle(lo, hi);
+      return;
+    }
+    if (!spend(double(hi - lo + 1)) || !grow(hi)) return;
+    // next_[q] = sum of ways_[p] over p with p + plus <= q <= last(p). Both
+    // ends grow with p (a run's positions share its end), so one sweep adds
+    // each p at its first length and drops it past its last. Exact while
+    // counts stay below 2^53, so whenever the bound can be within a budget.
+    double acc = 0;
+    std::size_t add = lo_, drop = lo_;
+    const auto paths = [&](std::size_t p) { return p + plus <= last_[p - lo_] ? ways_[p] : 0.0; };
+    for (std::size_t q = lo; q <= hi; ++q) {
+      for (; add <= hi_ && add + plus <= q; ++add) acc += paths(add);
+      for (; drop < add && last_[drop - lo_] < q; ++drop) acc -= paths(drop);
+      next_[q] = std::max(acc, 0.0);
+    }
     settle(lo, hi);
   }
 
@@ -303,14 +390,19 @@ class SearchBound {
 
   std::string_view s_, pat_;
   std::size_t n_;
-  std::vector<double> ways_, next_;  // (n+2) paths at each subject position; next_: scratch
-  std::vector<std::size_t> longest_;  // (hi-lo+1) repetition lengths, scratch
+  double limit_;
+  std::vector<double> ways_, next_;   // paths at each reachable subject position; next_: scratch
+  std::vector<std::size_t> last_;     // (hi-lo+1) repetition ends, scratch
   std::size_t lo_ = 0, hi_ = 0;       // positions that may hold paths
   bool scalar_ = false;
   double paths_ = 0, scalar_base_ = 0, scalar_choices_ = 1;
   double scalar_repetitions_ = 0;
   double steps_ = 0;
-  double work_ = 0;  // of the count itself (part of steps_)
+  double work_ = 0;  // of the count itself, in steps
+  bool over_ = false;
+  std::uint32_t item_ = 0;                          // items added, for the memo
+  std::array<std::uint32_t, 256> memo_item_{};      // item whose set test memo_[c] holds
+  std::array<bool, 256> memo_{};
 };
 
 }  // namespace
@@ -337,14 +429,13 @@ PatternWork pattern_work(PatternCall call, std::string_view subject, std::string
   }
   // gmatch has no anchor: its '^' is an ordinary byte.
   const bool anchored = call != PatternCall::gmatch && !pattern.empty() && pattern[0] == '^';
-  SearchBound bound(subject, pattern, anchored);
-  bool within = true;
+  SearchBound bound(subject, pattern, anchored, limit);
   for_each_item(pattern, anchored ? 1 : 0, [&](const Item& it) {
     w.repetitions += it.repeat != 0;
-    within = within && bound.add(it, limit);
+    if (bound.within()) bound.add(it);
     return true;  // count all repetitions for the message
   });
-  w.steps = within ? bound.finish() + m : INFINITY;
+  w.steps = bound.within() ? bound.finish() + m : INFINITY;
   if (call == PatternCall::gsub) w.steps += (n + 1) * (double(replacement_length) + 2);  // copies and replacements
   if (std::isnan(w.steps)) w.steps = INFINITY;
   return w;

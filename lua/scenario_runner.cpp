@@ -59,7 +59,12 @@ sim::ScenarioSpec spec_from_table(lua_State* L, int s, const fs::path& source) {
   push_field(L, -1, "handle");
   const MeshHandle* h = to_mesh_handle(L, -1);
   if (!h) fail(where, ": scenario: mesh handle missing");
+  // The mesh the script loaded is passed on: compile never opens the file
+  // again (outside the sandbox's checked open).
   spec.mesh = h->source;
+  spec.mesh.preloaded = std::make_shared<const mesh::TetMesh>(h->loaded.mesh);
+  spec.mesh.preloaded_sets = h->loaded.named_sets;
+  spec.mesh.preloaded_warnings = h->warnings;
   lua_pop(L, 2);
 
   each(L, s, "_materials", [&](int m) {
@@ -208,7 +213,7 @@ int run_script(Runtime& rt, const RunRequest& req) {
     lua_setfield(L, -2, k.c_str());
   }
   lua_setfield(L, -2, "overrides");
-  lua_pushstring(L, file.parent_path().c_str());
+  lua_pushstring(L, rt.options().read_dir.c_str());  // resolved: the checked opens work below it
   lua_setfield(L, -2, "scenario_dir");
   lua_pushstring(L, file.stem().c_str());
   lua_setfield(L, -2, "scenario_stem");

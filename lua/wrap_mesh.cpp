@@ -7,6 +7,7 @@
 #include "convert.hpp"
 #include "mesh/surface.hpp"
 #include "runtime.hpp"
+#include "sandbox_limits.hpp"
 #include "sim/mesh_source.hpp"
 #include "sim/selector.hpp"
 #include "wrap_mesh.hpp"
@@ -101,7 +102,15 @@ int mesh_load(lua_State* L) {
       fail(h->source.where, ": mesh: file '", file, "' not found (looked for ", h->source.file.string(),
            "; paths are relative to the scenario's folder)");
     Diagnostics diag;
-    h->loaded = sim::load_mesh_source(h->source, diag, max_tets(L));
+    // The file (and a TetGen sibling) through the checked open below the
+    // scenario folder; decoded data within what is left of the memory budget.
+    mesh::ReadOptions read;
+    if (!options_of(L).trusted) {
+      const Runtime::Budget* b = budget_of(L);
+      read.root = options_of(L).read_dir;
+      if (b->limit) read.max_bytes = b->limit - std::min(b->limit, b->used + b->native);
+    }
+    h->loaded = sim::load_mesh_source(h->source, diag, max_tets(L), read);
     h->warnings = diag.warnings;
     h->surface = mesh::extract_surface(h->loaded.mesh);
     const mesh::TetMesh& m = h->loaded.mesh;

@@ -154,21 +154,26 @@ std::vector<std::string> generator_options(const std::string& generator) {
   return names;
 }
 
-LoadedMesh load_mesh_source(const MeshSource& src, Diagnostics& diag, double max_tets) {
+LoadedMesh load_mesh_source(const MeshSource& src, Diagnostics& diag, double max_tets, const mesh::ReadOptions& read) {
   const std::string what = src.where.empty() ? std::string("mesh") : src.where + ": mesh";
   const int given = src.given.num_tets() > 0;
   const int sources = given + !src.file.empty() + !src.generator.empty();
   if (sources != 1)
     fail(what, ": give exactly one of a mesh file, a generator, or a mesh (got ", sources, ")");
   LoadedMesh out;
-  if (given) {
+  if (src.preloaded) {
+    out.mesh = *src.preloaded;
+    out.named_sets = src.preloaded_sets;
+    diag.warnings.insert(diag.warnings.end(), src.preloaded_warnings.begin(), src.preloaded_warnings.end());
+    out.description = !src.file.empty() ? "file " + src.file.string() : "generator " + src.generator;
+  } else if (given) {
     out.mesh = src.given;
     out.named_sets = src.named_sets;
     out.description = "given mesh";
     mesh::validate(out.mesh, what, diag);
   } else if (!src.file.empty()) {
     if (!src.options.empty()) fail(what, ": generator options given with a mesh file ", src.file.string());
-    out.mesh = mesh::read_mesh(src.file, diag);
+    out.mesh = mesh::read_mesh(src.file, diag, read);
     if (out.mesh.num_tets() > max_tets)
       fail(what, ": ", src.file.string(), " has ", too_many_tets(out.mesh.num_tets(), max_tets, "use a coarser mesh"));
     out.named_sets = src.named_sets;

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "mesh/io/mesh_io.hpp"
 #include "mesh/tet_mesh.hpp"
 #include "sim/scenario_spec.hpp"
 
@@ -25,7 +26,10 @@ constexpr double kNoTetLimit = 2147483647.0;  // int ids
 // A mesh over `max_tets` tetrahedra is refused: a generator's before it is
 // allocated (the sandbox's bound on what a few bytes of script may ask for),
 // a file's after reading (its memory is bounded by the file's size).
-LoadedMesh load_mesh_source(const MeshSource& src, Diagnostics& diag, double max_tets = kNoTetLimit);
+// A file is read as `read` allows (the sandbox: below the scenario folder,
+// within its memory budget).
+LoadedMesh load_mesh_source(const MeshSource& src, Diagnostics& diag, double max_tets = kNoTetLimit,
+                            const mesh::ReadOptions& read = {});
 
 // Option names a generator accepts (for messages and docs).
 std::vector<std::string> generator_options(const std::string& generator);

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <limits>
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -30,6 +31,12 @@ struct MeshSource {
   mesh::TetMesh given;
   std::map<std::string, std::vector<int>> named_sets;
   std::string where;
+  // The mesh already loaded from this source (the Lua layer loads it at
+  // s:mesh{}, through the sandbox's checked open), with its named node sets:
+  // compile takes it instead of opening the file or generating it again.
+  std::shared_ptr<const mesh::TetMesh> preloaded;
+  std::map<std::string, std::vector<int>> preloaded_sets;
+  std::vector<std::string> preloaded_warnings;  // what loading it reported (skipped elements, flips)
 };
 
 // Material of a set of tets; later entries override earlier ones. When
