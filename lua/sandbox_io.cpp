@@ -109,6 +109,15 @@ int charged_print(lua_State* L) {
   return 0;
 }
 
+// warn(msg1, ...), with its bytes charged like io.write (it writes to stderr).
+int charged_warn(lua_State* L) {
+  charge_output(L, written_bytes(L, 1), "warn");
+  lua_pushvalue(L, lua_upvalueindex(1));
+  lua_insert(L, 1);
+  lua_call(L, lua_gettop(L) - 1, 0);
+  return 0;
+}
+
 int close_stream(lua_State* L) {
   auto* p = static_cast<luaL_Stream*>(luaL_checkudata(L, 1, LUA_FILEHANDLE));
   const int ok = std::fclose(p->f) == 0;
@@ -222,6 +231,9 @@ void push_sandboxed_io(lua_State* L) {
 
   lua_pushcfunction(L, charged_print);
   lua_setglobal(L, "print");
+  lua_getglobal(L, "warn");
+  lua_pushcclosure(L, charged_warn, 1);
+  lua_setglobal(L, "warn");
 }
 
 }  // namespace softcut::lua

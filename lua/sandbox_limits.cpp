@@ -112,11 +112,31 @@ int rethrowing_call(lua_State* L) {
   return lua_gettop(L);
 }
 
+// xpcall's message handler, shielded: Lua runs the handler where the error
+// was raised, and an error raised by the count hook is raised with hooks
+// off, so a handler that loops would never be stopped. After a fatal stop
+// the script's handler is skipped (the message goes on unchanged).
+int shielded_handler(lua_State* L) {
+  if (budget_of(L)->fatal) return 1;
+  lua_pushvalue(L, lua_upvalueindex(1));
+  lua_insert(L, 1);
+  lua_call(L, lua_gettop(L) - 1, 1);
+  return 1;
+}
+
+int rethrowing_xpcall(lua_State* L) {
+  luaL_checktype(L, 2, LUA_TFUNCTION);
+  lua_pushvalue(L, 2);
+  lua_pushcclosure(L, shielded_handler, 1);
+  lua_replace(L, 2);
+  return rethrowing_call(L);
+}
+
 void wrap_rethrowing(lua_State* L, const char* table, const char* name) {
   if (table) lua_getglobal(L, table); else lua_pushglobaltable(L);
   lua_getfield(L, -1, name);
   if (lua_isfunction(L, -1)) {
-    lua_pushcclosure(L, rethrowing_call, 1);
+    lua_pushcclosure(L, std::strcmp(name, "xpcall") == 0 ? rethrowing_xpcall : rethrowing_call, 1);
     lua_setfield(L, -2, name);
   } else {
     lua_pop(L, 1);

@@ -49,3 +49,21 @@ TEST_SUITE("core/atomic_file") {
     }
   }
 }
+
+TEST_SUITE("core/atomic_file") {
+  TEST_CASE("a symlink planted at the target or at a temporary name is never written through") {
+    const fs::path dir = softcut::test::scratch_dir("atomic_symlink");
+    fs::create_directories(dir / "out");
+    {
+      std::ofstream(dir / "victim") << "keep";
+    }
+    fs::create_symlink(dir / "victim", dir / "out" / "summary.json");
+    const std::uintmax_t n = softcut::write_file_atomic(dir / "out" / "summary.json", "new");
+    CHECK(n == 3);
+    std::ifstream in(dir / "victim");
+    std::string victim;
+    in >> victim;
+    CHECK(victim == "keep");  // the link was replaced, its target untouched
+    CHECK_FALSE(fs::is_symlink(dir / "out" / "summary.json"));
+  }
+}

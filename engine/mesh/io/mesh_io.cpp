@@ -19,7 +19,8 @@ std::string lower_extension(const std::filesystem::path& p) {
 }
 }  // namespace
 
-TetMesh read_mesh(const std::filesystem::path& path, Diagnostics& diag, const ReadOptions& opt) {
+namespace {
+TetMesh read_mesh_unescaped(const std::filesystem::path& path, Diagnostics& diag, const ReadOptions& opt) {
   const std::string source = path.string();
   const std::string ext = lower_extension(path);
   TetMesh m;
@@ -43,6 +44,18 @@ TetMesh read_mesh(const std::filesystem::path& path, Diagnostics& diag, const Re
     fail(source, ": the file holds no tetrahedra (", m.num_nodes(), " nodes); softcut needs a volume mesh");
   validate(m, source, diag);
   return m;
+}
+
+}  // namespace
+
+TetMesh read_mesh(const std::filesystem::path& path, Diagnostics& diag, const ReadOptions& opt) {
+  // Messages quote the file's bytes: shown escaped (no terminal escape
+  // sequences, no NUL cutting a message short), whichever reader made them.
+  try {
+    return read_mesh_unescaped(path, diag, opt);
+  } catch (const Error& e) {
+    throw Error(printable(e.what(), 4000));
+  }
 }
 
 void write_mesh(const std::filesystem::path& path, const TetMesh& m) {

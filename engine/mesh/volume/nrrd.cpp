@@ -177,7 +177,7 @@ std::string inflate_all(const std::string& in, size_t limit, const std::string& 
 
 }  // namespace
 
-LabelVolume read_nrrd_labels(const std::filesystem::path& path, Diagnostics& diag, const NrrdReadOptions& opt) {
+static LabelVolume read_nrrd_unescaped(const std::filesystem::path& path, Diagnostics& diag, const NrrdReadOptions& opt) {
   const std::string file = path.string();
   const std::string text = read_all(path, "NRRD file");
   Header h;
@@ -417,6 +417,14 @@ LabelVolume read_nrrd_labels(const std::filesystem::path& path, Diagnostics& dia
     v.labels[n] = std::int32_t(x);
   }
   return v;
+}
+
+LabelVolume read_nrrd_labels(const std::filesystem::path& path, Diagnostics& diag, const NrrdReadOptions& opt) {
+  try {  // messages quote the header's bytes: shown escaped
+    return read_nrrd_unescaped(path, diag, opt);
+  } catch (const Error& e) {
+    throw Error(printable(e.what(), 4000));
+  }
 }
 
 }  // namespace softcut::mesh

@@ -1,0 +1,416 @@
+// The sandbox attacked the way an outsider would (issue #13): each case is
+// one finding of the external review, reproduced as a hostile scenario, and
+// must end with a clear error (or a bounded, reported stop), never a write
+// outside the output folder, a leak of an outside file, a hang or a crash.
+#include <doctest/doctest.h>
+#include <sys/stat.h>
+#include <zlib.h>
+
+#include <atomic>
+#include <chrono>
+#include <cstring>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <thread>
+
+#include "hardening_support.hpp"
+#include "mesh/io/mesh_io.hpp"
+#include "runtime.hpp"
+#include "scenario_runner.hpp"
+
+namespace fs = std::filesystem;
+using softcut::hardening::contains;
+using softcut::hardening::error_of;
+using softcut::hardening::put_file;
+using softcut::hardening::run_softcut;
+
+namespace {
+
+// A 2x1x1-cell box held at x = 0, `duration` s at 10 fps, with `extra` Lua
+// before `return s` (on_frame hooks, name changes, ...).
+std::string box(const std::string& extra, const std::string& duration = "0.3", const std::string& name = "esc") {
+  return R"(
+local s = softcut.scenario{ name = ")" + name + R"(", duration = )" + duration + R"(, fps = 10 }
+s:mesh{ generate = "box", options = { min = {0, 0, 0}, max = {0.1, 0.04, 0.04}, nx = 2, ny = 1, nz = 1 } }
+s:material{ tissue = "liver" }
+s:fix{ nodes = softcut.select.box{ min = {0, 0, 0}, max = {0, 0.04, 0.04} } }
+)" + extra + "\nreturn s\n";
+}
+
+// Scenario `text` in a fresh folder <scratch>/<name>/scen/, run from
+// <scratch>/<name>/work/ (so renders/ and anything escaping land there).
+struct Fixture {
+  fs::path root, scen, work;
+  explicit Fixture(const std::string& name, const std::string& text)
+      : root(softcut::test::scratch_dir(name)), scen(root / "scen"), work(root / "work") {
+    fs::create_directories(scen);
+    fs::create_directories(work);
+    put_file(scen / "s.lua", text);
+  }
+  softcut::hardening::CliResult run(const std::string& opts = "", const std::string& prefix = "") const {
+    return run_softcut("run " + (scen / "s.lua").string() + " --quiet --no-render " + opts, work, prefix);
+  }
+};
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+softcut::lua::SandboxOptions tight() {
+  softcut::lua::SandboxOptions o;
+  o.memory_budget = 64u << 20;
+  o.instruction_budget = 20'000'000;
+  return o;
+}
+
+std::string run_snippet(const std::string& code, softcut::lua::SandboxOptions opt = tight()) {
+  const fs::path file = softcut::test::scratch_dir("sandbox_snippet") / "bomb.lua";
+  put_file(file, code);
+  if (opt.read_dir.empty()) opt.read_dir = file.parent_path();
+  return error_of([&] {
+    softcut::lua::Runtime rt(opt);
+    rt.run_file(file, 0);
+  });
+}
+
+double seconds_of(const std::function<void()>& f) {
+  const auto t0 = std::chrono::steady_clock::now();
+  f();
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
+TEST_SUITE("hardening/sandbox_escape") {
+  // 1. Critical: s.name = ".." after softcut.scenario{} made renders/.. the
+  // output folder, and on_frame could append to files of the working folder.
+  TEST_CASE("finding 1: a name changed after scenario{} is checked from the final spec - nothing escapes") {
+    for (const std::string change : {"s.name = '..'", "rawset(s, 'name', '..')", "s.name = '.'", "s.name = 'a\\27[2Jb'",
+                                     "s.name = ''"}) {
+      CAPTURE(change);
+      const Fixture f("sandbox_name", box(change + R"(
+s:on_frame(function(f) local h = io.open(".bashrc", "a") h:write("pwned\n") h:close() end))"));
+      const auto r = f.run();
+      CHECK(r.status == 1);
+      CHECK(contains(r.output, "s.lua"));
+      CHECK(contains(r.output, "name must"));
+      CHECK_FALSE(fs::exists(f.work / ".bashrc"));
+      CHECK_FALSE(fs::exists(f.work / "renders" / ".bashrc"));
+      CHECK_FALSE(contains(r.output, "\x1b"));  // the name is shown escaped
+    }
+  }
+
+  TEST_CASE("finding 1: a planted symlink at renders/<name> is refused, not written through") {
+    const Fixture f("sandbox_name_link", box(""));
+    const fs::path elsewhere = f.root / "elsewhere";
+    fs::create_directories(elsewhere);
+    fs::create_directories(f.work / "renders");
+    fs::create_directory_symlink(elsewhere, f.work / "renders" / "esc");
+    const auto r = f.run();
+    CHECK(r.status == 1);
+    CHECK(contains(r.output, "symbolic link"));
+    CHECK(fs::is_empty(elsewhere));
+  }
+
+  // 2. High: a TetGen .node in the scenario folder with its .ele linked to
+  // an outside file was read, and the parse error quoted its first token.
+  TEST_CASE("finding 2: a mesh's sibling file linked outside is refused and its content never shown") {
+    const fs::path outside = softcut::test::scratch_dir("sandbox_sibling_outside");
+    put_file(outside / "secret.txt", "TOPSECRET-4711 more\n");
+    put_file(outside / "secret.vtu", "TOPSECRET-4711 more\n");
+    const std::string head = R"(
+local s = softcut.scenario{ name = "sib", duration = 0.1, fps = 10 }
+s:mesh{ file = "m.node" }
+return s
+)";
+    const Fixture f("sandbox_sibling", head);
+    put_file(f.scen / "m.node", "4 3 0 0\n0 0 0 0\n1 1 0 0\n2 0 1 0\n3 0 0 1\n");
+    fs::create_symlink(outside / "secret.txt", f.scen / "m.ele");
+    const std::string msg = error_of([&] {
+      softcut::lua::RunRequest req;
+      req.scenario = f.scen / "s.lua";
+      req.out_dir = f.root / "out";
+      softcut::lua::load_scenario_spec(req);
+    });
+    INFO(msg);
+    CHECK(contains(msg, "symbolic link"));
+    CHECK_FALSE(contains(msg, "TOPSECRET"));
+    // The same for a linked folder on the way and for the file named directly.
+    fs::create_directory_symlink(outside, f.scen / "linked");
+    put_file(f.scen / "s.lua", R"(local ok, e = pcall(function() return softcut.scenario{ duration = 0.1 }:mesh{ file = "linked/secret.vtu" } end)
+assert(not ok) assert(not tostring(e):find("TOPSECRET"), e) assert(tostring(e):find("symbolic link"), e)
+local f, e2 = pcall(io.open, "linked/secret.txt") assert(not f and tostring(e2):find("symbolic link"), e2)
+return softcut.scenario{ duration = 0.1 })");
+    const std::string run = error_of([&] {
+      softcut::lua::RunRequest req;
+      req.scenario = f.scen / "s.lua";
+      softcut::lua::load_scenario_spec(req);
+    });
+    INFO(run);
+    CHECK(contains(run, "no mesh"));  // all asserts passed; the scenario then lacks a mesh
+  }
+
+  // 3. High: the instruction budget could be caught by pcall / xpcall /
+  // coroutines, and Ctrl-C's "interrupted" the same way.
+  TEST_CASE("finding 3: no pcall, xpcall or coroutine swallows the instruction budget") {
+    for (const std::string code :
+         {"while true do pcall(function() while true do end end) end",
+          "while true do xpcall(function() while true do end end, function(m) return m end) end",
+          "while true do xpcall(function() while true do end end, function(m) while true do end end) end",
+          "while true do coroutine.resume(coroutine.create(function() while true do end end)) end",
+          "while true do local co = coroutine.wrap(function() while true do end end) pcall(co) end",
+          "while true do pcall(error, setmetatable({}, {__tostring = function() while true do end end})) end",
+          "local t = setmetatable({}, {__index = function() while true do end end}) while true do pcall(function() return t.x end) end"}) {
+      CAPTURE(code);
+      std::string msg;
+      const double s = seconds_of([&] { msg = run_snippet(code); });
+      CHECK(contains(msg, "instruction budget"));
+      CHECK(s < 30);
+    }
+  }
+
+  TEST_CASE("finding 3: the budget cannot be swallowed inside on_frame either") {
+    const Fixture f("sandbox_pcall_frame", box(R"(
+s:on_frame(function(f) while true do pcall(function() while true do end end) end end))"));
+    const auto r = f.run();
+    CHECK(r.status == 1);
+    CHECK(contains(r.output, "instruction budget"));
+    CHECK(contains(slurp(f.work / "renders" / "esc" / "summary.json"), "\"exit_reason\": \"error\""));
+  }
+
+  TEST_CASE("finding 3: an interrupt stops a script that catches every error, and is reported as interrupted") {
+    softcut::lua::SandboxOptions opt;
+    opt.trusted = true;  // no instruction budget: only the interrupt can stop it
+    std::atomic<bool> stop{false};
+    opt.interrupt = &stop;
+    std::thread t([&] {
+      std::this_thread::sleep_for(std::chrono::milliseconds(200));
+      stop = true;
+    });
+    const std::string msg = run_snippet("while true do pcall(function() while true do end end) end", opt);
+    t.join();
+    CHECK(contains(msg, "interrupted"));
+    // Through the CLI: SIGINT during on_frame; the run ends "interrupted" (130) with its summary.
+    const Fixture f("sandbox_sigint", box(R"(
+s:on_frame(function(f) while true do pcall(function() while true do end end) end end))"));
+    const auto r = f.run("--trust", "timeout --preserve-status -s INT 2");
+    CHECK(r.status == 130);
+    CHECK(contains(slurp(f.work / "renders" / "esc" / "summary.json"), "\"exit_reason\": \"interrupted\""));
+  }
+
+  // 4. High: a __gc that loops forever hung the run (Lua runs finalizers
+  // with its hooks off), during the run or when the state was closed.
+  TEST_CASE("finding 4: no script finalizer can be set, on tables or on the engine's handles") {
+    CHECK(contains(run_snippet("setmetatable({}, {__gc = function() while true do end end})"), "__gc"));
+    CHECK(contains(run_snippet("setmetatable({}, {__gc = true})"), "__gc"));
+    // Adding __gc after setmetatable does not mark the object (Lua 5.4): it never runs.
+    CHECK(run_snippet("local mt = {} local t = setmetatable({}, mt) mt.__gc = function() while true do end end "
+                      "t = nil collectgarbage()") == "");
+    // The metatables of file handles and mesh handles are locked.
+    CHECK(run_snippet("assert(getmetatable(io.stdout) == false)") == "");
+    CHECK(contains(run_snippet("getmetatable(io.stdout).__gc = function() while true do end end"), "index a boolean"));
+    const Fixture f("sandbox_gc_close", box(R"(
+local mt = {}
+kept = setmetatable({}, mt)
+mt.__gc = function() while true do end end)"));
+    const auto r = f.run();
+    CHECK(r.status == 0);  // closes at once: the kept table was never marked for finalization
+  }
+
+  // 5. High: work inside the C library was not charged.
+  TEST_CASE("finding 5: single huge C calls are refused before they run") {
+    for (const std::string code : {"string.rep('', math.maxinteger)", "string.rep('', 1e15, '')",
+                                   "table.move({}, 1, math.maxinteger, 2)", "table.unpack({}, 1, 1e12)",
+                                   "table.concat({}, '', 1, math.maxinteger)"}) {
+      CAPTURE(code);
+      std::string msg;
+      const double s = seconds_of([&] { msg = run_snippet(code); });
+      CHECK(contains(msg, "instruction budget"));
+      CHECK(s < 5);
+    }
+  }
+
+  TEST_CASE("finding 5: loops of a few instructions doing megabytes of C work each end at the budget") {
+    for (const std::string code :
+         {"local s = string.rep('a', 16 << 20) while true do local u = s:upper() end",
+          "local src = 'return ' .. string.rep('1+', 4 << 20) .. '1' while true do load(src) end",
+          "local t = {} for i = 1, 1e5 do t[i] = 'x' end while true do table.concat(t) end",
+          "local t = {} for i = 1, 1e5 do t[i] = i end while true do table.insert(t, 1, 0) table.remove(t, 1) end",
+          "local t = {} for i = 1, 1e5 do t[i] = i end while true do table.sort(t) end",
+          "local s = string.rep('\\u{20AC}', 4 << 20) while true do utf8.len(s) end",
+          "local s = string.rep('a', 16 << 20) while true do local x = s .. 'b' end",
+          "local t = {} for i = 1, 2e5 do t[i] = {} end while true do collectgarbage() end"}) {
+      CAPTURE(code);
+      std::string msg;
+      const double s = seconds_of([&] { msg = run_snippet(code); });
+      CHECK(contains(msg, "budget"));
+      CHECK(s < 30);
+    }
+  }
+
+  // 6. Medium: symlinks planted in the output folder.
+  TEST_CASE("finding 6: a dangling symlink in the output folder is not followed by io.open") {
+    const Fixture f("sandbox_out_link", box(R"(
+s:on_frame(function(f) local h = assert(io.open("notes.txt", "w")) h:write("x") h:close() end))"));
+    const fs::path out = f.root / "out";
+    fs::create_directories(out);
+    fs::create_symlink(f.root / "created-outside", out / "notes.txt");
+    const auto r = f.run("--out " + out.string());
+    CHECK(r.status == 1);
+    CHECK(contains(r.output, "symbolic link"));
+    CHECK_FALSE(fs::exists(f.root / "created-outside"));
+  }
+
+  TEST_CASE("finding 6: the engine's own files never follow a planted link (partial CSV, frames, summary)") {
+    const Fixture f("sandbox_partial_link", box(""));
+    const fs::path out = f.root / "out";
+    fs::create_directories(out);
+    put_file(f.root / "victim", "precious");
+    fs::create_symlink(f.root / "victim", out / "displacements.csv.partial");
+    fs::create_symlink(f.root / "victim", out / "summary.json");
+    const auto r = f.run("--out " + out.string());
+    CHECK(r.status == 0);
+    CHECK(slurp(f.root / "victim") == "precious");
+    CHECK_FALSE(fs::is_symlink(out / "summary.json"));
+    fs::create_directory_symlink(f.root, out / "frames");  // a linked frames folder is refused
+    const auto framed = run_softcut("run " + (f.scen / "s.lua").string() + " --quiet --render-every 1 --size 32x24 --out " +
+                                        out.string(), f.work);
+    CHECK(framed.status == 1);
+    CHECK(contains(framed.output, "symbolic link"));
+  }
+
+  // 7. Medium: memory far past the budget from documented values.
+  TEST_CASE("finding 7: a zlib bomb in a VTU is refused before it is inflated") {
+    // 64 MiB of zeros as one compressed Float64 Points array announcing 8M points.
+    const std::uint64_t raw = 64ull << 20;
+    std::string zeros(raw, '\0');
+    uLongf clen = compressBound(uLong(raw));
+    std::string comp(clen, '\0');
+    REQUIRE(compress(reinterpret_cast<Bytef*>(comp.data()), &clen, reinterpret_cast<const Bytef*>(zeros.data()), uLong(raw)) == Z_OK);
+    comp.resize(clen);
+    std::string header(32, '\0');
+    const std::uint64_t h[4] = {1, raw, raw, clen};
+    std::memcpy(header.data(), h, 32);
+    const std::string xml =
+        "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" "
+        "header_type=\"UInt64\" compressor=\"vtkZLibDataCompressor\">\n<UnstructuredGrid><Piece NumberOfPoints=\"" +
+        std::to_string(raw / 24) + "\" NumberOfCells=\"1\">\n<Points><DataArray type=\"Float64\" NumberOfComponents=\"3\" "
+        "format=\"appended\" offset=\"0\"/></Points>\n<Cells>"
+        "<DataArray type=\"Int32\" Name=\"connectivity\" format=\"ascii\">0 1 2 3</DataArray>"
+        "<DataArray type=\"Int32\" Name=\"offsets\" format=\"ascii\">4</DataArray>"
+        "<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">10</DataArray></Cells>\n"
+        "</Piece></UnstructuredGrid>\n<AppendedData encoding=\"raw\">_" + header + comp + "</AppendedData></VTKFile>\n";
+    const fs::path dir = softcut::test::scratch_dir("sandbox_zbomb");
+    put_file(dir / "bomb.vtu", xml);
+    softcut::Diagnostics diag;
+    softcut::mesh::ReadOptions opt;
+    opt.max_bytes = 32u << 20;
+    const long long before = softcut::hardening::peak_rss_bytes();
+    const std::string msg = error_of([&] { softcut::mesh::read_mesh(dir / "bomb.vtu", diag, opt); });
+    INFO(msg);
+    CHECK(contains(msg, "bytes allowed"));
+    CHECK(softcut::hardening::peak_rss_bytes() - before < (48ll << 20));  // the file and its copy, not 64 MiB more
+  }
+
+  TEST_CASE("finding 7: huge frame buffers and forced dense storage are refused against the memory budget") {
+    const Fixture big("sandbox_render_mem", box(R"(s:output{ render = { width = 8192, height = 8192, msaa = 16 } })"));
+    const auto r = run_softcut("run " + (big.scen / "s.lua").string() + " --quiet", big.work);
+    CHECK(r.status == 1);
+    CHECK(contains(r.output, "frame buffers"));
+    CHECK(contains(r.output, "--size"));
+    softcut::lua::RunRequest req;
+    const Fixture dense("sandbox_dense_mem", R"(
+local s = softcut.scenario{ name = "dense", duration = 0.1, fps = 10 }
+s:mesh{ generate = "box", options = { min = {0, 0, 0}, max = {0.1, 0.1, 0.1}, nx = 12, ny = 12, nz = 12 } }
+s:fix{ nodes = softcut.select.box{ min = {0, 0, 0}, max = {0, 0.1, 0.1} } }
+s:operational{ box = { min = {0.04, 0.04, 0.04}, max = {0.06, 0.06, 0.06} } }
+s:solver{ mode = "dense" }
+return s)");
+    req.scenario = dense.scen / "s.lua";
+    req.out_dir = dense.root / "out";
+    req.backend = "cpu";
+    req.memory_budget = 8u << 20;
+    const std::string msg = error_of([&] { softcut::lua::run_scenario(req); });
+    CHECK(contains(msg, "storage mode 'dense' needs"));
+  }
+
+  // 8. Medium: summary.json was not valid JSON for some messages.
+  TEST_CASE("finding 8: summary.json is valid JSON whatever bytes the messages hold") {
+    const Fixture f("sandbox_json", box(R"(
+s:on_frame(function(f) error("bad \1\2\27[31m \255\254 \0 end") end))"));
+    const auto r = f.run();
+    CHECK(r.status == 1);
+    const std::string text = slurp(f.work / "renders" / "esc" / "summary.json");
+    nlohmann::json j;
+    REQUIRE_NOTHROW(j = nlohmann::json::parse(text));
+    const std::string message = j["run"]["message"].get<std::string>();
+    CHECK(contains(message, "bad \x01\x02\x1b[31m"));
+    CHECK(contains(message, "\xEF\xBF\xBD"));  // the invalid bytes, replaced
+  }
+
+  TEST_CASE("finding 8: messages quoting mesh files escape non-printable bytes") {
+    const fs::path dir = softcut::test::scratch_dir("sandbox_escape_msg");
+    put_file(dir / "m.node", "4 3 0 0\n0 0 0 0\n1 1 0 0\n2 0 1 0\n3 0 0 \x1b[2Jx\n");
+    put_file(dir / "m.ele", "1 4 0\n0 0 1 2 3\n");
+    softcut::Diagnostics diag;
+    const std::string msg = error_of([&] { softcut::mesh::read_mesh(dir / "m.node", diag); });
+    INFO(msg);
+    CHECK_FALSE(msg.empty());
+    CHECK_FALSE(contains(msg, "\x1b"));
+  }
+
+  // 9. Lower: bounds on output and time, FIFOs, the second Ctrl-C, messages, usage.
+  TEST_CASE("finding 9: total output is bounded by --max-output") {
+    const Fixture f("sandbox_max_output", box(R"(
+s:on_frame(function(f) local h = assert(io.open("big.bin", "a")) h:write(string.rep("x", 1 << 20)) h:close() end))", "10"));
+    const auto r = f.run("--max-output 3M");
+    CHECK(r.status == 1);
+    CHECK(contains(r.output, "--max-output"));
+    CHECK(fs::file_size(f.work / "renders" / "esc" / "big.bin") <= (3u << 20));
+    CHECK(contains(slurp(f.work / "renders" / "esc" / "summary.json"), "\"max_output_bytes\": 3145728"));
+  }
+
+  TEST_CASE("finding 9: a sparse file cannot be made by seeking past the end") {
+    const Fixture f("sandbox_seek", box(R"(
+s:on_frame(function(f) local h = assert(io.open("sparse.bin", "w")) h:seek("set", 1 << 40) h:write("x") end))"));
+    const auto r = f.run();
+    CHECK(r.status == 1);
+    CHECK(contains(r.output, "past the end"));
+  }
+
+  TEST_CASE("finding 9: opening a FIFO fails at once instead of blocking") {
+    const Fixture f("sandbox_fifo", box(R"(local h, e = pcall(io.open, "pipe") assert(not h and e:find("not a regular file"), e))"));
+    REQUIRE(::mkfifo((f.scen / "pipe").c_str(), 0600) == 0);
+    const auto r = f.run("", "timeout 20");
+    CHECK(r.status == 0);
+  }
+
+  TEST_CASE("finding 9: the wall-clock limit stops a script the budget cannot see, with its summary") {
+    const Fixture f("sandbox_timeout", box(R"(
+s:on_frame(function(f) while true do pcall(function() while true do end end) end end))"));
+    const auto r = f.run("--trust --timeout 1", "timeout 60");
+    CHECK(r.status == 124);
+    CHECK(contains(r.output, "wall-clock limit"));
+    const std::string summary = slurp(f.work / "renders" / "esc" / "summary.json");
+    CHECK(contains(summary, "\"exit_reason\": \"timeout\""));
+    CHECK(contains(summary, "\"timeout_s\": 1"));
+    // Stuck where nothing polls (a blocking C call under --trust): the process ends with 124 after the grace time.
+    const Fixture g("sandbox_timeout_hard", box(R"(s:on_frame(function(f) os.execute("exec sleep 9 >/dev/null 2>&1 </dev/null") end))"));
+    const auto hard = g.run("--trust --timeout 1", "timeout 50");
+    CHECK(hard.status == 124);
+    CHECK(contains(hard.output, "did not stop"));
+  }
+
+  TEST_CASE("finding 9: messages name the scenario file - --set without '=' is a usage error") {
+    const Fixture f("sandbox_msgs", R"(local s = softcut.scenario{ duration = "long" } return s)");
+    const auto r = f.run();
+    CHECK(r.status == 1);
+    CHECK(contains(r.output, "s.lua"));
+    const Fixture g("sandbox_set", box("local P = softcut.params{ force = 1 }"));
+    CHECK(g.run("--set force").status == 2);
+    CHECK(g.run("--timeout soon").status == 2);
+    CHECK(g.run("--max-output lots").status == 2);
+  }
+}
