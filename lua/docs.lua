@@ -33,11 +33,17 @@ error at the scenario's line, e.g. `liver.lua:12: material: unknown field 'young
 'young'?)`; runtime errors carry a traceback.
 
 **Sandbox.** Scenarios run with the safe standard libraries only (base without `dofile`/`loadfile`,
-`load` of text only; `string`, `table`, `math`, `utf8`, `coroutine`; `os.clock/time/date`),
-`io.open` reading below the scenario's folder and writing below the output folder, an instruction
-budget per call (the main chunk, each on_frame; engine work such as loading meshes and evaluating selections is
-charged to it too), a memory budget (the Lua heap plus the meshes the script holds), and meshes of at most
-2,000,000 tetrahedra (`--max-tets N` changes it).
+`load` of text only; `string`, `table`, `math`, `utf8`, `coroutine`; `os.clock/time/date`;
+`io.open`, `io.lines`, `io.write`, no reading from stdin). Files are read below the scenario's folder
+and written below the output folder, never through a symbolic link, and only regular files; `file:seek`
+cannot move past the end. An instruction budget per call (the main chunk, each on_frame) also charges
+work inside the C library (bytes allocated, elements moved: `string.rep`, `table.concat`, `load`, ...)
+and the engine (loading meshes, evaluating selections); once it runs out, or Ctrl-C or the run's
+`--timeout` strikes, every later instruction fails and `pcall`/`xpcall`/coroutines re-raise it.
+`setmetatable` refuses `__gc` (finalizers would run outside the budget). A memory budget covers the Lua
+heap, the meshes the script holds and what its numbers make the engine allocate; meshes have at most
+2,000,000 tetrahedra (`--max-tets N` changes it). What the script writes counts towards the run's
+`--max-output`.
 `require` loads only the embedded library. `--trust` lifts all of it.
 ]]
 
