@@ -51,13 +51,6 @@ int message_handler(lua_State* L) {
   return 1;
 }
 
-const SandboxOptions& registry_options(lua_State* L) {
-  lua_getfield(L, LUA_REGISTRYINDEX, kOptionsKey);
-  auto* opt = static_cast<const SandboxOptions*>(lua_touserdata(L, -1));
-  lua_pop(L, 1);
-  return *opt;
-}
-
 // load(chunk [, name [, mode [, env]]]) with mode forced to text.
 int sandboxed_load(lua_State* L) {
   if (lua_type(L, 1) == LUA_TSTRING) {
@@ -337,7 +330,12 @@ void open_internal(lua_State* L) {
 
 }  // namespace
 
-const SandboxOptions& options_of(lua_State* L) { return registry_options(L); }
+const SandboxOptions& options_of(lua_State* L) {
+  lua_getfield(L, LUA_REGISTRYINDEX, kOptionsKey);
+  auto* opt = static_cast<const SandboxOptions*>(lua_touserdata(L, -1));
+  lua_pop(L, 1);
+  return *opt;
+}
 
 double max_tets(lua_State* L) {
   const SandboxOptions& opt = options_of(L);

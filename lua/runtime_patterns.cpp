@@ -126,22 +126,78 @@ void for_each_item(std::string_view pat, std::size_t p, F&& on_item) {
   }
 }
 
+// State of one sweep of a repetition over the subject (SearchBound::
+// repetition): the paths still extending at the next position and the sums.
+struct Sweep {
+  double acc = 0;      // paths in the run through the last position ('?': those that took its byte)
+  double paths = 0;    // paths that reached the item
+  double lengths = 0;  // lengths tried past the first, over all paths
+  std::size_t runs = 0;  // bytes scanned from the first path in each run
+  std::size_t lo = std::string_view::npos, hi = 0;  // positions the new paths reach
+};
+
+// x where `keep`, else 0, without a branch: whether a byte is in the class
+// can be random along the subject, and a mispredicted branch per byte
+// triples a sweep's time. (An infinite count turns to NaN here, but it has
+// made the bound infinite already.)
+double kept(double x, bool keep) {
+  static constexpr double factor[] = {0.0, 1.0};  // a load: compilers make double(keep) a branch
+  return x * factor[keep];
+}
+
+// One position q of the sweep: `w` paths start the repetition there, `in`
+// tells whether q's byte is in the class. Counts are >= 0 (NaN once they
+// overflow, which makes the bound infinite anyway).
+template <bool maybe, bool plus>
+void sweep_step(Sweep& r, double w, bool in, std::size_t q, double* next) {
+  double here;
+  if (maybe) {
+    here = r.acc + w;  // a path from q - 1 that took its byte, or one from q
+    r.acc = kept(w, in);
+    r.lengths += r.acc;
+    r.runs += in & (w > 0);
+  } else {
+    const double sum = r.acc + w;  // the paths that entered the run so far
+    here = plus ? r.acc : sum;
+    r.lengths += kept(sum, in);  // each of them takes this byte
+    r.runs += in & (sum > 0);    // the bytes scanned from the first path in the run
+    r.acc = kept(sum, in);
+  }
+  r.paths += w;
+  next[q] = here;
+  const bool reached = here > 0;
+  r.lo = reached && r.lo == std::string_view::npos ? q : r.lo;
+  r.hi = reached ? q : r.hi;
+}
+
+// The sweep over positions [from, to), all with a byte. A function of its
+// own: inlined into the bound's, its sums would live in memory, 3x slower.
+template <bool maybe, bool plus>
+[[gnu::noinline]] Sweep sweep(Sweep r, const double* ways, double* next, const char* s, const bool* member,
+                              std::size_t from, std::size_t to) {
+  for (std::size_t q = from; q < to; ++q)
+    sweep_step<maybe, plus>(r, ways[q], member[static_cast<unsigned char>(s[q])], q, next);
+  return r;
+}
+
 // Number of search paths the matcher can be on at each subject position,
 // item by item, and the steps they cost (an upper bound: every path the
 // depth-first matcher can take is counted, whether or not it stops early).
 class SearchBound {
  public:
-  // Subjects longer than this are counted without positions (memory: 24
+  // Subjects longer than this are counted without positions (memory: 16
   // bytes per subject byte).
   static constexpr std::size_t kMaxPositions = std::size_t(1) << 20;
 
   // The count's own work is linear in subject and pattern, but both may be
   // megabytes, and a call refused after a second of counting is a call that
-  // ran for a second: `limit` caps that work too. Each cell it touches (a
-  // subject position in one pass, a byte test) is charged this many steps,
-  // so a count that gives up at the 1e9-step cap has spent well under a
-  // second (a cell costs a fraction of a nanosecond, a matcher step about one).
+  // ran for a second: `limit` caps that work too, each pass charged before
+  // it runs. A cell (a subject position in one pass, a byte tested) takes
+  // about half a nanosecond, a matcher step about one: at this many steps a
+  // cell, a count that gives up at the 1e9-step cap has spent ~0.15 s.
   static constexpr double kCellSteps = 4;
+  // An item's fixed cost (parsing, dispatch, a fresh class memo), in cells.
+  static constexpr double kItemCells = 32;
 
   SearchBound(std::string_view subject, std::string_view pattern, bool anchored, double limit)
       : s_(subject), pat_(pattern), n_(subject.size()), limit_(limit) {
@@ -162,7 +218,8 @@ class SearchBound {
   // Adds one item; false once this count's own work passes `limit`: no pass
   // starts that would take it past, so it stops within the limit.
   bool add(const Item& it) {
-    if (!spend(1)) return false;
+    if (!scalar_ && hi_ == lo_ && ways_[lo_] == 0) return spend(1);  // every path failed: nothing runs
+    if (!spend(kItemCells)) return false;
     ++item_;  // a fresh class memo
     if (scalar_) {
       scalar_item(it);
@@ -232,33 +289,28 @@ class SearchBound {
     return true;
   }
 
-  // A set's test walks its text, and a repetition's runs are tested byte by
-  // byte: each set is decided once per item and subject byte value.
+  // Whether the byte at p (< n) is in the class. A set's test walks its
+  // text and the passes test many bytes: each item decides each byte value
+  // once, and pays for that.
   bool in_class(const Item& it, std::size_t p) {
-    if (p >= n_) return false;
     const auto c = static_cast<unsigned char>(s_[p]);
-    const std::string_view cls = pat_.substr(it.begin, it.end - it.begin);
-    if (cls[0] != '[') return pattern_class_matches(cls, c);
-    if (memo_item_[c] != item_) {
-      if (!spend(it.cost)) return false;
-      memo_item_[c] = item_;
-      memo_[c] = pattern_class_matches(cls, c);
-    }
+    return memo_item_[c] == item_ ? memo_[c] : learn(it, c);
+  }
+
+  bool learn(const Item& it, unsigned char c) {
+    if (!spend(it.cost)) return false;
+    memo_item_[c] = item_;
+    memo_[c] = pattern_class_matches(pat_.substr(it.begin, it.end - it.begin), c);
     return memo_[c];
   }
 
-  // End of the run of class bytes from p: the first position past p whose
-  // byte is not in the class, or n. Charged byte by byte; a run longer than
-  // the limit leaves room for gives up.
-  std::size_t run_end(const Item& it, std::size_t p) {
-    const double room = std::max(0.0, (limit_ - work_) / kCellSteps);
-    const std::size_t stop = room < double(n_ - p) ? p + std::size_t(room) : n_;
-    std::size_t q = p;
-    while (q < stop && in_class(it, q)) ++q;
-    if (q == stop && stop < n_) over_ = true;
-    spend(double(q - p + 1));
-    scanned(double(q - p + 1));
-    return q;
+  // Decides the bytes of [from, to) before a pass reads memo_ for them: a
+  // pass without calls keeps its sums in registers, twice as fast.
+  void learn_bytes(const Item& it, std::size_t from, std::size_t to) {
+    for (std::size_t p = from; p < to && !over_; ++p) {
+      const auto c = static_cast<unsigned char>(s_[p]);
+      if (memo_item_[c] != item_) learn(it, c);
+    }
   }
 
   // Moves the paths in next_[lo..hi] to ways_ (lo > hi: every path failed).
@@ -278,85 +330,81 @@ class SearchBound {
   }
 
   void single(const Item& it) {
-    if (!spend(range()) || !grow(hi_ + 1)) return;
+    if (!spend(2 * range()) || !grow(hi_ + 1)) return;  // the bytes' classes, then the paths
+    const std::size_t end = std::min(hi_ + 1, n_);  // no byte at n
+    learn_bytes(it, lo_, end);
+    const char* s = s_.data();
+    const bool* member = memo_.data();
+    const double* ways = ways_.data();
+    double* next = next_.data();
     std::size_t lo = n_ + 1, hi = 0;
-    for (std::size_t p = lo_; p <= hi_; ++p) {
-      const double w = ways_[p];
-      double kept = 0;
-      if (w != 0) {
-        steps_ += w * it.cost;
-        if (in_class(it, p)) {
-          kept = w;
-          lo = std::min(lo, p + 1);
-          hi = p + 1;
-        }
-      }
-      next_[p + 1] = kept;  // every cell of the new range written: no clearing pass
+    double paths = 0;
+    for (std::size_t p = lo_; p < end; ++p) {
+      const double w = ways[p];
+      paths += w;
+      const bool keep = (w != 0) & member[static_cast<unsigned char>(s[p])];
+      next[p + 1] = keep ? w : 0.0;  // every cell of the new range written: no clearing pass
+      lo = keep && lo > n_ ? p + 1 : lo;
+      hi = keep ? p + 1 : hi;
     }
+    if (hi_ == n_) paths += ways[n_];
+    steps_ += paths * it.cost;
     scanned(range());
     settle(lo, hi);
   }
 
   // A repetition at p tries every length up to the run of class bytes at p
   // (at most one for '?', at least one for '+'), testing each byte of the
-  // run once plus the byte that ends it.
+  // run once plus the byte that ends it. Each class byte continues every
+  // path that entered its run at or before it, so one sweep with a sum that
+  // restarts at each non-class byte yields the new paths, the lengths tried
+  // and the bytes tested together (no subtraction: exact below 2^53).
   void repetition(const Item& it) {
-    const std::size_t count = hi_ - lo_ + 1;
-    if (!spend(3.0 * double(count))) return;  // the lengths, and the sweep's two cursors
-    if (last_.size() < count) last_.resize(count);
+    if (it.repeat == '?') {
+      repetition<true, false>(it);
+    } else if (it.repeat == '+') {
+      repetition<false, true>(it);
+    } else {
+      repetition<false, false>(it);
+    }
+  }
+
+  template <bool maybe, bool plus>
+  void repetition(const Item& it) {
+    // The bytes' classes, then a sweep that carries three sums.
+    if (!spend(3 * range()) || !grow(hi_ + 1)) return;
     const bool any = it.end - it.begin == 1 && pat_[it.begin] == '.';
-    const std::size_t plus = it.repeat == '+' ? 1 : 0;
-    // Runs share their end: one scan serves every position of a run, so
-    // the subject is scanned once per item, however the paths lie on it.
-    std::size_t end = 0;
-    bool end_known = false;  // [p', end) are class bytes for some p' <= p, `end` is not
-    std::size_t lo = n_ + 1, hi = 0, last = lo_;
-    for (std::size_t p = lo_; p <= hi_; ++p) {
-      if (ways_[p] == 0) {
-        last_[p - lo_] = std::max(last, p);  // no path: keeps the ends in order for the sweep
-        continue;
-      }
-      std::size_t longest;
-      if (any) {
-        longest = it.repeat == '?' ? std::min<std::size_t>(n_ - p, 1) : n_ - p;
-      } else if (it.repeat == '?') {
-        longest = in_class(it, p) ? 1 : 0;
-        scanned(1);
-      } else {
-        if (!end_known || end < p) {
-          end = run_end(it, p);
-          end_known = true;
-          if (over_) return;
-        }
-        longest = end - p;
-      }
-      steps_ += ways_[p] * (double(longest) + 2) * it.cost;
-      last = p + longest;
-      last_[p - lo_] = last;
-      if (p + plus <= last) {
-        lo = std::min(lo, p + plus);
-        hi = last;
-      }
+    const std::size_t bytes_end = std::min(hi_ + 1, n_);
+    if (any) {
+      memo_.fill(true);
+      memo_item_.fill(item_);
+    } else {
+      learn_bytes(it, lo_, bytes_end);
     }
-    scanned(2.0 * double(std::max(hi, hi_) - lo_ + 1));
-    if (lo > hi) {
-      settle(lo, hi);
-      return;
+    Sweep r = sweep<maybe, plus>(Sweep{}, ways_.data(), next_.data(), s_.data(), memo_.data(), lo_, bytes_end);
+    if (hi_ == n_) sweep_step<maybe, plus>(r, ways_[n_], false, n_, next_.data());
+    // Past hi_ no path starts: the paths in the run through hi_ go on to its
+    // end with nothing added, so only that end is sought, byte by byte and
+    // charged: a run longer than the limit leaves room for gives up.
+    if (r.acc != 0 && hi_ < n_) {
+      std::size_t end = hi_ + 1;
+      if (!maybe) {
+        const double room = std::max(0.0, (limit_ - work_) / kCellSteps / 2);
+        const std::size_t stop = room < double(n_ - end) ? end + std::size_t(room) : n_;
+        if (any) end = stop;
+        while (end < stop && in_class(it, end)) ++end;
+        if (end == stop && stop < n_) over_ = true;
+      }
+      if (!spend(2.0 * double(end - hi_)) || !grow(end)) return;
+      std::fill(next_.begin() + std::ptrdiff_t(hi_ + 1), next_.begin() + std::ptrdiff_t(end + 1), r.acc);
+      r.lengths += r.acc * double(end - hi_ - 1);  // each takes every byte of the run
+      r.runs += end - hi_ - 1;
+      r.lo = std::min(r.lo, hi_ + 1);
+      r.hi = end;
     }
-    if (!spend(double(hi - lo + 1)) || !grow(hi)) return;
-    // next_[q] = sum of ways_[p] over p with p + plus <= q <= last(p). Both
-    // ends grow with p (a run's positions share its end), so one sweep adds
-    // each p at its first length and drops it past its last. Exact while
-    // counts stay below 2^53, so whenever the bound can be within a budget.
-    double acc = 0;
-    std::size_t add = lo_, drop = lo_;
-    const auto paths = [&](std::size_t p) { return p + plus <= last_[p - lo_] ? ways_[p] : 0.0; };
-    for (std::size_t q = lo; q <= hi; ++q) {
-      for (; add <= hi_ && add + plus <= q; ++add) acc += paths(add);
-      for (; drop < add && last_[drop - lo_] < q; ++drop) acc -= paths(drop);
-      next_[q] = std::max(acc, 0.0);
-    }
-    settle(lo, hi);
+    steps_ += (2 * r.paths + r.lengths) * it.cost;
+    scanned((any ? 0 : double(r.runs)) + 2.0 * double(std::max(r.hi, hi_) - lo_ + 1));
+    settle(r.lo == std::string_view::npos ? n_ + 1 : r.lo, r.hi);
   }
 
   void to_scalar(double paths) {
@@ -392,7 +440,6 @@ class SearchBound {
   std::size_t n_;
   double limit_;
   std::vector<double> ways_, next_;   // paths at each reachable subject position; next_: scratch
-  std::vector<std::size_t> last_;     // (hi-lo+1) repetition ends, scratch
   std::size_t lo_ = 0, hi_ = 0;       // positions that may hold paths
   bool scalar_ = false;
   double paths_ = 0, scalar_base_ = 0, scalar_choices_ = 1;

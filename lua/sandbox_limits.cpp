@@ -168,11 +168,11 @@ int sandboxed_setmetatable(lua_State* L) {
 
 enum class Cost { rep, concat, move, shift, sort, unpack, bytes_arg1, load, collect };
 
-lua_Integer opt_int(lua_State* L, int i, lua_Integer def) {
-  return lua_isinteger(L, i) ? lua_tointeger(L, i) : lua_isnumber(L, i) ? lua_Integer(lua_tonumber(L, i)) : def;
-}
+// Argument i as a number (integers and numeric strings), else `def`; kept a
+// double so that no huge or NaN argument is ever converted to an integer.
+double opt_num(lua_State* L, int i, double def) { return lua_isnumber(L, i) ? double(lua_tonumber(L, i)) : def; }
 
-double span(lua_Integer from, lua_Integer to) { return to >= from ? double(to) - double(from) + 1 : 0; }
+double span(double from, double to) { return to >= from ? to - from + 1 : 0; }
 
 double raw_length(lua_State* L, int i) { return lua_type(L, i) == LUA_TTABLE ? double(lua_rawlen(L, i)) : 0; }
 
@@ -183,7 +183,7 @@ double cost_of(lua_State* L, Cost c) {
       if (!lua_isstring(L, 1)) return 0;
       lua_tolstring(L, 1, &ls);
       if (lua_isstring(L, 3)) lua_tolstring(L, 3, &lsep);
-      const double n = double(std::max<lua_Integer>(0, opt_int(L, 2, 0)));
+      const double n = std::max(0.0, opt_num(L, 2, 0));
       const Runtime::Budget* b = budget_of(L);
       // A result over the memory budget is refused by the allocator before
       // any work; an empty one ("" x n) is n rounds of work and no memory.
@@ -191,17 +191,20 @@ double cost_of(lua_State* L, Cost c) {
       return n + n * double(ls + lsep) / kBytesPerInstruction;
     }
     case Cost::concat:  // table.concat(t [, sep [, i [, j]]]): elements visited
-      return span(opt_int(L, 3, 1), opt_int(L, 4, lua_Integer(raw_length(L, 1))));
+      return span(opt_num(L, 3, 1), opt_num(L, 4, raw_length(L, 1)));
     case Cost::move:  // table.move(a1, f, e, t [, a2])
-      return span(opt_int(L, 2, 1), opt_int(L, 3, 0));
-    case Cost::shift:  // table.insert / table.remove: shift the elements after the position
-      return raw_length(L, 1);
+      return span(opt_num(L, 2, 1), opt_num(L, 3, 0));
+    case Cost::shift:  // table.insert(t, pos, v) / table.remove(t, pos): the elements after pos move;
+                       // appending (insert(t, v)) and popping (remove(t)) move none
+      if (lua_gettop(L) >= (lua_toboolean(L, lua_upvalueindex(4)) ? 2 : 3))
+        return span(opt_num(L, 2, 1), raw_length(L, 1));
+      return 0;
     case Cost::sort: {
       const double n = raw_length(L, 1);
       return n * std::log2(n + 2);
     }
     case Cost::unpack:  // table.unpack(t [, i [, j]])
-      return span(opt_int(L, 2, 1), opt_int(L, 3, lua_Integer(raw_length(L, 1))));
+      return span(opt_num(L, 2, 1), opt_num(L, 3, raw_length(L, 1)));
     case Cost::bytes_arg1: {  // utf8.len / utf8.offset scan their string
       size_t n = 0;
       if (lua_type(L, 1) == LUA_TSTRING) lua_tolstring(L, 1, &n);
@@ -241,7 +244,8 @@ void wrap_charged(lua_State* L, const char* table, const char* name, Cost c) {
   }
   lua_pushinteger(L, lua_Integer(c));
   if (table) lua_pushfstring(L, "%s.%s", table, name); else lua_pushstring(L, name);
-  lua_pushcclosure(L, charged_call, 3);
+  lua_pushboolean(L, std::strcmp(name, "remove") == 0);  // for Cost::shift: remove's pos is its 2nd argument
+  lua_pushcclosure(L, charged_call, 4);
   lua_setfield(L, -2, name);
   lua_pop(L, 1);
 }

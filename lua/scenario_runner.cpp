@@ -275,6 +275,9 @@ sim::ScenarioSpec read_spec(lua_State* L, int s, const fs::path& source) {
                       : lua_type(L, -1) == LUA_TSTRING ? lua_tostring(L, -1)
                                                        : "error while reading the scenario";
     lua_pop(L, 1);
+    // A field the script set after its checks ran (s.duration = "long") is
+    // found only here: the message names the scenario file.
+    if (msg.find(source.filename().string()) == std::string::npos) msg = cat(source.string(), ": ", msg);
     throw Error(msg);
   }
   return std::move(job.spec);

@@ -408,6 +408,11 @@ s:on_frame(function(f) while true do pcall(function() while true do end end) end
     const auto r = f.run();
     CHECK(r.status == 1);
     CHECK(contains(r.output, "s.lua"));
+    const Fixture late("sandbox_msgs_late", box("s.duration = 'long'"));
+    const auto l = late.run();
+    CHECK(l.status == 1);
+    CHECK(contains(l.output, "s.lua"));
+    CHECK(contains(l.output, "duration"));
     const Fixture g("sandbox_set", box("local P = softcut.params{ force = 1 }"));
     CHECK(g.run("--set force").status == 2);
     CHECK(g.run("--timeout soon").status == 2);

@@ -161,6 +161,80 @@ TEST_SUITE("lua/runtime_patterns") {
     CHECK(pattern_work(PatternCall::gmatch, big, "^[%w_]+").steps > double(big.size()));
   }
 
+  TEST_CASE("the count's own work is linear in the subject and stays within the limit") {
+    // A review found one refusal taking 12 s: a run of class bytes was
+    // rescanned from every path that entered it (quadratic with paths on
+    // every other byte, as 'a' leaves them on ("ab"):rep(n)), and each byte
+    // test walked a set's whole text uncounted. Now a run is scanned once per
+    // item and a set decided once per byte value, both charged against the
+    // limit: a limit linear in the subject gives the bound.
+    const int half = 16384;
+    const std::string ab = rep("ab", half);
+    const double n = double(ab.size());
+    for (PatternCall call : {PatternCall::find, PatternCall::gmatch, PatternCall::gsub}) {
+      for (const char* pat : {"a[ab]*c", "a[ab]-c", "a[ab]+c", "a%w*c"}) {
+        INFO(pat);
+        // The matcher tries every length of the run after each 'a': at least
+        // half * half lengths in all, none of them followed by a 'c'.
+        const double steps = pattern_work(call, ab, pat, false, 0, 1000 * n).steps;
+        CHECK(std::isfinite(steps));
+        CHECK(steps >= double(half) * half);
+        CHECK(steps <= 20 * n * n);
+      }
+      for (const char* pat : {"a[ab]?c", "a%w?c"}) {  // a '?' takes one byte at most: linear
+        INFO(pat);
+        CHECK(pattern_work(call, ab, pat, false, 0, 1000 * n).steps < 100 * n);
+      }
+    }
+    // A 1 MiB set: the matcher walks its text at each of 4096 bytes, the
+    // count once per byte value, and that once is charged.
+    const std::string a(4096, 'a');
+    const std::string set = "[" + std::string(std::size_t(1) << 20, 'b') + "]";
+    for (const std::string& pat : {set, set + "*", "^" + set + "?"}) {
+      const double steps = pattern_work(PatternCall::find, a, pat, false, 0, 1e8).steps;
+      CHECK(std::isfinite(steps));
+      CHECK(steps >= (pat[0] == '^' ? 1.0 : 4096.0) * double(set.size()));
+      CHECK(std::isinf(pattern_work(PatternCall::find, a, pat, false, 0, 1e6).steps));
+    }
+    // An anchored search allocates and visits only the positions it reaches.
+    const std::string spaced = "word" + std::string(std::size_t(1) << 19, ' ');
+    CHECK(std::isfinite(pattern_work(PatternCall::match, spaced, "^[%w_]+", false, 0, 1e3).steps));
+  }
+
+  TEST_CASE("a limit only ever turns the bound infinite") {
+    // Giving up is the limit's only effect: a count that fits in it gives
+    // the bound it gives without one, and a larger limit never gives up
+    // where a smaller one did not.
+    std::mt19937 rng(11);
+    const std::vector<std::string> items = {"a", "b", "%a", ".", "[ab]", "[^a]",
+                                            " ", "(a*)", "()", "%b()", "%f[a]", "%1"};
+    const char* const repeats[] = {"", "*", "+", "-", "?"};
+    const std::string alphabet = "aab( )";
+    for (int i = 0; i < 300; ++i) {
+      std::string subject;
+      const int length = int(rng() % 300);
+      while (int(subject.size()) < length) subject += std::string(1 + rng() % 8, alphabet[rng() % alphabet.size()]);
+      std::string pat = rng() % 3 ? "" : "^";
+      for (int k = 1 + int(rng() % 6); k > 0; --k) {
+        const std::string& item = items[rng() % items.size()];
+        pat += item;
+        if (item.size() == 1 || item == "%a" || item[0] == '[')
+          pat += repeats[rng() % 5];
+      }
+      const PatternCall call = PatternCall(rng() % 4);
+      const double unlimited = pattern_work(call, subject, pat).steps;
+      bool fitted = false;
+      for (double limit = 1; limit < 1e8; limit *= 4) {
+        const double steps = pattern_work(call, subject, pat, false, 0, limit).steps;
+        INFO("subject '" << subject << "' pattern '" << pat << "' limit " << limit);
+        CHECK((std::isinf(steps) || steps == unlimited));
+        CHECK((!fitted || steps == unlimited));
+        fitted = fitted || std::isfinite(steps);
+      }
+      CHECK((fitted || std::isinf(unlimited)));
+    }
+  }
+
   TEST_CASE("malformed patterns get a bound and Lua's own error in the sandbox") {
     for (const char* pat : {"[a", "%", "a*%b(", "%f", "%fa", "(a*", "a*)", "%9", "[%", "[^"}) {
       INFO(pat);
