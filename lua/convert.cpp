@@ -144,7 +144,21 @@ void push_vec3(lua_State* L, const Eigen::Vector3d& v) {
 }
 
 void push_ints(lua_State* L, const std::vector<int>& v) {
-  lua_createtable(L, int(v.size()), 0);
+  // The table is made inside a protected call: callers hold C++ objects (the
+  // vector itself), and an out-of-memory longjmp from here would skip their
+  // destructors; a C++ exception unwinds them. Filling the preallocated
+  // array part allocates nothing.
+  if (!lua_checkstack(L, 3)) fail("out of Lua stack space");
+  lua_pushcfunction(L, [](lua_State* L) -> int {
+    lua_createtable(L, int(lua_tointeger(L, 1)), 0);
+    return 1;
+  });
+  lua_pushinteger(L, lua_Integer(v.size()));
+  if (lua_pcall(L, 1, 1, 0) != LUA_OK) {
+    lua_pop(L, 1);
+    fail("memory budget exceeded by a list of ", v.size(), " node ids (drop what the scenario no longer needs, or "
+         "run with --trust)");
+  }
   for (size_t i = 0; i < v.size(); ++i) {
     lua_pushinteger(L, v[i]);
     lua_rawseti(L, -2, lua_Integer(i + 1));

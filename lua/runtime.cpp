@@ -344,14 +344,19 @@ double max_tets(lua_State* L) {
 
 void charge_work(lua_State* L, double instructions, const std::string& what) {
   Runtime::Budget* b = budget_of(L);
-  if (!b->instruction_limit) return;
-  const std::string where = user_where(L);
-  if (where == "?") return;  // the engine's own reading (the spec, after the script): not the script's work
+  // The script's work: while a call into it runs (from any of its frames,
+  // coroutines and load()ed chunks included) and while the engine reads the
+  // tables it left (a list shared a thousand times is copied a thousand times).
+  if (!b->instruction_limit || !(b->calls_active > 0 || b->reading_spec)) return;
   b->instructions += static_cast<long long>(std::min(instructions, 1e15));
-  if (b->instructions > b->instruction_limit)
-    fail(where, ": ", what, ": instruction budget of ", b->instruction_limit, " instructions exceeded (engine work "
-         "such as generating meshes and evaluating selections counts too; a loop of them?); "
-         "run with --trust to lift the sandbox budgets");
+  if (b->instructions > b->instruction_limit) {
+    std::string msg = cat(user_where(L), ": ", what, ": instruction budget of ", b->instruction_limit,
+                          " instructions exceeded (engine work such as generating meshes, evaluating selections and "
+                          "reading the scenario's lists counts too; a loop of them?); run with --trust to lift the "
+                          "sandbox budgets");
+    if (!b->fatal) b->fatal = true, b->fatal_message = msg;  // sticky, like the hook's
+    throw Error(msg);
+  }
 }
 
 void charge_memory(lua_State* L, std::size_t bytes, const std::string& what) {
@@ -380,8 +385,11 @@ bool may_read(lua_State* L, const fs::path& path) {
 }
 
 std::string user_where(lua_State* L) {
+  // At most kWhereLevels frames: lua_getstack(L, n) walks n frames itself,
+  // so a scan of a 1e5-deep recursion would cost 1e10 steps per message.
+  constexpr int kWhereLevels = 64;
   lua_Debug ar;
-  for (int level = 0; lua_getstack(L, level, &ar); ++level) {
+  for (int level = 0; level < kWhereLevels && lua_getstack(L, level, &ar); ++level) {
     lua_getinfo(L, "Sl", &ar);
     if (ar.source && ar.source[0] == '@' && ar.currentline > 0)
       return cat(ar.source + 1, ":", ar.currentline);  // the full name (short_src cuts at 60 chars)
@@ -429,6 +437,14 @@ Runtime::Runtime(const SandboxOptions& opt) : opt_(opt), budget_(new Budget) {
     delete budget_;
     fail("lua: cannot create a Lua state (out of memory)");
   }
+  // A Lua error outside any protected call (there should be none) ends the
+  // process with a message instead of abort().
+  lua_atpanic(L_, [](lua_State* L) -> int {
+    const char* m = lua_tostring(L, -1);
+    std::fprintf(stderr, "softcut: error: Lua error outside a protected call: %s\n", m ? m : "(no message)");
+    std::fflush(stderr);
+    std::_Exit(1);
+  });
   lua_pushlightuserdata(L_, &opt_);
   lua_setfield(L_, LUA_REGISTRYINDEX, kOptionsKey);
   lua_pushlightuserdata(L_, budget_);
@@ -509,7 +525,9 @@ void Runtime::call(int nargs, int nresults) {
   lua_insert(L_, base);
   budget_->memory_exceeded = false;
   budget_->instructions = 0;  // the budget is per entry from C++ (main chunk, each on_frame)
+  ++budget_->calls_active;
   const int status = lua_pcall(L_, nargs, nresults, base);
+  --budget_->calls_active;
   lua_remove(L_, base);
   if (status == LUA_OK) return;
   std::string msg;

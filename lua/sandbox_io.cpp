@@ -37,7 +37,7 @@ std::size_t written_bytes(lua_State* L, int from) {
 void charge_output(lua_State* L, std::size_t bytes, const char* what) {
   charge_or_raise(L, double(bytes) / 8, what);
   Runtime::Budget* b = budget_of(L);
-  if (!b->output) return;
+  if (!b->output || b->output->try_charge(bytes)) return;  // the message (and where) only on failure
   bool failed = false;
   {
     std::string msg;

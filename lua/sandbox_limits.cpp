@@ -105,6 +105,7 @@ namespace {
 // Calls the original (upvalue 1) with all arguments; when it reports a
 // failure (first result false) while the budget is fatal, raises instead.
 int rethrowing_call(lua_State* L) {
+  if (budget_of(L)->fatal) raise_fatal(L);  // nothing more runs, no handler, no __close
   lua_pushvalue(L, lua_upvalueindex(1));
   lua_insert(L, 1);
   lua_call(L, lua_gettop(L) - 1, LUA_MULTRET);
@@ -124,6 +125,38 @@ int shielded_handler(lua_State* L) {
   return 1;
 }
 
+// coroutine.close, nested at most kMaxCloseDepth deep: each nested close
+// takes C stack that Lua 5.4.4 does not count (fixed in 5.4.5), so 20,000
+// coroutines closing each other from __close crashed the process.
+constexpr int kMaxCloseDepth = 100;
+
+int bounded_close_body(lua_State* L) {
+  lua_pushvalue(L, lua_upvalueindex(1));
+  lua_insert(L, 1);
+  lua_call(L, lua_gettop(L) - 1, LUA_MULTRET);
+  return lua_gettop(L);
+}
+
+int bounded_close(lua_State* L) {
+  Runtime::Budget* b = budget_of(L);
+  if (b->fatal) raise_fatal(L);
+  if (b->close_depth >= kMaxCloseDepth)
+    return luaL_error(L, "coroutine.close: nested more than %d deep (closing a coroutine from a __close that "
+                         "closes another); the sandbox refuses deeper nesting", kMaxCloseDepth);
+  // The original inside a protected call, so the depth is given back on the
+  // way out whatever happens, then any error goes on up.
+  const int n = lua_gettop(L);
+  lua_pushvalue(L, lua_upvalueindex(1));
+  lua_pushcclosure(L, bounded_close_body, 1);
+  lua_insert(L, 1);
+  ++b->close_depth;
+  const int status = lua_pcall(L, n, LUA_MULTRET, 0);
+  --b->close_depth;
+  if (status != LUA_OK) return lua_error(L);
+  if (b->fatal && lua_isboolean(L, 1) && !lua_toboolean(L, 1)) raise_fatal(L);
+  return lua_gettop(L);
+}
+
 int rethrowing_xpcall(lua_State* L) {
   luaL_checktype(L, 2, LUA_TFUNCTION);
   lua_pushvalue(L, 2);
@@ -136,7 +169,10 @@ void wrap_rethrowing(lua_State* L, const char* table, const char* name) {
   if (table) lua_getglobal(L, table); else lua_pushglobaltable(L);
   lua_getfield(L, -1, name);
   if (lua_isfunction(L, -1)) {
-    lua_pushcclosure(L, std::strcmp(name, "xpcall") == 0 ? rethrowing_xpcall : rethrowing_call, 1);
+    lua_pushcclosure(L, std::strcmp(name, "xpcall") == 0  ? rethrowing_xpcall
+                        : std::strcmp(name, "close") == 0 ? bounded_close
+                                                          : rethrowing_call,
+                     1);
     lua_setfield(L, -2, name);
   } else {
     lua_pop(L, 1);
@@ -174,7 +210,17 @@ double opt_num(lua_State* L, int i, double def) { return lua_isnumber(L, i) ? do
 
 double span(double from, double to) { return to >= from ? to - from + 1 : 0; }
 
-double raw_length(lua_State* L, int i) { return lua_type(L, i) == LUA_TTABLE ? double(lua_rawlen(L, i)) : 0; }
+// #t as the table library will see it: a __len metamethod (script code,
+// under the hook) may claim any length, and the library then loops over it.
+double raw_length(lua_State* L, int i) {
+  if (lua_type(L, i) != LUA_TTABLE) return 0;
+  if (!luaL_getmetafield(L, i, "__len")) return double(lua_rawlen(L, i));
+  lua_pop(L, 1);
+  lua_len(L, i);
+  const double n = lua_isnumber(L, -1) ? double(lua_tonumber(L, -1)) : 0;
+  lua_pop(L, 1);
+  return n;
+}
 
 double cost_of(lua_State* L, Cost c) {
   switch (c) {
@@ -277,11 +323,30 @@ int charged_load(lua_State* L) {
 
 }  // namespace
 
+// coroutine.wrap over the wrapped resume and close: Lua's own wrap closes a
+// coroutine that died in an error right away, running its __close handlers
+// on a coroutine whose hooks the count hook's error left off.
+const char* kWrap = R"(
+local create, resume, close, error, select = coroutine.create, coroutine.resume, coroutine.close, error, select
+local function finish(co, ok, ...)
+  if ok then return ... end
+  local e = ...
+  close(co)
+  error(e, 0)
+end
+coroutine.wrap = function(f)
+  local co = create(f)
+  return function(...) return finish(co, resume(co, ...)) end
+end
+)";
+
 void install_sticky_stops(lua_State* L) {
   wrap_rethrowing(L, nullptr, "pcall");
   wrap_rethrowing(L, nullptr, "xpcall");
   wrap_rethrowing(L, LUA_COLIBNAME, "resume");
   wrap_rethrowing(L, LUA_COLIBNAME, "close");
+  if (luaL_loadbufferx(L, kWrap, std::strlen(kWrap), "=softcut/sandbox", "t") == LUA_OK) lua_call(L, 0, 0);
+  else lua_pop(L, 1);
 }
 
 void install_sandbox_limits(lua_State* L) {

@@ -39,6 +39,9 @@ struct Runtime::Budget {
   OutputBudget* output = nullptr;                // bytes the script writes (io.write, file:write)
   bool fatal = false;             // sticky: see above
   std::string fatal_message;      // "file:line: instruction budget ... exceeded ..."
+  int calls_active = 0;           // Runtime::call frames running: engine work is the script's then
+  bool reading_spec = false;      // the engine reads the script's tables after it ran: charged too
+  int close_depth = 0;            // nested coroutine.close calls (Lua 5.4.4 overflows the C stack on deep ones)
 };
 
 // The budget of the state (the allocator's user data), and its options.

@@ -10,10 +10,12 @@
 #include "core/checked_file.hpp"
 #include "core/error.hpp"
 #include "core/output_budget.hpp"
+#include "core/printable.hpp"
 #include "core/watchdog.hpp"
 #include "gpu/egl_context.hpp"
 #include "render/frame_writer.hpp"
 #include "runtime.hpp"
+#include "sandbox_limits.hpp"
 #include "sim/model.hpp"
 #include "sim/outputs.hpp"
 #include "wrap_frame.hpp"
@@ -268,7 +270,12 @@ sim::ScenarioSpec read_spec(lua_State* L, int s, const fs::path& source) {
   });
   lua_pushlightuserdata(L, &job);
   lua_pushvalue(L, s);
+  // What the engine copies out of the script's tables is charged to the
+  // instruction budget like the script's own work.
+  Runtime::Budget* b = budget_of(L);
+  b->reading_spec = true;
   const int status = lua_pcall(L, 2, 0, 0);
+  b->reading_spec = false;
   if (status != LUA_OK) {
     std::string msg = status == LUA_ERRMEM ? cat(source.filename().string(), ": memory budget exceeded while reading "
                                                  "the scenario; run with --trust to lift the sandbox budgets")
@@ -299,6 +306,49 @@ SandboxOptions sandbox_of(const RunRequest& req, OutputBudget* output = nullptr,
   opt.max_tets = req.max_tets;
   opt.interrupt = req.interrupt;
   return opt;
+}
+
+// luaL_ref of the value on top of the stack inside a protected call (the
+// registry may grow: out of memory there must not be a Lua panic).
+int protected_ref(lua_State* L) {
+  if (!lua_checkstack(L, 2)) fail("out of Lua stack space");
+  lua_pushcfunction(L, [](lua_State* L) -> int {
+    lua_pushinteger(L, luaL_ref(L, LUA_REGISTRYINDEX));
+    return 1;
+  });
+  lua_insert(L, -2);
+  if (lua_pcall(L, 1, 1, 0) != LUA_OK) {
+    lua_pop(L, 1);
+    fail("memory budget exceeded while preparing the frame loop (run with --trust to lift the sandbox budgets)");
+  }
+  const int ref = int(lua_tointeger(L, -1));
+  lua_pop(L, 1);
+  return ref;
+}
+
+// One on_frame call: after_frame(scenario, frame handle, frame, time, dt,
+// number of nodes), made inside Runtime::call's protected call.
+struct FrameCall {
+  int fn_ref, s_ref;
+  const sim::Model* model;
+  sim::State* state;
+  FrameContext* ctx = nullptr;
+};
+
+int frame_trampoline(lua_State* L) {
+  auto* fc = static_cast<FrameCall*>(lua_touserdata(L, 1));
+  lua_rawgeti(L, LUA_REGISTRYINDEX, fc->fn_ref);
+  lua_rawgeti(L, LUA_REGISTRYINDEX, fc->s_ref);
+  FrameContext* ctx = push_frame_context(L);
+  ctx->model = fc->model;
+  ctx->state = fc->state;
+  fc->ctx = ctx;
+  lua_pushinteger(L, fc->state->frame);
+  lua_pushnumber(L, fc->state->time);
+  lua_pushnumber(L, fc->model->dt);
+  lua_pushinteger(L, lua_Integer(fc->state->displacement.rows()));  // grows when cutting adds nodes
+  lua_call(L, 6, 1);
+  return 1;
 }
 
 // The output folder from the final spec, made and resolved once: `--out DIR`
@@ -419,9 +469,9 @@ RunOutcome run_scenario(const RunRequest& req) {
   // The Scenario table and the glue function live in the registry while the
   // loop runs.
   lua_pushvalue(L, s);
-  const int s_ref = luaL_ref(L, LUA_REGISTRYINDEX);
+  const int s_ref = protected_ref(L);
   rt.run_string("return require('scenario').after_frame", "=softcut/after_frame", 1);
-  const int fn_ref = luaL_ref(L, LUA_REGISTRYINDEX);
+  const int fn_ref = protected_ref(L);
 
   sim::RunHooks hooks;
   hooks.interrupt = req.interrupt;
@@ -429,25 +479,25 @@ RunOutcome run_scenario(const RunRequest& req) {
   hooks.max_frames = req.max_frames;
   hooks.progress = req.progress;
   hooks.on_frame = [&](const sim::Model& m, sim::State& st) {
-    lua_rawgeti(L, LUA_REGISTRYINDEX, fn_ref);
-    lua_rawgeti(L, LUA_REGISTRYINDEX, s_ref);
-    // A fresh handle per frame: one a script keeps goes stale after its call.
-    FrameContext* ctx = push_frame_context(L);
-    ctx->model = &m;
-    ctx->state = &st;
-    struct Reset {
-      FrameContext* c;
-      ~Reset() { c->model = nullptr, c->state = nullptr; }
-    } reset{ctx};
-    lua_pushinteger(L, st.frame);
-    lua_pushnumber(L, st.time);
-    lua_pushnumber(L, m.dt);
-    lua_pushinteger(L, lua_Integer(st.displacement.rows()));  // grows when cutting adds nodes
-    rt.call(6, 1);
+    // Everything that may allocate (the frame handle, stack growth) happens
+    // inside the protected call, so running out of memory there is an error
+    // of the run, not a Lua panic.
+    FrameCall fc{fn_ref, s_ref, &m, &st};
+    struct Reset {  // a handle the script keeps goes stale after its call
+      FrameCall& fc;
+      ~Reset() {
+        if (fc.ctx) fc.ctx->model = nullptr, fc.ctx->state = nullptr;
+      }
+    } reset{fc};
+    if (!lua_checkstack(L, 3)) fail("on_frame: out of Lua stack space");
+    lua_pushcfunction(L, frame_trampoline);
+    lua_pushlightuserdata(L, &fc);
+    rt.call(1, 1);
     const bool go_on = lua_toboolean(L, -1);
     lua_pop(L, 1);
     return go_on && !st.stop_requested;
   };
+
 
   sim::Recorder rec(model, out.out_dir, &output);
   if (frames) rec.set_frame_writer(frames.get());
@@ -463,14 +513,19 @@ RunOutcome run_scenario(const RunRequest& req) {
   out.warnings.insert(out.warnings.end(), state.warnings.begin(), state.warnings.end());
 
   // Expectation results (evaluated in the glue), then those never reached.
+  // The table lives in the script's reach: what is copied out is bounded
+  // (entries and message length), so a forged one cannot blow up memory or
+  // the terminal.
+  constexpr std::size_t kMaxResults = 10000, kMaxMessage = 2000;
   lua_rawgeti(L, LUA_REGISTRYINDEX, s_ref);
   each(L, -1, "_results", [&](int e) {
+    if (out.expectations.size() >= kMaxResults) return;
     ExpectationResult r;
-    r.name = get_string(L, e, "name");
-    r.where = get_string(L, e, "where");
+    r.name = printable(get_string(L, e, "name"), kMaxMessage);
+    r.where = printable(get_string(L, e, "where"), kMaxMessage);
     r.reached = true;
     r.ok = get_bool(L, e, "ok", false);
-    r.message = get_string(L, e, "message");
+    r.message = printable(get_string(L, e, "message"), kMaxMessage);
     out.expectations.push_back(r);
   });
   lua_pop(L, 1);

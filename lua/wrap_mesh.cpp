@@ -4,6 +4,7 @@
 #include <set>
 
 #include "bindings.hpp"
+#include "core/checked_file.hpp"
 #include "convert.hpp"
 #include "mesh/surface.hpp"
 #include "runtime.hpp"
@@ -98,7 +99,18 @@ int mesh_load(lua_State* L) {
     if (!file.empty() && !may_read(L, h->source.file))
       fail(h->source.where, ": mesh: file '", file, "' is outside the scenario's folder ", dir.string(),
            " (the sandbox reads only below it; run with --trust to lift this)");
-    if (!file.empty() && !fs::exists(h->source.file))
+    // Existence through the checked open in the sandbox: a link on the way is
+    // refused whether or not its target exists (fs::exists would follow it
+    // and tell the script which outside files exist).
+    bool found = false;
+    if (!file.empty() && options_of(L).trusted) {
+      found = fs::exists(h->source.file);
+    } else if (!file.empty()) {
+      int missing = 0;
+      found = bool(open_below_if_exists(options_of(L).read_dir, relative_below(options_of(L).read_dir, h->source.file),
+                                        Access::read, h->source.where + ": mesh", &missing));
+    }
+    if (!file.empty() && !found)
       fail(h->source.where, ": mesh: file '", file, "' not found (looked for ", h->source.file.string(),
            "; paths are relative to the scenario's folder)");
     Diagnostics diag;

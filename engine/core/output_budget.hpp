@@ -17,6 +17,8 @@ class OutputBudget {
   // (naming `what`, the limit and --max-output) when they do not fit, and
   // then counts nothing.
   void charge(std::uint64_t bytes, const std::string& what);
+  // The same without a message: false (and nothing counted) when they do not fit.
+  bool try_charge(std::uint64_t bytes);
 
   std::uint64_t used() const { return used_.load(); }
   std::uint64_t limit() const { return limit_; }

@@ -94,7 +94,7 @@ Model precompute(const mesh::TetMesh& m, const std::vector<fem::Material>& tet_m
          "make the operational region's border smaller, or run with --trust");
 
   t.reset();
-  if (n23 > 0) M.K22.factor(K22, "hybrid precompute: K22 (free nonoperational nodes)");
+  if (n23 > 0) M.K22.factor(K22, "hybrid precompute: K22 (free nonoperational nodes)", opt.max_bytes);
   M.timings.factor_ms = t.ms();
 
   // Y = K22^-1 K2I in column blocks: K' -= KI2 Y, K*^-1 P* = -Y[s, :].

@@ -31,7 +31,7 @@ struct MonolithicSystem {
 
   MonolithicSystem(const mesh::TetMesh& m, const std::vector<fem::Material>& tet_material,
                    const std::vector<char>& node_fixed, long gen,
-                   std::vector<std::pair<std::string, double>>* timings) {
+                   std::vector<std::pair<std::string, double>>* timings, double max_bytes) {
     nnode = m.num_nodes();
     generation = gen;
     Timer t;
@@ -44,7 +44,7 @@ struct MonolithicSystem {
     const fem::SparseMatrix Kf = fem::restrict_matrix(K, map);
     if (timings) timings->emplace_back("assemble", t.ms());
     t.reset();
-    factor.factor(Kf, "whole-mesh stiffness (is every part of the body fixed somewhere?)");
+    factor.factor(Kf, "whole-mesh stiffness (is every part of the body fixed somewhere?)", max_bytes);
     if (timings) timings->emplace_back("factor", t.ms());
   }
 };
@@ -56,11 +56,11 @@ struct MonolithicRunState final : SolverRunState {
 class MonolithicSolver final : public Solver {
  public:
   MonolithicSolver(const mesh::TetMesh& m, const std::vector<fem::Material>& tet_material,
-                   const hybrid::Partition& p, BackendChoice choice)
-      : choice_(std::move(choice)) {
+                   const hybrid::Partition& p, BackendChoice choice, double max_bytes)
+      : choice_(std::move(choice)), max_bytes_(max_bytes) {
     std::vector<char> fixed(size_t(m.num_nodes()), 0);
     for (int n : p.fixed) fixed[size_t(n)] = 1;
-    rest_ = std::make_shared<const MonolithicSystem>(m, tet_material, fixed, 0, &timings_);
+    rest_ = std::make_shared<const MonolithicSystem>(m, tet_material, fixed, 0, &timings_, max_bytes_);
   }
 
   std::string name() const override { return "monolithic (whole-mesh CHOLMOD)"; }
@@ -77,7 +77,7 @@ class MonolithicSolver final : public Solver {
       rs = fresh.get();
     }
     const long gen = system(warm).generation + 1;
-    rs->cut = std::make_shared<const MonolithicSystem>(cm.mesh, cm.tet_material, cm.node_fixed, gen, nullptr);
+    rs->cut = std::make_shared<const MonolithicSystem>(cm.mesh, cm.tet_material, cm.node_fixed, gen, nullptr, max_bytes_);
   }
 
   void unit_responses(const std::vector<int>& nodes, SolverWarmStart& warm, Eigen::MatrixXd& out) const override {
@@ -112,6 +112,7 @@ class MonolithicSolver final : public Solver {
   }
 
   BackendChoice choice_;
+  double max_bytes_;  // the factor's bound (SolverSpec::max_bytes)
   std::shared_ptr<const MonolithicSystem> rest_;
   std::vector<std::pair<std::string, double>> timings_;
 };
@@ -327,7 +328,7 @@ std::unique_ptr<Solver> make_solver(const mesh::TetMesh& m, const std::vector<fe
   if (spec.gpu_fp64 && choice.backend != "gpu")
     diag.warn("solver: gpu_fp64 ignored: the operational backend is ", choice.backend, " (", choice.reason, ")");
   if (choice.backend == "monolithic")
-    return std::make_unique<MonolithicSolver>(m, tet_material, partition, std::move(choice));
+    return std::make_unique<MonolithicSolver>(m, tet_material, partition, std::move(choice), spec.max_bytes);
   return std::make_unique<HybridSolver>(m, tet_material, partition, spec, need_interior, std::move(choice),
                                         resources.context);
 }

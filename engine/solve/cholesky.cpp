@@ -6,7 +6,7 @@ namespace softcut::solve {
 
 Cholesky::Cholesky(const Eigen::SparseMatrix<double>& A, const std::string& what) { factor(A, what); }
 
-void Cholesky::factor(const Eigen::SparseMatrix<double>& A, const std::string& what) {
+void Cholesky::factor(const Eigen::SparseMatrix<double>& A, const std::string& what, double max_bytes) {
   if (A.rows() != A.cols()) fail(what, ": Cholesky needs a square matrix, got ", A.rows(), "x", A.cols());
   llt_.reset();  // a failed factor() leaves the object unfactored, not holding a stale factor
   rows_ = 0;
@@ -18,7 +18,15 @@ void Cholesky::factor(const Eigen::SparseMatrix<double>& A, const std::string& w
   // simplicial and the supernodal path (tested).
   llt->cholmod().final_asis = 0;
   llt->cholmod().final_ll = 1;
-  llt->compute(A);
+  llt->analyzePattern(A);
+  // The factor's nonzeros are known after the symbolic analysis: 8 bytes of
+  // value and 4-8 of index each (supernodal storage pads a little more).
+  const double bytes = 16.0 * llt->cholmod().lnz;
+  if (bytes > max_bytes)
+    fail(what, ": its Cholesky factor would take about ", int(bytes / (1 << 20)), " MiB (", A.rows(),
+         " unknowns), more than the ", int(max_bytes / (1 << 20)), " MiB allowed (the sandbox's memory budget); "
+         "use a coarser mesh or run with --trust");
+  llt->factorize(A);
   if (llt->info() != Eigen::Success)
     fail(what, ": the stiffness matrix is singular or not positive definite; every connected part of "
                "the body needs fixed nodes");

@@ -5,6 +5,7 @@
 #include <Eigen/CholmodSupport>
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
+#include <limits>
 #include <memory>
 #include <string>
 
@@ -16,8 +17,12 @@ class Cholesky {
   // Factors the symmetric positive definite A (lower triangle is read).
   // Throws softcut::Error naming `what` when A is not positive definite
   // (e.g. a part of the body without fixed nodes).
+  // `max_bytes`: the factor's size, estimated from CHOLMOD's symbolic
+  // analysis before the numeric factorization allocates it, must not pass
+  // it (the sandbox's memory budget); else a softcut::Error naming `what`.
   explicit Cholesky(const Eigen::SparseMatrix<double>& A, const std::string& what = "matrix");
-  void factor(const Eigen::SparseMatrix<double>& A, const std::string& what = "matrix");
+  void factor(const Eigen::SparseMatrix<double>& A, const std::string& what = "matrix",
+              double max_bytes = std::numeric_limits<double>::infinity());
 
   Eigen::VectorXd solve(const Eigen::VectorXd& b) const;
   Eigen::MatrixXd solve(const Eigen::MatrixXd& B) const;  // one column per right-hand side

@@ -195,7 +195,7 @@ s:on_frame(function(f) while true do pcall(function() while true do end end) end
     // Through the CLI: SIGINT during on_frame; the run ends "interrupted" (130) with its summary.
     const Fixture f("sandbox_sigint", box(R"(
 s:on_frame(function(f) while true do pcall(function() while true do end end) end end))"));
-    const auto r = f.run("--trust", "timeout --preserve-status -s INT 2");
+    const auto r = f.run("--trust", "timeout --foreground --preserve-status -s INT 2");
     CHECK(r.status == 130);
     CHECK(contains(slurp(f.work / "renders" / "esc" / "summary.json"), "\"exit_reason\": \"interrupted\""));
   }
@@ -417,5 +417,117 @@ s:on_frame(function(f) while true do pcall(function() while true do end end) end
     CHECK(g.run("--set force").status == 2);
     CHECK(g.run("--timeout soon").status == 2);
     CHECK(g.run("--max-output lots").status == 2);
+  }
+
+  // A review of the fixes above, attacking them the same way, found these.
+  TEST_CASE("review: coroutine.wrap with a looping <close> and tables whose __len lies end at the budget") {
+    for (const std::string code :
+         {"coroutine.wrap(function() local x <close> = setmetatable({}, {__close = function() while true do end end}) "
+          "while true do end end)()",
+          "local t = setmetatable({}, {__len = function() return 1 << 62 end}) table.insert(t, 1, 0)",
+          "local t = setmetatable({}, {__len = function() return 1 << 62 end}) table.remove(t, 1)",
+          "local t = setmetatable({}, {__len = function() return (1 << 31) - 2 end, __index = tostring, "
+          "__newindex = rawequal}) table.sort(t)"}) {
+      CAPTURE(code);
+      std::string msg;
+      const double s = seconds_of([&] { msg = run_snippet(code); });
+      CHECK(contains(msg, "instruction budget"));
+      CHECK(s < 30);
+    }
+  }
+
+  TEST_CASE("review: engine work from a coroutine running load()ed code is charged") {
+    const std::string msg = run_snippet(R"lua(
+local s = softcut.scenario{ duration = 0.1 }
+s:mesh{ generate = "box", options = { min = {0, 0, 0}, max = {1, 1, 1}, nx = 20, ny = 20, nz = 20 } }
+local box = softcut.select.box{ min = {0, 0, 0}, max = {0.5, 0.5, 0.5} }
+local kids = {} for i = 1, 2000 do kids[i] = box end
+local sel = setmetatable({ kind = "union_of", children = kids }, getmetatable(box))
+coroutine.wrap(load("local s, sel = ... return #s:select(sel)"))(s, sel))lua");
+    CHECK(contains(msg, "instruction budget"));
+  }
+
+  TEST_CASE("review: 20000 coroutines closing each other from __close end with an error, not a crash") {
+    const std::string msg = run_snippet(R"lua(
+local coro = false
+for i = 1, 20000 do
+  local previous = coro
+  coro = coroutine.create(function()
+    local cc <close> = setmetatable({}, {__close = function() if previous then assert(coroutine.close(previous)) end end})
+    coroutine.yield()
+  end)
+  assert(coroutine.resume(coro))
+end
+assert(coroutine.close(coro)))lua");
+    CHECK(contains(msg, "nested more than 100 deep"));
+  }
+
+  TEST_CASE("review: lists shared many times in the spec are charged as they are copied") {
+    const std::string msg = error_of([&] {
+      const Fixture f("sandbox_shared_lists", box(R"lua(
+local sel = softcut.select.box{ min = {-1, -1, -1}, max = {0, 1, 1} }
+s:fix{ nodes = sel }
+local big = {} for i = 1, 1000000 do big[i] = 0 end
+sel.ids = big
+for i = 1, 60 do s._fixed[#s._fixed + 1] = { sel = sel } end)lua"));
+      softcut::lua::RunRequest req;
+      req.scenario = f.scen / "s.lua";
+      req.instruction_budget = 20'000'000;
+      softcut::lua::load_scenario_spec(req);
+    });
+    CHECK(contains(msg, "instruction budget"));
+  }
+
+  TEST_CASE("review: forged expectation results are copied bounded, and so is the solver's factor") {
+    const Fixture f("sandbox_results", box(R"lua(
+local B = string.rep("x", 100000)
+s:on_frame(function(f)
+  local r = {}
+  for i = 1, 20000 do r[i] = { name = "e", where = "w", ok = true, message = B } end
+  s._results = r
+end))lua", "0.1"));
+    softcut::lua::RunRequest req;
+    req.scenario = f.scen / "s.lua";
+    req.out_dir = f.root / "out";
+    req.backend = "cpu";
+    softcut::lua::RunOutcome out;
+    CHECK(error_of([&] { out = softcut::lua::run_scenario(req); }) == "");
+    CHECK(out.expectations.size() == 10000);
+    CHECK(out.expectations[0].message.size() <= 2003);
+    const Fixture mono("sandbox_mono_mem", R"lua(
+local s = softcut.scenario{ name = "mono", duration = 0.1, fps = 10 }
+s:mesh{ generate = "box", options = { min = {0, 0, 0}, max = {1, 1, 1}, nx = 20, ny = 20, nz = 20 } }
+s:fix{ nodes = softcut.select.box{ min = {-1, -1, -1}, max = {0, 1, 1} } }
+s:solver{ backend = "monolithic" }
+return s)lua");
+    softcut::lua::RunRequest m;
+    m.scenario = mono.scen / "s.lua";
+    m.out_dir = mono.root / "out";
+    m.memory_budget = 48u << 20;
+    CHECK(contains(error_of([&] { softcut::lua::run_scenario(m); }), "Cholesky factor would take"));
+  }
+
+  TEST_CASE("review: a mesh file is bounded by what it decodes to, and links do not tell which files exist") {
+    const Fixture f("sandbox_mesh_oracle", R"lua(
+for _, name in ipairs{ "l/etc/passwd", "l/no/such/file.vtu" } do
+  local ok, e = pcall(function() softcut.scenario{ duration = 0.1 }:mesh{ file = name } end)
+  assert(not ok and tostring(e):find("symbolic link"), e)
+end
+return softcut.scenario{ duration = 0.1 })lua");
+    fs::create_directory_symlink("/", f.scen / "l");
+    CHECK(contains(error_of([&] {
+                     softcut::lua::RunRequest req;
+                     req.scenario = f.scen / "s.lua";
+                     softcut::lua::load_scenario_spec(req);
+                   }),
+                   "no mesh"));  // both asserts held
+    std::string msh = "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n400000\n";
+    for (int i = 1; i <= 400000; ++i) msh += std::to_string(i) + " 0.000001 0.000002 0.000003\n";
+    put_file(f.scen / "big.msh", msh + "$EndNodes\n");
+    put_file(f.scen / "s.lua", "local s = softcut.scenario{ duration = 0.1 } s:mesh{ file = 'big.msh' } return s");
+    softcut::lua::RunRequest req;
+    req.scenario = f.scen / "s.lua";
+    req.memory_budget = 64u << 20;  // 8 MiB of mesh file at most; this one has ~14 MiB
+    CHECK(contains(error_of([&] { softcut::lua::load_scenario_spec(req); }), "bytes allowed here"));
   }
 }

@@ -77,7 +77,9 @@ std::string read_file(const std::filesystem::path& path, const ReadOptions& opt)
     if (rel.empty())
       fail(printable(path.string()), ": outside the scenario's folder ", printable(opt.root.string()),
            " (the sandbox reads only below it; run with --trust to lift this)");
-    return read_below(opt.root, rel, "mesh file", opt.max_bytes);
+    // A text mesh decodes to up to ~8x its size (doubles and ints per
+    // token, validation copies): the file itself may take an eighth.
+    return read_below(opt.root, rel, "mesh file", opt.max_bytes / 8);
   }
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec))
