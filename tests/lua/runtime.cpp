@@ -179,8 +179,23 @@ TEST_SUITE("lua/runtime") {
     CHECK_THROWS_WITH_AS(rt.run_string("work(6e5)\nwork(6e5)", "@snippet.lua", 0),
                          doctest::Contains("snippet.lua:2: here: instruction budget of 1000000 instructions exceeded"),
                          softcut::Error);
-    // The engine's own reading, with no script function on the stack, is not charged.
-    CHECK_NOTHROW(rt.run_string("work(6e5)\nwork(6e5)", "=engine", 0));
+    // Spent is spent: every later call fails at once (sticky, issue #13).
+    CHECK_THROWS_WITH_AS(rt.run_string("local x = 1", "@other.lua", 0), doctest::Contains("instruction budget"),
+                         softcut::Error);
+    // Work is the script's whenever a call into it runs, also from chunks
+    // that are no user file (load()ed code, coroutines); the engine's own
+    // work outside any call (compile, the frame loop) is not charged.
+    softcut::lua::Runtime fresh(opt);
+    lua_register(fresh.state(), "work", [](lua_State* L) -> int {
+      return softcut::lua::protect(L, [L] {
+        softcut::lua::charge_work(L, luaL_checknumber(L, 1), "here");
+        return 0;
+      });
+    });
+    CHECK_THROWS_WITH_AS(fresh.run_string("work(6e5)\nwork(6e5)", "=engine", 0), doctest::Contains("here: instruction budget"),
+                         softcut::Error);
+    softcut::lua::Runtime outside(opt);
+    CHECK_NOTHROW(softcut::lua::charge_work(outside.state(), 1e12, "engine"));
     opt.trusted = true;
     softcut::lua::Runtime trusted(opt);
     CHECK(std::isinf(softcut::lua::max_tets(trusted.state())));
