@@ -202,7 +202,7 @@ function Scenario:output(args) end
 ---@class Scenario_solver_args
 ---@field tolerance? number relative CG residual
 ---@field max_iterations? integer CG iteration cap (0: automatic)
----@field backend? string operational solver: auto (gpu on a hardware GPU, else cpu), cpu (CG), gpu (compute shaders, also on llvmpipe), direct (CHOLMOD), monolithic (whole mesh, no condensation: a reference)
+---@field backend? string operational solver: auto (direct: the fastest exact solver measured), cpu (the paper's CG), gpu (CG in compute shaders, also on llvmpipe), direct (CHOLMOD, factor kept between frames), monolithic (whole mesh, no condensation: a reference)
 ---@field gpu_fp64? boolean gpu: fp64 kernels instead of fp32 with fp64 refinement
 ---@field mode? string nonoperational data
 ---Solver knobs (rarely needed).

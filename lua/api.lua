@@ -170,8 +170,9 @@ api.functions = {
   { name = "Scenario:solver", summary = "Solver knobs (rarely needed).", fields = {
       F("tolerance", "number", "relative CG residual", { gt = 0, lt = 1, default = 1e-10 }),
       F("max_iterations", "integer", "CG iteration cap (0: automatic)", { ge = 0, default = 0 }),
-      F("backend", "string", "operational solver: auto (gpu on a hardware GPU, else cpu), cpu (CG), gpu (compute "
-        .. "shaders, also on llvmpipe), direct (CHOLMOD), monolithic (whole mesh, no condensation: a reference)",
+      F("backend", "string", "operational solver: auto (direct: the fastest exact solver measured), cpu (the paper's "
+        .. "CG), gpu (CG in compute shaders, also on llvmpipe), direct (CHOLMOD, factor kept between frames), "
+        .. "monolithic (whole mesh, no condensation: a reference)",
         { values = { "auto", "cpu", "gpu", "direct", "monolithic" }, default = "auto" }),
       F("gpu_fp64", "boolean", "gpu: fp64 kernels instead of fp32 with fp64 refinement", { default = false }),
       F("mode", "string", "nonoperational data", { values = { "auto", "dense", "factor" }, default = "auto" }) },

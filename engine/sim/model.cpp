@@ -32,7 +32,7 @@ fem::Material resolve_material(const MaterialAssignment& a) {
 }  // namespace
 
 bool wants_gpu_context(const ScenarioSpec& spec) {
-  return spec.outputs.render.enabled || spec.solver.backend == "gpu" || spec.solver.backend == "auto";
+  return spec.outputs.render.enabled || spec.solver.backend == "gpu";
 }
 
 Model compile(const ScenarioSpec& spec, const RunResources& resources) {

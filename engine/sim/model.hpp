@@ -43,9 +43,8 @@ struct Model {
 Model compile(const ScenarioSpec& spec, const RunResources& resources = {});
 
 // Whether the application should create an EGL context for this spec:
-// rendering is on, or the backend is gpu or auto (auto needs it to see
-// whether there is a hardware GPU). For auto without rendering a failed
-// context is no error: pass none and the CPU backend is chosen.
+// rendering is on, or the backend is gpu (auto runs on the CPU: it needs
+// no context).
 bool wants_gpu_context(const ScenarioSpec& spec);
 
 // A load resolved against the Model: the nodes and their unit directions.

@@ -111,11 +111,12 @@ struct OutputSpec {
 struct SolverSpec {
   double cg_tolerance = 1e-10;  // relative residual of the operational CG
   int cg_max_iterations = 0;    // 0: automatic
-  // Operational backend: "auto" (gpu on a hardware GPU, else cpu; see
-  // sim::choose_backend), "cpu" (block-Jacobi CG), "gpu" (compute-shader CG
-  // in the application's EGL context, also on llvmpipe; an error without a
-  // context), "direct" (CHOLMOD on the operational system), "monolithic" (no
-  // hybrid: whole-mesh CHOLMOD reference, for checks).
+  // Operational backend: "auto" (CHOLMOD on the operational system, the
+  // fastest exact solver measured; see sim::choose_backend), "cpu"
+  // (block-Jacobi CG, the paper's solver), "gpu" (compute-shader CG in the
+  // application's EGL context, also on llvmpipe; an error without a
+  // context), "direct" (CHOLMOD, what auto picks), "monolithic" (no hybrid:
+  // whole-mesh CHOLMOD reference, for checks).
   std::string backend = "auto";
   bool gpu_fp64 = false;        // gpu: fp64 kernels instead of fp32 + fp64 refinement
   std::string mode = "auto";    // nonoperational data: "auto", "dense", "factor"
