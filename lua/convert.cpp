@@ -12,8 +12,13 @@ namespace softcut::lua {
 namespace {
 
 // Pushes t[key] (raw: the tables are plain data) and returns its type.
+// Whatever sits at idx came from a script, which may have put a number or
+// a string where a table belongs: refused before any raw access (which on
+// a non-table reads through whatever pointer it holds).
 int field(lua_State* L, int idx, const char* key) {
   idx = lua_absindex(L, idx);
+  if (lua_type(L, idx) != LUA_TTABLE)
+    fail("expected a table with field '", key, "', got ", lua_typename(L, lua_type(L, idx)));
   lua_pushstring(L, key);
   return lua_rawget(L, idx);
 }
@@ -33,8 +38,8 @@ bool has_field(lua_State* L, int idx, const char* key) {
 }
 
 double get_number(lua_State* L, int idx, const char* key, double fallback) {
-  Pop p{L, 1};
   const int t = field(L, idx, key);
+  Pop p{L, 1};
   if (t == LUA_TNIL) return fallback;
   if (t != LUA_TNUMBER) fail("field '", key, "' must be a number, got ", lua_typename(L, t));
   return lua_tonumber(L, -1);
@@ -47,16 +52,16 @@ int get_int(lua_State* L, int idx, const char* key, int fallback) {
 }
 
 bool get_bool(lua_State* L, int idx, const char* key, bool fallback) {
-  Pop p{L, 1};
   const int t = field(L, idx, key);
+  Pop p{L, 1};
   if (t == LUA_TNIL) return fallback;
   if (t != LUA_TBOOLEAN) fail("field '", key, "' must be a boolean, got ", lua_typename(L, t));
   return lua_toboolean(L, -1);
 }
 
 std::string get_string(lua_State* L, int idx, const char* key, const std::string& fallback) {
-  Pop p{L, 1};
   const int t = field(L, idx, key);
+  Pop p{L, 1};
   if (t == LUA_TNIL) return fallback;
   if (t != LUA_TSTRING) fail("field '", key, "' must be a string, got ", lua_typename(L, t));
   size_t n = 0;
@@ -80,8 +85,9 @@ Eigen::Vector3d to_vec3(lua_State* L, int idx) {
 }
 
 Eigen::Vector3d get_vec3(lua_State* L, int idx, const char* key, const Eigen::Vector3d& fallback) {
+  const int t = field(L, idx, key);
   Pop p{L, 1};
-  if (field(L, idx, key) == LUA_TNIL) return fallback;
+  if (t == LUA_TNIL) return fallback;
   try {
     return to_vec3(L, -1);
   } catch (const Error& e) {
@@ -90,13 +96,16 @@ Eigen::Vector3d get_vec3(lua_State* L, int idx, const char* key, const Eigen::Ve
 }
 
 // Reading a list from Lua is native work, charged to the sandbox's
-// instruction budget per entry (a rawgeti is about one Lua instruction's work).
-constexpr double kInstructionsPerEntry = 1;
+// instruction budget per entry: a rawgeti is about one Lua instruction's
+// work, and each number copied is kept (and copied again by compile), so a
+// list the script shares among many entries costs per copy.
+constexpr double kInstructionsPerEntry = 4;
 
 std::vector<double> get_numbers(lua_State* L, int idx, const char* key) {
-  Pop p{L, 1};
   std::vector<double> out;
-  if (field(L, idx, key) == LUA_TNIL) return out;
+  const int t = field(L, idx, key);
+  Pop p{L, 1};
+  if (t == LUA_TNIL) return out;
   if (!lua_istable(L, -1)) fail("field '", key, "' must be a list of numbers");
   const auto n = static_cast<lua_Integer>(lua_rawlen(L, -1));  // raw: no __len runs here
   for (lua_Integer i = 1; i <= n; ++i) {
@@ -121,9 +130,10 @@ std::vector<int> get_ints(lua_State* L, int idx, const char* key) {
 }
 
 std::vector<Eigen::Vector3d> get_vec3s(lua_State* L, int idx, const char* key) {
-  Pop p{L, 1};
   std::vector<Eigen::Vector3d> out;
-  if (field(L, idx, key) == LUA_TNIL) return out;
+  const int t = field(L, idx, key);
+  Pop p{L, 1};
+  if (t == LUA_TNIL) return out;
   if (!lua_istable(L, -1)) fail("field '", key, "' must be a list of 3-vectors");
   const auto n = static_cast<lua_Integer>(lua_rawlen(L, -1));  // raw: no __len runs here
   for (lua_Integer i = 1; i <= n; ++i) {
@@ -250,6 +260,9 @@ void convert_children(lua_State* L, int idx, const std::string& kind, sim::NodeS
            " shapes and set operations (built in a loop? or containing itself?); select the nodes with fewer "
            "shapes, or list them with softcut.select.nodes{...}");
     parts += int(n);
+    // Each part is copied into the engine's selector (and evaluated again by
+    // compile): a member shared a thousand times costs a thousand times.
+    charge_work(L, 64 * double(n), "selection");
     for (lua_Integer i = n; i >= 1; --i) lua_rawgeti(L, list, i);
     lua_remove(L, list);
   };

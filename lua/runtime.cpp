@@ -542,6 +542,10 @@ void Runtime::call(int nargs, int nresults) {
   }
   // A fatal stop is what ends the call, whatever the script raised after it.
   if (budget_->fatal && msg.find(budget_->fatal_message) == std::string::npos) msg = budget_->fatal_message;
+  // A script chooses its error's size: it reaches the summary and the
+  // terminal bounded.
+  constexpr std::size_t kMaxMessage = 8192;
+  if (msg.size() > kMaxMessage) msg = cat(msg.substr(0, kMaxMessage), "... (", msg.size(), " bytes, cut)");
   lua_pop(L_, 1);
   throw Error(msg);
 }

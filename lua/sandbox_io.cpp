@@ -133,6 +133,9 @@ int sandboxed_open(lua_State* L) {
   const char* mode = lines ? "r" : luaL_optstring(L, 2, "r");
   Access access = Access::read;
   if (!parse_access(mode, access)) return luaL_argerror(L, 2, "invalid mode");
+  // Every file opened for writing counts a block against the output budget,
+  // so a loop of empty files cannot fill a disk's inodes.
+  if (writes(access)) charge_output(L, 4096, lines ? "io.lines" : "io.open");
   // The handle first, marked closed: if Lua raises below, nothing leaks.
   auto* p = static_cast<luaL_Stream*>(lua_newuserdatauv(L, sizeof(luaL_Stream), 0));
   p->f = nullptr;

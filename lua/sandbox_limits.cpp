@@ -202,7 +202,7 @@ int sandboxed_setmetatable(lua_State* L) {
 
 // --- C library functions charged by the size of their work ---------------
 
-enum class Cost { rep, concat, move, shift, sort, unpack, bytes_arg1, load, collect };
+enum class Cost { rep, concat, move, shift, sort, unpack, bytes_arg1, load, collect, range, strings };
 
 // Argument i as a number (integers and numeric strings), else `def`; kept a
 // double so that no huge or NaN argument is ever converted to an integer.
@@ -260,6 +260,20 @@ double cost_of(lua_State* L, Cost c) {
       size_t n = 0;
       if (lua_type(L, 1) == LUA_TSTRING) lua_tolstring(L, 1, &n);
       return double(n);
+    }
+    case Cost::range: {  // string.byte / utf8.codepoint(s, i, j): one value per position, at most #s
+      size_t n = 0;
+      if (lua_type(L, 1) == LUA_TSTRING) lua_tolstring(L, 1, &n);
+      // Negative positions count from the end, as the library reads them.
+      const auto pos = [&](double p) { return p < 0 ? double(n) + p + 1 : p; };
+      const double i = pos(opt_num(L, 2, 1));
+      return std::min(double(n), span(std::max(i, 1.0), pos(opt_num(L, 3, i))));
+    }
+    case Cost::strings: {  // string.format / pack / unpack / packsize, tonumber: scan their strings
+      size_t total = 0;
+      for (int a = 1, top = lua_gettop(L); a <= top; ++a)
+        if (lua_type(L, a) == LUA_TSTRING) total += lua_rawlen(L, a);
+      return double(total) / kBytesPerInstruction;
     }
     case Cost::collect: {  // a full collection walks the whole heap
       const char* opt = lua_type(L, 1) == LUA_TSTRING ? lua_tostring(L, 1) : "collect";
@@ -361,6 +375,10 @@ void install_sandbox_limits(lua_State* L) {
   wrap_charged(L, LUA_TABLIBNAME, "remove", Cost::shift);
   wrap_charged(L, LUA_TABLIBNAME, "sort", Cost::sort);
   wrap_charged(L, LUA_TABLIBNAME, "unpack", Cost::unpack);
+  wrap_charged(L, LUA_STRLIBNAME, "byte", Cost::range);
+  wrap_charged(L, LUA_UTF8LIBNAME, "codepoint", Cost::range);
+  for (const char* f : {"format", "pack", "unpack", "packsize"}) wrap_charged(L, LUA_STRLIBNAME, f, Cost::strings);
+  wrap_charged(L, nullptr, "tonumber", Cost::strings);
   wrap_charged(L, LUA_UTF8LIBNAME, "len", Cost::bytes_arg1);
   wrap_charged(L, LUA_UTF8LIBNAME, "offset", Cost::bytes_arg1);
   wrap_charged(L, nullptr, "collectgarbage", Cost::collect);

@@ -30,6 +30,8 @@ namespace {
 // Pushes t[key] and returns its type (raw access: plain data tables).
 int push_field(lua_State* L, int idx, const char* key) {
   idx = lua_absindex(L, idx);
+  if (lua_type(L, idx) != LUA_TTABLE)  // a script may put anything where a table belongs
+    fail("expected a table with field '", key, "', got ", lua_typename(L, lua_type(L, idx)));
   lua_pushstring(L, key);
   return lua_rawget(L, idx);
 }
@@ -40,7 +42,7 @@ void each(lua_State* L, int idx, const char* key, Fn&& fn) {
   if (push_field(L, idx, key) == LUA_TTABLE) {
     const auto n = static_cast<lua_Integer>(lua_rawlen(L, -1));  // raw: no metamethod runs outside a pcall
     for (lua_Integer i = 1; i <= n; ++i) {
-      lua_rawgeti(L, -1, i);
+      if (lua_rawgeti(L, -1, i) != LUA_TTABLE) fail("scenario field '", key, "' entry ", i, " is not a table");
       fn(lua_gettop(L));
       lua_pop(L, 1);
     }
@@ -534,7 +536,8 @@ RunOutcome run_scenario(const RunRequest& req) {
   lua_rawgeti(L, LUA_REGISTRYINDEX, s_ref);
   rt.call(1, 1);
   const int p = lua_gettop(L);
-  for (lua_Integer i = 1, n = lua_Integer(lua_rawlen(L, p)); i <= n; ++i) {
+  if (!lua_istable(L, p)) fail(req.scenario.string(), ": the library's 'pending' gave no list (was it replaced?)");
+  for (lua_Integer i = 1, n = lua_Integer(lua_rawlen(L, p)); i <= n && out.expectations.size() < kMaxResults; ++i) {
     lua_rawgeti(L, p, i);
     ExpectationResult r;
     r.name = get_string(L, -1, "name");

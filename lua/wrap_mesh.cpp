@@ -5,6 +5,7 @@
 
 #include "bindings.hpp"
 #include "core/checked_file.hpp"
+#include "core/printable.hpp"
 #include "convert.hpp"
 #include "mesh/surface.hpp"
 #include "runtime.hpp"
@@ -46,9 +47,14 @@ int handle_gc(lua_State* L) {
 std::map<std::string, double> read_options(lua_State* L, int idx) {
   std::map<std::string, double> out;
   if (lua_isnil(L, idx)) return out;
+  if (!lua_istable(L, idx)) fail("mesh: options must be a table of named numbers");
   idx = lua_absindex(L, idx);
   lua_pushnil(L);
+  long long keys = 0;
   while (lua_next(L, idx)) {
+    // Each key is read, copied into a map (and again by compile): ~2 us, so
+    // charged like a few hundred instructions.
+    if (++keys % 1024 == 0) charge_work(L, 256.0 * 1024, "mesh options");
     if (lua_type(L, -2) != LUA_TSTRING) {
       lua_pop(L, 2);
       fail("mesh: options must be named (name = value)");
@@ -97,7 +103,7 @@ int mesh_load(lua_State* L) {
     h->source.options = read_options(L, -1);
     lua_pop(L, 1);
     if (!file.empty() && !may_read(L, h->source.file))
-      fail(h->source.where, ": mesh: file '", file, "' is outside the scenario's folder ", dir.string(),
+      fail(h->source.where, ": mesh: file '", printable(file), "' is outside the scenario's folder ", printable(dir.string()),
            " (the sandbox reads only below it; run with --trust to lift this)");
     // Existence through the checked open in the sandbox: a link on the way is
     // refused whether or not its target exists (fs::exists would follow it
@@ -111,7 +117,7 @@ int mesh_load(lua_State* L) {
                                         Access::read, h->source.where + ": mesh", &missing));
     }
     if (!file.empty() && !found)
-      fail(h->source.where, ": mesh: file '", file, "' not found (looked for ", h->source.file.string(),
+      fail(h->source.where, ": mesh: file '", printable(file), "' not found (looked for ", printable(h->source.file.string()),
            "; paths are relative to the scenario's folder)");
     Diagnostics diag;
     // The file (and a TetGen sibling) through the checked open below the

@@ -33,7 +33,11 @@ int ramp_check(lua_State* L) {
 int ramp_at(lua_State* L) {
   return protect(L, [L] {
     const double t = luaL_checknumber(L, 2);
-    lua_pushnumber(L, tools::evaluate(to_ramp(L, 1), t));
+    // Checked here too: the script may have changed the ramp's lists after
+    // softcut.ramp.* checked them (times longer than values).
+    const tools::Ramp r = to_ramp(L, 1);
+    tools::check_ramp(r, "ramp");
+    lua_pushnumber(L, tools::evaluate(r, t));
     return 1;
   });
 }
@@ -54,7 +58,9 @@ int path_check(lua_State* L) {
 int path_at(lua_State* L) {
   return protect(L, [L] {
     const double t = luaL_checknumber(L, 2);
-    push_vec3(L, tools::evaluate(to_path(L, 1), t));
+    const tools::Path p = to_path(L, 1);  // checked again: see ramp_at
+    tools::check_path(p, "path");
+    push_vec3(L, tools::evaluate(p, t));
     return 1;
   });
 }

@@ -5,6 +5,7 @@
 
 #include "cli/commands.hpp"
 #include "core/error.hpp"
+#include "core/printable.hpp"
 
 namespace {
 
@@ -55,10 +56,11 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "softcut: unknown command '%s' (see softcut --help)\n", cmd.c_str());
     return 2;
   } catch (const softcut::UsageError& e) {
-    std::fprintf(stderr, "softcut: error: %s\n", e.what());
+    std::fprintf(stderr, "softcut: error: %s\n", softcut::printable(e.what(), 8192, true).c_str());
     return 2;
   } catch (const softcut::Error& e) {
-    std::fprintf(stderr, "softcut: error: %s\n", e.what());
+    // Messages carry bytes from scripts and files: shown escaped and bounded.
+    std::fprintf(stderr, "softcut: error: %s\n", softcut::printable(e.what(), 8192, true).c_str());
     return 1;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "softcut: internal error: %s\n", e.what());

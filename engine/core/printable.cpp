@@ -21,7 +21,7 @@ std::size_t utf8_sequence_length(std::string_view s) {
   return n;
 }
 
-std::string printable(std::string_view text, std::size_t max_bytes) {
+std::string printable(std::string_view text, std::size_t max_bytes, bool multiline) {
   std::string out;
   std::size_t i = 0;
   const std::size_t end = text.size() < max_bytes ? text.size() : max_bytes;
@@ -33,7 +33,9 @@ std::string printable(std::string_view text, std::size_t max_bytes) {
       i += n;
       continue;
     }
-    if (c < 0x20 || c == 0x7F || c >= 0x80) {
+    if (multiline && (c == '\n' || c == '\t')) {
+      out += char(c);
+    } else if (c < 0x20 || c == 0x7F || c >= 0x80) {
       char buf[8];
       std::snprintf(buf, sizeof buf, "\\x%02X", unsigned(c));
       out += buf;

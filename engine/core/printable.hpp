@@ -10,7 +10,9 @@
 namespace softcut {
 
 // At most `max_bytes` of the input are shown; "..." marks a cut.
-std::string printable(std::string_view text, std::size_t max_bytes = 200);
+// `multiline`: newlines and tabs stay (tracebacks), every other control
+// byte is still escaped.
+std::string printable(std::string_view text, std::size_t max_bytes = 200, bool multiline = false);
 
 // Length of the well-formed UTF-8 sequence starting at s[0] (1..4), or 0.
 std::size_t utf8_sequence_length(std::string_view s);

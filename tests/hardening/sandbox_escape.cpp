@@ -530,4 +530,89 @@ return softcut.scenario{ duration = 0.1 })lua");
     req.memory_budget = 64u << 20;  // 8 MiB of mesh file at most; this one has ~14 MiB
     CHECK(contains(error_of([&] { softcut::lua::load_scenario_spec(req); }), "bytes allowed here"));
   }
+
+  // A second review of the fixes found these.
+  TEST_CASE("review 2: a number or string where the engine expects a table is an error, not a segfault") {
+    for (const std::string change : {"s._fixed = { 42 }", "s._loads = { 'x' }", "s._materials = { 1 }",
+                                     "require('scenario').pending = function() return { 0x41414141 } end",
+                                     "require('scenario').pending = function() return 7 end",
+                                     "s:on_frame(function(f) s._results = { 42 } end)"}) {
+      CAPTURE(change);
+      const Fixture f("sandbox_type_confusion", box(change));
+      const auto r = f.run();
+      CHECK(r.status == 1);  // a clear error (139 was the segfault)
+      CHECK(contains(r.output, "softcut: error"));
+    }
+  }
+
+  TEST_CASE("review 2: ramps and paths changed after their checks are checked again before evaluation") {
+    const std::string ramp = run_snippet(R"lua(
+local r = softcut.ramp.keyframes{ times = { 0, 1 }, values = { 0, 1 } }
+local t = {} for i = 1, 100000 do t[i] = i end
+r.times = t r.values = { 0 }
+return r:at(50000))lua");
+    INFO(ramp);
+    CHECK_FALSE(ramp.empty());
+    CHECK_FALSE(contains(ramp, "\x01"));
+    const std::string path = run_snippet(R"lua(
+local p = softcut.path.polyline{ times = { 0, 1 }, points = { {0, 0, 0}, {1, 0, 0} } }
+local t = {} for i = 1, 100000 do t[i] = i end
+p.times = t
+return p:at(50000))lua");
+    INFO(path);
+    CHECK_FALSE(path.empty());
+  }
+
+  TEST_CASE("review 2: one selection shared by many spec entries is charged as it is copied") {
+    const Fixture f("sandbox_shared_selection", box(R"lua(
+local box = softcut.select.box{ min = {-1, -1, -1}, max = {0, 1, 1} }
+local kids = {} for i = 1, 99999 do kids[i] = box end
+local U = setmetatable({ kind = "union_of", children = kids }, getmetatable(box))
+local fixed = {} for i = 1, 40 do fixed[i] = { sel = U } end
+s._fixed = fixed)lua"));
+    const auto r = f.run();
+    CHECK(r.status == 1);
+    CHECK(contains(r.output, "instruction budget"));
+  }
+
+  TEST_CASE("review 2: huge mesh options and scans in C are charged") {
+    for (const std::string code :
+         {          R"lua(local o = {} for i = 1, 3000000 do o["k" .. i] = 1 end
+while true do pcall(softcut.scenario{ duration = 0.1 }.mesh, softcut.scenario{ duration = 0.1 }, { generate = "box", options = o }) end)lua",
+          "local s = string.rep('x', 990000) while true do s:byte(1, -1) end",
+          "local s = string.rep('1', 16 << 20) while true do tonumber(s, 36) end",
+          "local s = string.rep('x', 16 << 20) while true do local x = ('%.1s'):format(s) end"}) {
+      CAPTURE(code.substr(0, 80));
+      std::string msg;
+      softcut::lua::SandboxOptions opt = tight();
+      opt.memory_budget = 512u << 20;
+      const double t = seconds_of([&] { msg = run_snippet(code, opt); });
+      CHECK(contains(msg, "budget"));
+      CHECK(t < 60);
+    }
+  }
+
+  TEST_CASE("review 2: a huge error message is cut, files opened for writing count, paths are shown escaped") {
+    const Fixture big("sandbox_big_error", box(R"lua(s:on_frame(function(f) error(("A"):rep(50 << 20)) end))lua"));
+    const auto r = big.run();
+    CHECK(r.status == 1);
+    CHECK(r.output.size() < 40000);
+    CHECK(fs::file_size(big.work / "renders" / "esc" / "summary.json") < 100000);
+    const Fixture files("sandbox_many_files", box(R"lua(s:on_frame(function(f)
+  for i = 1, 100000 do local h = assert(io.open(("f%06d"):format(i), "w")) h:close() end
+end))lua"));
+    const auto many = files.run("--max-output 1M");
+    CHECK(many.status == 1);
+    CHECK(contains(many.output, "--max-output"));
+    int made = 0;
+    for (const auto& e : fs::directory_iterator(files.work / "renders" / "esc")) made += e.path().filename().string()[0] == 'f';
+    CHECK(made <= 256);
+    const Fixture esc("sandbox_path_bytes", R"lua(local s = softcut.scenario{ duration = 0.1 }
+s:mesh{ file = "\27[31mRED\7\r\nfake: line.vtu" }
+return s)lua");
+    const auto e = esc.run();
+    CHECK(e.status == 1);
+    CHECK_FALSE(contains(e.output, "\x1b"));
+    CHECK_FALSE(contains(e.output, "\r"));
+  }
 }
