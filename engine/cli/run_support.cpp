@@ -50,14 +50,22 @@ std::pair<int, int> parse_size(const std::string& text, const char* option) {
   return {side(text.substr(0, x)), side(text.substr(x + 1))};
 }
 
+namespace {
+// The number at the start of `text` (std::stod), with *used its length; 0
+// characters used when there is none.
+double leading_number(const std::string& text, size_t* used) {
+  try {
+    return std::stod(text, used);
+  } catch (...) {
+    *used = 0;
+    return -1;
+  }
+}
+}  // namespace
+
 double parse_seconds(const std::string& text, const char* option) {
   size_t used = 0;
-  double v = -1;
-  try {
-    v = std::stod(text, &used);
-  } catch (...) {
-    used = 0;
-  }
+  const double v = leading_number(text, &used);
   if (used != text.size() || !(v >= 0) || v > 1e7)
     usage_fail(option, " ", text, ": expected seconds from 0 (no limit) to 10000000");
   return v;
@@ -65,12 +73,7 @@ double parse_seconds(const std::string& text, const char* option) {
 
 std::uint64_t parse_bytes(const std::string& text, const char* option) {
   size_t used = 0;
-  double v = -1;
-  try {
-    v = std::stod(text, &used);
-  } catch (...) {
-    used = 0;
-  }
+  const double v = leading_number(text, &used);
   double unit = 1;
   const std::string suffix = text.substr(used);
   if (suffix == "K" || suffix == "k") unit = 1 << 10;
