@@ -392,13 +392,32 @@ sim::ScenarioSpec load_scenario_spec(const RunRequest& req) {
   return read_spec(rt.state(), s, fs::absolute(req.scenario).lexically_normal());
 }
 
+namespace {
+RunOutcome run_watched(const RunRequest& req, const Watchdog& dog);
+}
+
 RunOutcome run_scenario(const RunRequest& req) {
-  // Declared before the Lua state: the watchdog outlives it, so a hang while
-  // the state is closed is still ended.
+  // Made before the Lua state: the watchdog outlives it, so a hang while the
+  // state is closed is still ended.
   Watchdog dog(req.timeout_s, std::clamp(req.timeout_s / 10, 5.0, 60.0),
                cat(req.scenario.string(), ": the wall-clock limit of ", req.timeout_s,
                    " s (--timeout) passed and the run did not stop (stuck outside the script); exiting without "
                    "finishing the outputs"));
+  try {
+    return run_watched(req, dog);
+  } catch (const TimeoutError&) {
+    throw;
+  } catch (const Error& e) {
+    // The limit struck before the frame loop (the script's main chunk,
+    // compile): the same exit status as a timeout in the loop.
+    if (dog.expired()) throw TimeoutError(e.what());
+    throw;
+  }
+}
+
+namespace {
+
+RunOutcome run_watched(const RunRequest& req, const Watchdog& dog) {
   OutputBudget output(req.max_output);
   Runtime rt(sandbox_of(req, &output, &dog));
   lua_State* L = rt.state();
@@ -549,5 +568,7 @@ RunOutcome run_scenario(const RunRequest& req) {
   lua_pop(L, 1);
   return out;
 }
+
+}  // namespace
 
 }  // namespace softcut::lua

@@ -58,6 +58,9 @@ int main(int argc, char** argv) {
   } catch (const softcut::UsageError& e) {
     std::fprintf(stderr, "softcut: error: %s\n", softcut::printable(e.what(), 8192, true).c_str());
     return 2;
+  } catch (const softcut::TimeoutError& e) {
+    std::fprintf(stderr, "softcut: error: %s\n", softcut::printable(e.what(), 8192, true).c_str());
+    return 124;
   } catch (const softcut::Error& e) {
     // Messages carry bytes from scripts and files: shown escaped and bounded.
     std::fprintf(stderr, "softcut: error: %s\n", softcut::printable(e.what(), 8192, true).c_str());

@@ -21,6 +21,12 @@ class UsageError : public Error {
   using Error::Error;
 };
 
+// The run's wall-clock limit (--timeout) ended it: exit status 124.
+class TimeoutError : public Error {
+ public:
+  using Error::Error;
+};
+
 // cat("a", 1, 'b') -> "a1b": message building without <format> (GCC 12).
 template <class... Args>
 std::string cat(const Args&... args) {

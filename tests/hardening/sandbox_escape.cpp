@@ -396,6 +396,11 @@ s:on_frame(function(f) while true do pcall(function() while true do end end) end
     const std::string summary = slurp(f.work / "renders" / "esc" / "summary.json");
     CHECK(contains(summary, "\"exit_reason\": \"timeout\""));
     CHECK(contains(summary, "\"timeout_s\": 1"));
+    // Reached while the main chunk runs (before the frame loop): the same status.
+    const Fixture early("sandbox_timeout_early", "while true do pcall(function() while true do end end) end");
+    const auto e = early.run("--trust --timeout 1", "timeout 60");
+    CHECK(e.status == 124);
+    CHECK(contains(e.output, "wall-clock limit"));
     // Stuck where nothing polls (a blocking C call under --trust): the process ends with 124 after the grace time.
     const Fixture g("sandbox_timeout_hard", box(R"(s:on_frame(function(f) os.execute("exec sleep 9 >/dev/null 2>&1 </dev/null") end))"));
     const auto hard = g.run("--trust --timeout 1", "timeout 50");
