@@ -57,10 +57,7 @@ void charge_output(lua_State* L, std::size_t bytes, const char* what) {
 int charged_write(lua_State* L) {
   const int from = int(lua_tointeger(L, lua_upvalueindex(2)));
   charge_output(L, written_bytes(L, from), from == 2 ? "file:write" : "io.write");
-  lua_pushvalue(L, lua_upvalueindex(1));
-  lua_insert(L, 1);
-  lua_call(L, lua_gettop(L) - 1, LUA_MULTRET);
-  return lua_gettop(L);
+  return call_original(L);
 }
 
 // file:seek that cannot move past the end: a write there would make a
@@ -77,15 +74,12 @@ int bounded_seek(lua_State* L) {
     if (::fstat(::fileno(p->f), &st) == 0 && here >= 0) {
       const double base = whence == 0 ? 0.0 : whence == 1 ? double(here) : double(st.st_size);
       if (base + double(offset) > double(st.st_size))
-        return luaL_error(L, "file:seek: moving past the end of the file (to byte %f of %d) is not available in "
+        return luaL_error(L, "file:seek: moving past the end of the file (to byte %f of %I) is not available in "
                              "the sandbox; write the bytes in between, or run with --trust",
-                          base + double(offset), int(st.st_size));
+                          base + double(offset), lua_Integer(st.st_size));
     }
   }
-  lua_pushvalue(L, lua_upvalueindex(1));
-  lua_insert(L, 1);
-  lua_call(L, lua_gettop(L) - 1, LUA_MULTRET);
-  return lua_gettop(L);
+  return call_original(L);
 }
 
 // print, with its bytes charged like io.write.
@@ -112,10 +106,7 @@ int charged_print(lua_State* L) {
 // warn(msg1, ...), with its bytes charged like io.write (it writes to stderr).
 int charged_warn(lua_State* L) {
   charge_output(L, written_bytes(L, 1), "warn");
-  lua_pushvalue(L, lua_upvalueindex(1));
-  lua_insert(L, 1);
-  lua_call(L, lua_gettop(L) - 1, 0);
-  return 0;
+  return call_original(L, 0);
 }
 
 int close_stream(lua_State* L) {

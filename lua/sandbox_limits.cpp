@@ -86,6 +86,13 @@ int raise_fatal(lua_State* L) {
   return lua_error(L);
 }
 
+int call_original(lua_State* L, int nresults) {
+  lua_pushvalue(L, lua_upvalueindex(1));
+  lua_insert(L, 1);
+  lua_call(L, lua_gettop(L) - 1, nresults);
+  return lua_gettop(L);
+}
+
 void charge_or_raise(lua_State* L, double instructions, const char* what) {
   Runtime::Budget* b = budget_of(L);
   if (b->fatal) raise_fatal(L);
@@ -106,9 +113,7 @@ namespace {
 // failure (first result false) while the budget is fatal, raises instead.
 int rethrowing_call(lua_State* L) {
   if (budget_of(L)->fatal) raise_fatal(L);  // nothing more runs, no handler, no __close
-  lua_pushvalue(L, lua_upvalueindex(1));
-  lua_insert(L, 1);
-  lua_call(L, lua_gettop(L) - 1, LUA_MULTRET);
+  call_original(L);
   if (budget_of(L)->fatal && lua_gettop(L) >= 1 && lua_isboolean(L, 1) && !lua_toboolean(L, 1)) raise_fatal(L);
   return lua_gettop(L);
 }
@@ -119,10 +124,7 @@ int rethrowing_call(lua_State* L) {
 // the script's handler is skipped (the message goes on unchanged).
 int shielded_handler(lua_State* L) {
   if (budget_of(L)->fatal) return 1;
-  lua_pushvalue(L, lua_upvalueindex(1));
-  lua_insert(L, 1);
-  lua_call(L, lua_gettop(L) - 1, 1);
-  return 1;
+  return call_original(L, 1);
 }
 
 // coroutine.close, nested at most kMaxCloseDepth deep: each nested close
@@ -131,10 +133,7 @@ int shielded_handler(lua_State* L) {
 constexpr int kMaxCloseDepth = 100;
 
 int bounded_close_body(lua_State* L) {
-  lua_pushvalue(L, lua_upvalueindex(1));
-  lua_insert(L, 1);
-  lua_call(L, lua_gettop(L) - 1, LUA_MULTRET);
-  return lua_gettop(L);
+  return call_original(L);
 }
 
 int bounded_close(lua_State* L) {
@@ -194,10 +193,7 @@ int sandboxed_setmetatable(lua_State* L) {
       return luaL_error(L, "setmetatable: __gc metamethods (finalizers) are not available in the sandbox: Lua runs "
                            "them outside the instruction budget; close resources explicitly, or run with --trust");
   }
-  lua_pushvalue(L, lua_upvalueindex(1));
-  lua_insert(L, 1);
-  lua_call(L, lua_gettop(L) - 1, 1);
-  return 1;
+  return call_original(L, 1);
 }
 
 // --- C library functions charged by the size of their work ---------------
@@ -289,10 +285,7 @@ double cost_of(lua_State* L, Cost c) {
 int charged_call(lua_State* L) {
   const auto c = static_cast<Cost>(lua_tointeger(L, lua_upvalueindex(2)));
   charge_or_raise(L, cost_of(L, c), lua_tostring(L, lua_upvalueindex(3)));
-  lua_pushvalue(L, lua_upvalueindex(1));
-  lua_insert(L, 1);
-  lua_call(L, lua_gettop(L) - 1, LUA_MULTRET);
-  return lua_gettop(L);
+  return call_original(L);
 }
 
 void wrap_charged(lua_State* L, const char* table, const char* name, Cost c) {
@@ -329,10 +322,7 @@ int charged_load(lua_State* L) {
   } else {
     charge_or_raise(L, cost_of(L, Cost::load), "load");
   }
-  lua_pushvalue(L, lua_upvalueindex(1));
-  lua_insert(L, 1);
-  lua_call(L, lua_gettop(L) - 1, LUA_MULTRET);
-  return lua_gettop(L);
+  return call_original(L);
 }
 
 }  // namespace

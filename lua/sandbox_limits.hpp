@@ -62,6 +62,11 @@ void charge_or_raise(lua_State* L, double instructions, const char* what);
 // Raises the sticky fatal error (pushes its message; never returns).
 int raise_fatal(lua_State* L);
 
+// For the sandbox's wrappers: calls the wrapped function (upvalue 1) with
+// every argument on the stack and returns the number of its results
+// (`nresults`, or all of them with LUA_MULTRET).
+int call_original(lua_State* L, int nresults = -1 /* LUA_MULTRET */);
+
 // Replaces pcall, xpcall, coroutine.resume/close (re-raise fatal errors),
 // setmetatable (refuses __gc: finalizers run with Lua's hooks off, where no
 // budget reaches them) and wraps the C library functions whose work grows
