@@ -204,7 +204,7 @@ function Scenario:output(args) end
 ---@field max_iterations? integer CG iteration cap (0: automatic)
 ---@field backend? string operational solver: auto (direct: the fastest exact solver measured), cpu (the paper's CG), gpu (CG in compute shaders, also on llvmpipe), direct (CHOLMOD, factor kept between frames), monolithic (whole mesh, no condensation: a reference)
 ---@field gpu_fp64? boolean gpu: fp64 kernels instead of fp32 with fp64 refinement
----@field mode? string nonoperational data
+---@field mode? string nonoperational data: auto (product or factor, by memory and cost), dense (the paper's blocks, O(surface^2) memory), product (K*^-1 P* dense, columns of loaded nodes on demand), factor (a K22 solve per full-surface frame)
 ---Solver knobs (rarely needed).
 ---@param args Scenario_solver_args
 function Scenario:solver(args) end

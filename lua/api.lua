@@ -175,7 +175,9 @@ api.functions = {
         .. "monolithic (whole mesh, no condensation: a reference)",
         { values = { "auto", "cpu", "gpu", "direct", "monolithic" }, default = "auto" }),
       F("gpu_fp64", "boolean", "gpu: fp64 kernels instead of fp32 with fp64 refinement", { default = false }),
-      F("mode", "string", "nonoperational data", { values = { "auto", "dense", "factor" }, default = "auto" }) },
+      F("mode", "string", "nonoperational data: auto (product or factor, by memory and cost), dense (the paper's "
+        .. "blocks, O(surface^2) memory), product (K*^-1 P* dense, columns of loaded nodes on demand), factor "
+        .. "(a K22 solve per full-surface frame)", { values = { "auto", "dense", "product", "factor" }, default = "auto" }) },
     example = 's:solver{ backend = "cpu" }' },
   { name = "Scenario:expect", summary = "A check for `softcut check` (also reported by `softcut run`): "
       .. "bounds on the displacement of a node set at time `at` (the first frame at or after it), or a "

@@ -123,7 +123,7 @@ class CholmodSolver : public OperationalSolver {
 
  private:
   solve::Cholesky factor_;
-  SparseMatrix A_;
+  Eigen::VectorXd r_;  // residual scratch
   long generation_ = -1;
 };
 

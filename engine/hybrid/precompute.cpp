@@ -14,6 +14,7 @@ const char* to_string(Storage s) {
   switch (s) {
     case Storage::automatic: return "automatic";
     case Storage::dense: return "dense";
+    case Storage::product: return "product";
     case Storage::factor: return "factor";
   }
   return "?";
@@ -77,39 +78,50 @@ Model precompute(const mesh::TetMesh& m, const std::vector<fem::Material>& tet_m
   }
   M.timings.assemble_ms = t.ms();
 
-  // Storage mode from the memory estimate, before anything large is allocated.
+  // Memory of each storage mode, before anything large is allocated.
   const double temp = 8.0 * double(n23) * double(std::min<Eigen::Index>(B, std::max(ns3, ni3)));
   M.memory.dense_bytes = 8.0 * double(ns3 * ns3 + 2 * ns3 * ni3 + ni3 * ni3) + temp;
+  M.memory.product_bytes = 8.0 * double(ns3 * ni3 + ni3 * ni3) + temp;
   M.memory.factor_bytes = 8.0 * double(ni3 * ni3) + temp;
   M.memory.budget_bytes = opt.memory_budget_bytes;
-  M.storage = opt.storage != Storage::automatic ? opt.storage
-              : M.memory.dense_bytes <= opt.memory_budget_bytes ? Storage::dense
-                                                               : Storage::factor;
-  const bool dense = M.storage == Storage::dense;
-  const double need = dense ? M.memory.dense_bytes : M.memory.factor_bytes;
-  if (need > opt.max_bytes)
-    fail("hybrid precompute: storage mode '", to_string(M.storage), "' needs about ", int(need / (1 << 20)),
-         " MiB (", ns3 / 3, " surface and ", ni3 / 3, " interface nodes), more than the ", int(opt.max_bytes / (1 << 20)),
-         " MiB allowed (the sandbox's memory budget); ", dense ? "use solver mode 'factor' or 'auto', " : "",
-         "make the operational region's border smaller, or run with --trust");
+  auto check_fits = [&](Storage s) {
+    const double need = s == Storage::dense     ? M.memory.dense_bytes
+                        : s == Storage::product ? M.memory.product_bytes
+                                                : M.memory.factor_bytes;
+    if (need > opt.max_bytes)
+      fail("hybrid precompute: storage mode '", to_string(s), "' needs about ", int(need / (1 << 20)), " MiB (",
+           ns3 / 3, " surface and ", ni3 / 3, " interface nodes), more than the ", int(opt.max_bytes / (1 << 20)),
+           " MiB allowed (the sandbox's memory budget); ", s != Storage::factor ? "use solver mode 'factor' or 'auto', " : "",
+           "make the operational region's border smaller, or run with --trust");
+  };
+  if (opt.storage != Storage::automatic) check_fits(opt.storage);
+  else check_fits(Storage::factor);
 
   t.reset();
   if (n23 > 0) M.K22.factor(K22, "hybrid precompute: K22 (free nonoperational nodes)", opt.max_bytes);
   M.timings.factor_ms = t.ms();
+  M.memory.factor_nonzeros = M.K22.factor_nonzeros();
+
+  // automatic: the cheaper full-surface update that fits (see the header).
+  const bool product_fits = ns3 * ni3 > 0 && M.memory.product_bytes <= std::min(opt.memory_budget_bytes, opt.max_bytes);
+  M.storage = opt.storage != Storage::automatic ? opt.storage
+              : product_fits && 8.0 * double(ns3 * ni3) <= 24.0 * M.memory.factor_nonzeros ? Storage::product
+                                                                                          : Storage::factor;
+  const bool dense = M.storage == Storage::dense, keep_Y = M.has_Kstar_inv_Pstar();
 
   // Y = K22^-1 K2I in column blocks: K' -= KI2 Y, K*^-1 P* = -Y[s, :].
-  if (dense) M.Kstar_inv_Pstar.resize(ns3, ni3);
+  if (keep_Y) M.Kstar_inv_Pstar.resize(ns3, ni3);
   double pstar_ms = 0;
   t.reset();
-  if (!dense && n23 > 0 && ni3 > 0) {
+  if (!keep_Y && n23 > 0 && ni3 > 0) {
     // Only K' is needed: one factorisation of the bordered matrix, no 3|I| solves.
     K_prime = schur_complement(K22, M.K2I, K_prime, "hybrid precompute: nonoperational region with interface");
   }
-  for (Eigen::Index c0 = 0; dense && n23 > 0 && c0 < ni3; c0 += B) {
+  for (Eigen::Index c0 = 0; keep_Y && n23 > 0 && c0 < ni3; c0 += B) {
     const Eigen::Index w = std::min(B, ni3 - c0);
     const Eigen::MatrixXd Yb = M.K22.solve(Eigen::MatrixXd(M.K2I.middleCols(c0, w)));
     K_prime.middleCols(c0, w).noalias() -= M.KI2 * Yb;
-    if (dense) {
+    {
       Timer tp;
       M.Kstar_inv_Pstar.middleCols(c0, w) = -Yb.topRows(ns3);
       pstar_ms += tp.ms();
@@ -181,8 +193,9 @@ std::shared_ptr<const OperationalSystem> rebuild_operational_system(
 std::string describe(const Model& M) {
   const auto& T = M.timings;
   return cat("hybrid model: ", describe(M.partition.counts), "; storage ", to_string(M.storage), " (dense blocks ",
-             M.memory.dense_bytes / 1048576.0, " MiB, factor mode ", M.memory.factor_bytes / 1048576.0,
-             " MiB, budget ", M.memory.budget_bytes / 1048576.0, " MiB); precompute ms: assemble ", T.assemble_ms,
+             M.memory.dense_bytes / 1048576.0, " MiB, product mode ", M.memory.product_bytes / 1048576.0,
+             " MiB, factor mode ", M.memory.factor_bytes / 1048576.0, " MiB, K22 factor ",
+             M.memory.factor_nonzeros, " nonzeros, budget ", M.memory.budget_bytes / 1048576.0, " MiB); precompute ms: assemble ", T.assemble_ms,
              ", factor K22 ", T.factor_ms, ", K' ", T.K_prime_ms, ", KI2 K22^-1 ", T.KI2_K22inv_ms, ", K*^-1 ",
              T.Kstar_inv_ms, ", K*^-1 P* ", T.Kstar_inv_Pstar_ms, ", K*^-1 Ps0 ", T.Kstar_inv_Ps0_ms,
              ", operational system ", T.operational_ms, ", total ", T.total_ms);

@@ -10,11 +10,18 @@
 //   K*^-1 P*          = -(K22^-1 K2I)[s,:]             (3|s| x 3|I|)
 //   K*^-1 Ps0         = (K22^-1)_ss Ps0                (3|s|)
 //
-// Storage: "dense" keeps these blocks (the paper's scheme, O(|s|^2) memory,
-// per-frame work by selective multiplication); "factor" keeps only the factor
-// and K' and does two sparse triangular solve pairs per frame instead. Both
-// give the same displacements; automatic picks dense when its blocks fit the
-// memory budget. The factor is kept in both modes (interior recovery).
+// Storage (all give the same displacements):
+//   dense    the paper's scheme: every block above, O(|s|^2) memory; per
+//            frame, selective multiplication and one dense product.
+//   product  K' and K*^-1 P* (3|s| x 3|I|) only; the columns of K*^-1 and
+//            (KI2 K22^-1) a loaded node needs come from the factor on first
+//            touch (columns.hpp). The full surface is one bandwidth-bound
+//            dense product per frame, precompute grows with |I| not |s|.
+//   factor   K' only; the full surface is one K22 solve pair per frame.
+// automatic picks product when K*^-1 P* fits the memory budget and reading it
+// costs less than a solve with the factor (8 bytes per entry against about
+// 24 bytes per factor nonzero), else factor. The K22 factor is kept in every
+// mode (first touches, interior recovery).
 //
 // Usage (libigl/MuJoCo style):
 //   Partition p = make_partition(mesh, tets_in_sphere(mesh, c, r), fixed_ids);
@@ -35,7 +42,7 @@
 
 namespace softcut::hybrid {
 
-enum class Storage { automatic, dense, factor };
+enum class Storage { automatic, dense, product, factor };
 const char* to_string(Storage s);
 
 struct PrecomputeOptions {
@@ -64,7 +71,9 @@ struct PrecomputeTimings {
 
 struct MemoryEstimate {
   double dense_bytes = 0;      // K*^-1, K*^-1 P*, (KI2 K22^-1)[:,s], K' and solve temporaries
+  double product_bytes = 0;    // K*^-1 P*, K' and solve temporaries
   double factor_bytes = 0;     // K' and solve temporaries (the CHOLMOD factor itself not counted)
+  double factor_nonzeros = 0;  // of the K22 factor (its solve reads them twice)
   double budget_bytes = 0;
 };
 
@@ -76,7 +85,7 @@ struct Model {
   std::vector<char> node_nonoperational;     // (nnode) sets s and i
   std::vector<int> nonop_nodes;              // (|s| + |i|) surface ids then interior ids: K22 node order
   std::vector<int> surface_index;            // (nnode) position of a node in the surface set, -1 if none
-  Storage storage = Storage::dense;          // resolved: dense or factor
+  Storage storage = Storage::dense;          // resolved: dense, product or factor
   MemoryEstimate memory;
 
   solve::Cholesky K22;                       // factor of K22 ((3|2|)^2), both modes
@@ -84,10 +93,11 @@ struct Model {
   SparseMatrix KI2;                          // (3|I| x 3|2|) = K2I^T
   std::shared_ptr<const Eigen::MatrixXd> K_prime;  // (3|I| x 3|I|) N/m
 
-  // Dense mode only (empty in factor mode):
+  // Dense mode only (empty otherwise):
   Eigen::MatrixXd Kstar_inv;        // (3|s| x 3|s|) m/N
-  Eigen::MatrixXd Kstar_inv_Pstar;  // (3|s| x 3|I|) dimensionless
   Eigen::MatrixXd KI2_K22inv_s;     // (3|I| x 3|s|) dimensionless
+  // Dense and product modes (empty in factor mode):
+  Eigen::MatrixXd Kstar_inv_Pstar;  // (3|s| x 3|I|) dimensionless
   Eigen::VectorXd Kstar_inv_Ps0;    // (3|s|) m
 
   Eigen::MatrixX3d initial_loads;   // (nnode x 3) N
@@ -98,6 +108,7 @@ struct Model {
   PrecomputeTimings timings;
 
   int ns() const { return int(partition.surface.size()); }
+  bool has_Kstar_inv_Pstar() const { return storage == Storage::dense || storage == Storage::product; }
   int ni() const { return int(partition.interface.size()); }
 };
 

@@ -3,10 +3,14 @@
 //   2. take this frame's interactive loads;
 //   3. selective multiplication: for surface nodes whose load changed, add
 //      (change) x (the 3 columns of K*^-1 and of (KI2 K22^-1)[:, s]) to the
-//      running sums K*^-1 (Ps0 + Ps_interact) and P' (paper Fig. 3);
+//      running sums K*^-1 (Ps0 + Ps_interact) and P' (paper Fig. 3); the
+//      columns are the dense blocks' (dense storage) or the run's column
+//      cache's (columns.hpp: first touch one 3-column solve, then a lookup);
 //   4. solve the operational system for A1, AI (pluggable backend, warm start);
-//   5. As = (running sum) + (K*^-1 P*) AI.
-// In factor storage, 3 and 5 are sparse solves with the K22 factor instead.
+//   5. As = (running sum) + (K*^-1 P*) AI: for every surface node (a rendered
+//      frame; one dense product, or a K22 solve pair in factor storage), or
+//      only for the nodes the frame needs (physics frames: loaded nodes and
+//      the ones asked for, 3 rows each).
 // Loads on operational and interface nodes go straight into the operational
 // right-hand side.
 #include <Eigen/Core>
@@ -14,6 +18,7 @@
 #include <span>
 #include <vector>
 
+#include "hybrid/columns.hpp"
 #include "hybrid/loads.hpp"
 #include "hybrid/nonoperational_product.hpp"
 #include "hybrid/operational_system.hpp"
@@ -30,11 +35,23 @@ struct FrameReport {
   SolveReport solve;
   int loaded_surface_nodes = 0;   // surface nodes whose load changed this frame
   int loaded_operational_nodes = 0;
+  int surface_nodes_updated = 0;  // surface rows of u written in stage 5
+  bool surface_complete = false;  // every surface row of u is this frame's
   bool interior_recovered = false;
 };
 
 struct UpdateOptions {
   bool recover_interior = false;  // also compute the interior nonoperational nodes (one factor solve)
+  // false: a physics frame, stage 5 only for the loaded surface nodes and
+  // `surface_nodes` (mesh node ids; other ids are ignored); the other
+  // surface rows of u keep the values of the frame that last wrote them.
+  bool full_surface = true;
+  std::span<const int> surface_nodes;
+};
+
+struct StateOptions {
+  double column_cache_bytes = 256.0 * 1024 * 1024;  // bound of the column cache (product and factor storage)
+  int product_threads = 0;  // threads for stage 5's dense product; 0: up to 2 when the block is large
 };
 
 struct State {
@@ -50,6 +67,8 @@ struct State {
   long x_generation = -1;            // system the warm start belongs to
   long frames = 0;
   FrameReport last;
+  std::unique_ptr<ColumnCache> columns;  // product and factor storage: columns of loaded nodes
+  int product_threads = 1;
   // Dense storage only: computes (K*^-1 P*) AI in stage 5 instead of the CPU
   // product (e.g. gpu::DeviceDenseProduct for large blocks). Null: CPU.
   std::shared_ptr<NonoperationalProduct> nonoperational_product;
@@ -62,8 +81,15 @@ struct State {
 };
 
 // Fresh state (zero displacement, initial loads applied at the first update).
-// `solver` defaults to CgSolver with tolerance 1e-10.
-State make_state(const Model& model, std::unique_ptr<OperationalSolver> solver = nullptr);
+// `solver` defaults to CgSolver with tolerance 1e-10. `model` must outlive
+// the state (its column cache reads the K22 factor).
+State make_state(const Model& model, std::unique_ptr<OperationalSolver> solver = nullptr,
+                 const StateOptions& opt = {});
+
+// Queues the columns of these mesh nodes (surface nodes; others are ignored)
+// for the state's worker thread, so their first load costs a lookup. No-op in
+// dense storage.
+void prefetch_columns(const Model& model, State& state, std::span<const int> nodes);
 
 // One frame. `loads` is the complete set of interactive loads of this frame
 // (forces add to the model's initial loads; a node absent from the list has

@@ -82,7 +82,7 @@ void check_spec(const ScenarioSpec& s) {
   if (!(s.solver.cg_tolerance > 0 && s.solver.cg_tolerance < 1))
     fail("solver: cg_tolerance must lie in (0, 1), got ", s.solver.cg_tolerance);
   if (s.solver.cg_max_iterations < 0) fail("solver: cg_max_iterations must be >= 0");
-  static const std::set<std::string> backends = {"auto", "cpu", "gpu", "direct", "monolithic"}, modes = {"auto", "dense", "factor"};
+  static const std::set<std::string> backends = {"auto", "cpu", "gpu", "direct", "monolithic"}, modes = {"auto", "dense", "product", "factor"};
   if (!backends.count(s.solver.backend))
     fail("solver: unknown backend '", s.solver.backend, "' (use auto, cpu, gpu, direct or monolithic)");
   if (!modes.count(s.solver.mode)) fail("solver: unknown mode '", s.solver.mode, "' (use auto, dense or factor)");

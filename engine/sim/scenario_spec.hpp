@@ -119,7 +119,7 @@ struct SolverSpec {
   // whole-mesh CHOLMOD reference, for checks).
   std::string backend = "auto";
   bool gpu_fp64 = false;        // gpu: fp64 kernels instead of fp32 + fp64 refinement
-  std::string mode = "auto";    // nonoperational data: "auto", "dense", "factor"
+  std::string mode = "auto";    // nonoperational data: "auto", "dense", "product", "factor"
   // The most the precomputed nonoperational data may take, bytes (the
   // runner sets the sandbox's memory budget); more is an error.
   double max_bytes = std::numeric_limits<double>::infinity();

@@ -130,9 +130,10 @@ class HybridSolver final : public Solver {
                const SolverSpec& spec, bool need_interior, BackendChoice choice, gpu::EglContext* context)
       : spec_(spec), need_interior_(need_interior), choice_(std::move(choice)) {
     hybrid::PrecomputeOptions opt;
-    opt.storage = spec.mode == "dense"    ? hybrid::Storage::dense
-                  : spec.mode == "factor" ? hybrid::Storage::factor
-                                          : hybrid::Storage::automatic;
+    opt.storage = spec.mode == "dense"     ? hybrid::Storage::dense
+                  : spec.mode == "product" ? hybrid::Storage::product
+                  : spec.mode == "factor"  ? hybrid::Storage::factor
+                                           : hybrid::Storage::automatic;
     opt.max_bytes = spec.max_bytes;
     model_ = hybrid::precompute(m, tet_material, p, opt);
     if (choice_.backend == "gpu") {
@@ -146,7 +147,7 @@ class HybridSolver final : public Solver {
       gpu_ = std::make_unique<gpu::OperationalGpuSolver>(*context, g);
       // Stage 5's dense product on the device too when the block is large
       // enough for the device to pay off (bandwidth-bound; double precision).
-      if (model_.storage == hybrid::Storage::dense &&
+      if (model_.has_Kstar_inv_Pstar() &&
           double(model_.Kstar_inv_Pstar.size()) >= gpu::DeviceDenseProduct::kWorthwhileEntries)
         nonop_product_ = std::make_shared<gpu::DeviceDenseProduct>(*context, model_.Kstar_inv_Pstar);
       gpu_ms_ = tg.ms();

@@ -11,6 +11,21 @@
 
 namespace softcut::solve {
 
+// CHOLMOD workspace of one thread: lets a second thread solve with a factor
+// that another thread also solves with (CHOLMOD's solve reads the factor
+// only; its workspace and status live in the common object).
+class SolveWorkspace {
+ public:
+  SolveWorkspace();
+  ~SolveWorkspace();
+  SolveWorkspace(const SolveWorkspace&) = delete;
+  SolveWorkspace& operator=(const SolveWorkspace&) = delete;
+  cholmod_common& common() { return c_; }
+
+ private:
+  cholmod_common c_;
+};
+
 class Cholesky {
  public:
   Cholesky() = default;
@@ -27,13 +42,21 @@ class Cholesky {
   Eigen::VectorXd solve(const Eigen::VectorXd& b) const;
   Eigen::MatrixXd solve(const Eigen::MatrixXd& B) const;  // one column per right-hand side
   Eigen::MatrixXd solve(const Eigen::SparseMatrix<double>& B) const;
+  // The same solve with the caller's workspace (thread-safe against solves
+  // that use other workspaces).
+  Eigen::MatrixXd solve(const Eigen::MatrixXd& B, SolveWorkspace& ws) const;
+
+  // Nonzeros of the factor L (CHOLMOD's count after the symbolic analysis).
+  double factor_nonzeros() const { return lnz_; }
 
   int rows() const { return rows_; }
   bool factored() const { return bool(llt_); }
 
  private:
-  std::unique_ptr<Eigen::CholmodDecomposition<Eigen::SparseMatrix<double>, Eigen::Lower>> llt_;
+  class Llt;  // Eigen's decomposition with access to its cholmod_factor
+  std::shared_ptr<Llt> llt_;
   int rows_ = 0;
+  double lnz_ = 0;
 };
 
 }  // namespace softcut::solve

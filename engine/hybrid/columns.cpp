@@ -1,0 +1,164 @@
+#include "hybrid/columns.hpp"
+
+#include <algorithm>
+
+#include "core/error.hpp"
+#include "core/timer.hpp"
+#include "hybrid/precompute.hpp"
+
+namespace softcut::hybrid {
+
+namespace {
+constexpr int kBlockNodes = 16;  // nodes per solve: 48 right-hand sides (BLAS-3 in the supernodal solve)
+enum : char { absent = 0, queued = 1, computing = 2, cached = 3 };
+}  // namespace
+
+ColumnCache::ColumnCache(const Model& model, double max_bytes) : model_(model), max_bytes_(max_bytes) {
+  const size_t ns = size_t(model.ns());
+  cols_.resize(ns);
+  last_use_.assign(ns, 0);
+  state_.assign(ns, absent);
+  stats_.max_bytes = max_bytes;
+}
+
+ColumnCache::~ColumnCache() {
+  {
+    std::lock_guard lk(mu_);
+    stop_ = true;
+  }
+  cv_.notify_all();
+  if (worker_.joinable()) worker_.join();
+}
+
+std::vector<std::shared_ptr<NodeColumns>> ColumnCache::compute(const std::vector<int>& positions,
+                                                              solve::SolveWorkspace& ws) const {
+  const Eigen::Index ns3 = 3 * Eigen::Index(model_.ns()), n23 = 3 * Eigen::Index(model_.nonop_nodes.size());
+  std::vector<std::shared_ptr<NodeColumns>> out;
+  for (size_t b0 = 0; b0 < positions.size(); b0 += kBlockNodes) {
+    const size_t k = std::min<size_t>(kBlockNodes, positions.size() - b0);
+    // Unit right-hand sides on the nodes' DOFs: surface position p is K22
+    // node p (surface nodes come first in the K22 order).
+    Eigen::MatrixXd E = Eigen::MatrixXd::Zero(n23, 3 * Eigen::Index(k));
+    for (size_t j = 0; j < k; ++j)
+      for (int a = 0; a < 3; ++a) E(3 * Eigen::Index(positions[b0 + j]) + a, 3 * Eigen::Index(j) + a) = 1.0;
+    const Eigen::MatrixXd X = model_.K22.solve(E, ws);
+    for (size_t j = 0; j < k; ++j) {
+      auto c = std::make_shared<NodeColumns>();
+      const auto Xj = X.middleCols<3>(3 * Eigen::Index(j));
+      c->Kstar_inv = Xj.topRows(ns3);
+      c->KI2_K22inv = model_.KI2 * Xj;
+      out.push_back(std::move(c));
+    }
+  }
+  return out;
+}
+
+void ColumnCache::insert_locked(int pos, std::shared_ptr<const NodeColumns> c) {
+  stats_.bytes += c->bytes();
+  ++stats_.cached_nodes;
+  cols_[size_t(pos)] = std::move(c);
+  state_[size_t(pos)] = cached;
+  last_use_[size_t(pos)] = ++stamp_;
+  while (stats_.bytes > max_bytes_ && stats_.cached_nodes > 1) {
+    int lru = -1;
+    for (size_t q = 0; q < cols_.size(); ++q)
+      if (state_[q] == cached && int(q) != pos && (lru < 0 || last_use_[q] < last_use_[size_t(lru)])) lru = int(q);
+    if (lru < 0) break;
+    stats_.bytes -= cols_[size_t(lru)]->bytes();
+    --stats_.cached_nodes;
+    ++stats_.evicted;
+    cols_[size_t(lru)].reset();
+    state_[size_t(lru)] = absent;
+  }
+}
+
+std::shared_ptr<const NodeColumns> ColumnCache::get(int pos) {
+  if (pos < 0 || pos >= model_.ns()) fail("column cache: surface position ", pos, " out of range [0, ", model_.ns(), ")");
+  std::unique_lock lk(mu_);
+  if (state_[size_t(pos)] == queued) {  // not started by the worker: compute it here, now
+    queue_.erase(std::find(queue_.begin(), queue_.end(), pos));
+    state_[size_t(pos)] = absent;
+  }
+  if (state_[size_t(pos)] == computing) {
+    ++stats_.waited;
+    cv_.wait(lk, [&] { return state_[size_t(pos)] != computing; });
+  }
+  if (state_[size_t(pos)] == cached) {
+    ++stats_.hits;
+    last_use_[size_t(pos)] = ++stamp_;
+    return cols_[size_t(pos)];
+  }
+  lk.unlock();
+  Timer t;
+  std::shared_ptr<const NodeColumns> c = std::move(compute({pos}, frame_ws_).front());
+  lk.lock();
+  ++stats_.first_touches;
+  stats_.first_touch_ms += t.ms();
+  if (state_[size_t(pos)] != cached) insert_locked(pos, c);  // (the worker cannot have it: it was absent)
+  return c;
+}
+
+void ColumnCache::prefetch(const std::vector<int>& positions) {
+  {
+    std::lock_guard lk(mu_);
+    for (int pos : positions) {
+      if (pos < 0 || pos >= model_.ns())
+        fail("column cache: prefetch of surface position ", pos, " out of range [0, ", model_.ns(), ")");
+      if (state_[size_t(pos)] != absent) continue;
+      state_[size_t(pos)] = queued;
+      queue_.push_back(pos);
+    }
+    if (queue_.empty() || worker_.joinable()) {
+      cv_.notify_all();
+      return;
+    }
+  }
+  worker_ = std::thread([this] { worker_loop(); });
+}
+
+void ColumnCache::worker_loop() {
+  std::unique_lock lk(mu_);
+  for (;;) {
+    cv_.wait(lk, [&] { return stop_ || !queue_.empty(); });
+    if (stop_) return;
+    std::vector<int> batch;
+    while (!queue_.empty() && batch.size() < size_t(kBlockNodes)) {
+      batch.push_back(queue_.front());
+      queue_.pop_front();
+      state_[size_t(batch.back())] = computing;
+    }
+    lk.unlock();
+    Timer t;
+    std::vector<std::shared_ptr<NodeColumns>> cols;
+    try {
+      cols = compute(batch, worker_ws_);
+    } catch (...) {
+      cols.clear();  // get() recomputes on the frame thread and reports the error there
+    }
+    lk.lock();
+    stats_.prefetch_ms += t.ms();
+    for (size_t j = 0; j < batch.size(); ++j) {
+      if (j < cols.size()) {
+        insert_locked(batch[j], std::move(cols[j]));
+        ++stats_.prefetched;
+      } else {
+        state_[size_t(batch[j])] = absent;
+      }
+    }
+    cv_.notify_all();
+  }
+}
+
+void ColumnCache::wait_idle() {
+  std::unique_lock lk(mu_);
+  cv_.wait(lk, [&] {
+    return queue_.empty() && std::none_of(state_.begin(), state_.end(), [](char s) { return s == computing; });
+  });
+}
+
+ColumnStats ColumnCache::stats() const {
+  std::lock_guard lk(mu_);
+  return stats_;
+}
+
+}  // namespace softcut::hybrid
