@@ -290,7 +290,7 @@ TEST_SUITE("cli/bench") {
 
   TEST_CASE("bench hybrid: bad options") {
     CHECK(run_cli("bench hybrid --help").status == 0);
-    check_rejected("hybrid --storage sparse", "--storage takes dense, factor or automatic, got 'sparse'");
+    check_rejected("hybrid --storage sparse", "--storage takes dense, product, factor or automatic, got 'sparse'");
     check_rejected("hybrid --quick --only femur", "--only femur: no such model (models: ligament, upper_leg");
     check_rejected("hybrid --frobnicate", "unknown option '--frobnicate'");
   }
