@@ -448,6 +448,7 @@ RunOutcome run_watched(const RunRequest& req, const Watchdog& dog) {
   if (req.height > 0) spec.outputs.render.height = req.height;
   if (req.msaa_samples >= 0) spec.outputs.render.msaa_samples = req.msaa_samples;
   if (!req.backend.empty()) spec.solver.backend = req.backend;
+  spec.solver.cache_dir = req.cache_dir;
   if (!req.trusted) {
     // What the scenario's numbers make the engine allocate counts against
     // the sandbox's memory budget too, checked before it is allocated.

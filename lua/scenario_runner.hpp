@@ -22,6 +22,7 @@ struct RunRequest {
   std::map<std::string, std::string> overrides;   // --set key=value (the scenario's params{})
   int max_frames = -1;                            // --frames N (>= 0)
   bool trusted = false;                           // --trust: no sandbox
+  std::filesystem::path cache_dir;                // precompute cache folder (--no-cache: empty)
   bool render = true;                             // false: skip rendered frames (softcut check)
   std::string backend;                            // --backend: overrides s:solver{ backend }; empty: the scenario's
   int render_every = 0;                           // --render-every N: render every N-th frame, also when the

@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "cli/commands.hpp"
+#include "hybrid/precompute_cache.hpp"
 #include "cli/reference_log.hpp"
 #include "cli/run_support.hpp"
 #include "core/atomic_file.hpp"
@@ -24,7 +25,7 @@ namespace softcut::cli {
 namespace {
 
 const char* kCheckUsage =
-    "usage: softcut check PATH... [--record] [--out DIR] [--backend B] [--max-tets N] [--trust]\n"
+    "usage: softcut check PATH... [--record] [--out DIR] [--backend B] [--max-tets N] [--trust] [--no-cache]\n"
     "\n"
     "Runs each scenario (PATH: a .lua file, or a folder searched for *.lua), evaluates its\n"
     "s:expect{...} checks and compares its displacements.csv with the reference log next to it\n"
@@ -34,6 +35,7 @@ const char* kCheckUsage =
     "  --backend B  operational solver for every scenario: auto, cpu, gpu, direct or monolithic\n"
     "  --max-tets N  sandbox: largest mesh a scenario may load or generate (default 2000000 tets)\n"
     "  --trust    no sandbox\n"
+    "  --no-cache  redo every hybrid precompute instead of loading it from the cache\n"
     "Prints one line per scenario and closes with 'N passed, N failed'; exit status 1 on any failure.\n";
 
 std::vector<fs::path> collect(const std::vector<std::string>& paths) {
@@ -113,12 +115,14 @@ int cmd_check(const Args& args) {
   }
   bool record = false;
   lua::RunRequest base;
+  base.cache_dir = hybrid::default_cache_dir();
   fs::path out_root;
   std::vector<std::string> paths;
   for (size_t i = 0; i < args.size(); ++i) {
     const std::string& a = args[i];
     if (a == "--record") record = true;
     else if (a == "--trust") base.trusted = true;
+    else if (a == "--no-cache") base.cache_dir.clear();
     else if (a == "--backend") {
       if (i + 1 >= args.size()) usage_fail("softcut check: --backend needs a value");
       base.backend = parse_backend(args[++i]);

@@ -9,6 +9,7 @@
 #include "cli/commands.hpp"
 #include "cli/run_support.hpp"
 #include "core/error.hpp"
+#include "hybrid/precompute_cache.hpp"
 #include "scenario_runner.hpp"
 
 namespace softcut::cli {
@@ -18,7 +19,7 @@ namespace {
 const char* kRunUsage =
     "usage: softcut run SCENARIO.lua [--out DIR] [--set key=value ...] [--frames N] [--backend B]\n"
     "                   [--render-every N] [--size WxH] [--msaa N] [--max-tets N] [--timeout S]\n"
-    "                   [--max-output BYTES] [--quiet] [--trust] [--no-render]\n"
+    "                   [--max-output BYTES] [--quiet] [--trust] [--no-render] [--no-cache]\n"
     "\n"
     "Runs a Lua scenario headless and writes DIR/displacements.csv and DIR/summary.json\n"
     "(default DIR: renders/<scenario name>/).\n"
@@ -36,6 +37,8 @@ const char* kRunUsage =
     "  --max-output B   bytes the run may write, all files together (default 4G; 0: none; K/M/G suffix)\n"
     "  --trust          no sandbox: full Lua standard library, no instruction, memory or mesh budget\n"
     "  --no-render      write no frames (also when no OpenGL context can be made)\n"
+    "  --no-cache       redo the hybrid precompute instead of loading it from the cache\n"
+    "                   ($SOFTCUT_CACHE_DIR, else $XDG_CACHE_HOME/softcut or ~/.cache/softcut)\n"
     "Ctrl-C (SIGINT) or SIGTERM stops the script at once (also inside pcall), finishes the current\n"
     "frame, writes the outputs and marks the summary interrupted; a second one ends the process\n"
     "at once, without outputs.\n"
@@ -51,6 +54,7 @@ int cmd_run(const Args& args) {
     return args.empty() ? 2 : 0;
   }
   lua::RunRequest req;
+  req.cache_dir = hybrid::default_cache_dir();
   bool quiet = false;
   std::vector<std::string> files;
   for (size_t i = 0; i < args.size(); ++i) {
@@ -73,6 +77,7 @@ int cmd_run(const Args& args) {
     else if (a == "--max-output") req.max_output = parse_bytes(value("--max-output"), "--max-output");
     else if (a == "--trust") req.trusted = true;
     else if (a == "--no-render") req.render = false;
+    else if (a == "--no-cache") req.cache_dir.clear();
     else if (a.rfind("-", 0) == 0) usage_fail("softcut run: unknown option '", a, "' (see softcut run --help)");
     else files.push_back(a);
   }

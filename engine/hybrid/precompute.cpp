@@ -20,9 +20,8 @@ const char* to_string(Storage s) {
   return "?";
 }
 
-Model precompute(const mesh::TetMesh& m, const std::vector<fem::Material>& tet_material, const Partition& p,
-                 const PrecomputeOptions& opt) {
-  Timer total;
+Model setup_model(const mesh::TetMesh& m, const std::vector<fem::Material>& tet_material, const Partition& p,
+                  const PrecomputeOptions& opt) {
   const int nn = m.num_nodes();
   if (int(tet_material.size()) != m.num_tets())
     fail("hybrid precompute: ", tet_material.size(), " materials for ", m.num_tets(), " tets");
@@ -46,10 +45,6 @@ Model precompute(const mesh::TetMesh& m, const std::vector<fem::Material>& tet_m
   M.nonop_nodes.insert(M.nonop_nodes.end(), p.interior.begin(), p.interior.end());
   M.surface_index = node_positions(p.surface, nn);
 
-  const Eigen::Index ns3 = 3 * Eigen::Index(p.surface.size()), ni3 = 3 * Eigen::Index(p.interface.size());
-  const Eigen::Index n23 = 3 * Eigen::Index(M.nonop_nodes.size());
-  const Eigen::Index B = opt.block_columns;
-
   // Initial loads: checked like per-frame loads (no interior, fixed or unknown nodes).
   M.initial_loads = Eigen::MatrixX3d::Zero(nn, 3);
   if (opt.initial_loads.size() > 0) {
@@ -61,6 +56,23 @@ Model precompute(const mesh::TetMesh& m, const std::vector<fem::Material>& tet_m
     M.initial_loads = opt.initial_loads;
   }
   M.Ps0 = gather_nodes(M.initial_loads, p.surface);
+
+  return M;
+}
+
+void build_operational(const mesh::TetMesh& m, Model& M) {
+  M.operational = std::make_shared<const OperationalSystem>(
+      build_operational_system(m, M.tet_material, M.partition.operational_tets, M.partition.interface, M.node_fixed,
+                               M.node_nonoperational, M.K_prime));
+}
+
+Model precompute(const mesh::TetMesh& m, const std::vector<fem::Material>& tet_material, const Partition& p,
+                 const PrecomputeOptions& opt) {
+  Timer total;
+  Model M = setup_model(m, tet_material, p, opt);
+  const Eigen::Index ns3 = 3 * Eigen::Index(p.surface.size()), ni3 = 3 * Eigen::Index(p.interface.size());
+  const Eigen::Index n23 = 3 * Eigen::Index(M.nonop_nodes.size());
+  const Eigen::Index B = opt.block_columns;
 
   // Blocks of K^non.
   Timer t;
@@ -166,8 +178,7 @@ Model precompute(const mesh::TetMesh& m, const std::vector<fem::Material>& tet_m
   }
 
   t.reset();
-  M.operational = std::make_shared<const OperationalSystem>(build_operational_system(
-      m, tet_material, p.operational_tets, p.interface, M.node_fixed, M.node_nonoperational, M.K_prime));
+  build_operational(m, M);
   M.timings.operational_ms = t.ms();
   M.timings.total_ms = total.ms();
   return M;

@@ -117,6 +117,13 @@ struct Model {
 Model precompute(const mesh::TetMesh& m, const std::vector<fem::Material>& tet_material, const Partition& p,
                  const PrecomputeOptions& opt = {});
 
+// The cheap parts of precompute() that a cached model shares
+// (precompute_cache.hpp): the checks, node sets and initial loads; and the
+// operational system from the mesh and M.K_prime.
+Model setup_model(const mesh::TetMesh& m, const std::vector<fem::Material>& tet_material, const Partition& p,
+                  const PrecomputeOptions& opt);
+void build_operational(const mesh::TetMesh& m, Model& M);
+
 // Rebuilds the operational system of a changed operational mesh (cutting): `m`
 // is the rest mesh with changed operational tets and nodes appended after the
 // original ones; `tet_material` (m.num_tets()); `operational_tets` the

@@ -254,6 +254,16 @@ std::string summary_json(const Model& m, const State& s, const RunResult& r, con
   for (size_t k = 0; k < m.precompute_ms.size(); ++k)
     j += (k ? ", " : "") + jstr(m.precompute_ms[k].first) + ": " + jms(m.precompute_ms[k].second);
   j += "},\n";
+  // The precompute cache: hit or miss (and why), what a hit saved.
+  if (const hybrid::CacheReport* pc = m.solver ? m.solver->precompute_cache() : nullptr) {
+    j += "  \"precompute_cache\": {\"hit\": " + std::string(pc->hit ? "true" : "false") + ", \"key\": " +
+         jstr(pc->key) + ", \"file\": " + jstr(pc->file) + ", \"miss_reason\": " + jstr(pc->miss_reason) +
+         ", \"load_ms\": " + jms(pc->load_ms) + ", \"saved_ms\": " + jms(pc->saved_ms) + ", \"write_ms\": " +
+         jms(pc->write_ms) + ", \"bytes\": " + jnum(pc->bytes) + ", \"evicted\": " + std::to_string(pc->evicted) +
+         ", \"write_error\": " + jstr(pc->write_error) + "},\n";
+  } else {
+    j += "  \"precompute_cache\": null,\n";
+  }
   const RunStatistics& st = s.stats;
   const double nf = st.frames > 0 ? double(st.frames) : 1.0;
   auto stage = [&](const char* name, const StageStat& v, bool last) {

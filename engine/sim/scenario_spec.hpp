@@ -123,6 +123,9 @@ struct SolverSpec {
   // The most the precomputed nonoperational data may take, bytes (the
   // runner sets the sandbox's memory budget); more is an error.
   double max_bytes = std::numeric_limits<double>::infinity();
+  // Precompute cache folder (hybrid/precompute_cache.hpp; the CLI's default
+  // is hybrid::default_cache_dir(), --no-cache clears it); empty: no cache.
+  std::filesystem::path cache_dir;
 };
 
 // Cutter options (cut::CutOptions, docs/cutting.md).

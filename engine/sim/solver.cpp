@@ -10,6 +10,7 @@
 #include "gpu/operational_gpu_solver.hpp"
 #include "hybrid/loads.hpp"
 #include "hybrid/precompute.hpp"
+#include "hybrid/precompute_cache.hpp"
 #include "hybrid/update.hpp"
 #include "sim/scenario_spec.hpp"
 #include "solve/cholesky.hpp"
@@ -135,7 +136,7 @@ class HybridSolver final : public Solver {
                   : spec.mode == "factor"  ? hybrid::Storage::factor
                                            : hybrid::Storage::automatic;
     opt.max_bytes = spec.max_bytes;
-    model_ = hybrid::precompute(m, tet_material, p, opt);
+    model_ = hybrid::precompute_cached(m, tet_material, p, opt, {spec.cache_dir}, &cache_);
     if (choice_.backend == "gpu") {
       // One device solver for every run of this Model: kernels compile once,
       // here, so a context without what they need fails at compile time.
@@ -167,6 +168,7 @@ class HybridSolver final : public Solver {
   bool interior_valid() const override { return need_interior_; }
   std::vector<std::pair<std::string, double>> precompute_ms() const override { return timings_; }
   const BackendChoice& backend() const override { return choice_; }
+  const hybrid::CacheReport* precompute_cache() const override { return cache_.enabled ? &cache_ : nullptr; }
 
   long system_generation(const SolverWarmStart& warm) const override {
     const auto* rs = dynamic_cast<const HybridRunState*>(warm.backend.get());
@@ -277,6 +279,7 @@ class HybridSolver final : public Solver {
   std::shared_ptr<hybrid::NonoperationalProduct> nonop_product_;  // backend gpu with a large dense K*^-1 P*
   double gpu_ms_ = 0;                               // kernel compile time
   hybrid::Model model_;
+  hybrid::CacheReport cache_;
   std::vector<std::pair<std::string, double>> timings_;
 };
 

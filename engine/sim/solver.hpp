@@ -13,6 +13,7 @@
 #include "core/error.hpp"
 #include "fem/material.hpp"
 #include "hybrid/partition.hpp"
+#include "hybrid/precompute_cache.hpp"
 #include "mesh/tet_mesh.hpp"
 
 namespace softcut::gpu {
@@ -82,6 +83,8 @@ class Solver {
   // Precompute timings, ms, by stage name (Table 3), in a stable order.
   virtual std::vector<std::pair<std::string, double>> precompute_ms() const = 0;
   virtual const BackendChoice& backend() const = 0;
+  // The precompute cache's report (hybrid backends with a cache folder), else null.
+  virtual const hybrid::CacheReport* precompute_cache() const { return nullptr; }
 
   // Displacement fields of unit loads: column 3j + a of `out` (3 nnode x 3m,
   // m/N, rows 3 node + axis) is u for 1 N on nodes[j] along axis a and no

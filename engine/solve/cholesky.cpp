@@ -1,5 +1,6 @@
 #include "solve/cholesky.hpp"
 
+#include "core/binary_io.hpp"
 #include "core/error.hpp"
 
 namespace softcut::solve {
@@ -7,6 +8,15 @@ namespace softcut::solve {
 class Cholesky::Llt : public Eigen::CholmodDecomposition<Eigen::SparseMatrix<double>, Eigen::Lower> {
  public:
   cholmod_factor* raw() const { return m_cholmodFactor; }
+  // Takes ownership of a numeric factor made outside Eigen (load()).
+  void adopt(cholmod_factor* L) {
+    if (m_cholmodFactor) cholmod_free_factor(&m_cholmodFactor, &cholmod());
+    m_cholmodFactor = L;
+    m_isInitialized = true;
+    m_info = Eigen::Success;
+    m_analysisIsOk = true;
+    m_factorizationIsOk = true;
+  }
 };
 
 SolveWorkspace::SolveWorkspace() {
@@ -81,6 +91,133 @@ Eigen::MatrixXd Cholesky::solve(const Eigen::MatrixXd& B, SolveWorkspace& ws) co
 
 Eigen::MatrixXd Cholesky::solve(const Eigen::SparseMatrix<double>& B) const {
   return solve(Eigen::MatrixXd(B));
+}
+
+}  // namespace softcut::solve
+
+namespace softcut::solve {
+
+namespace {
+
+// The factor's layout, as saved (CHOLMOD int version, real LL').
+struct FactorHeader {
+  std::int64_t n = 0, minor = 0, is_super = 0, ordering = 0, is_monotonic = 0;
+  std::int64_t nzmax = 0;                                           // simplicial
+  std::int64_t nsuper = 0, ssize = 0, xsize = 0, maxcsize = 0, maxesize = 0;  // supernodal
+};
+
+template <class T>
+T* alloc(size_t n, cholmod_common& c) {
+  void* p = cholmod_malloc(std::max<size_t>(n, 1), sizeof(T), &c);
+  if (!p) fail("Cholesky::load: out of memory for ", n, " entries");
+  return static_cast<T*>(p);
+}
+
+}  // namespace
+
+void Cholesky::save(BinaryWriter& w) const {
+  if (!llt_) fail("Cholesky::save called before factor()");
+  const cholmod_factor* L = llt_->raw();
+  if (!L->is_ll || L->xtype != CHOLMOD_REAL || L->itype != CHOLMOD_INT)
+    fail("Cholesky::save: only real LL' factors with int indices are saved");
+  FactorHeader h;
+  h.n = std::int64_t(L->n), h.minor = std::int64_t(L->minor), h.is_super = L->is_super, h.ordering = L->ordering;
+  h.is_monotonic = L->is_monotonic;
+  h.nzmax = std::int64_t(L->nzmax), h.nsuper = std::int64_t(L->nsuper), h.ssize = std::int64_t(L->ssize);
+  h.xsize = std::int64_t(L->xsize), h.maxcsize = std::int64_t(L->maxcsize), h.maxesize = std::int64_t(L->maxesize);
+  w.pod(h);
+  const size_t n = size_t(L->n);
+  w.array(static_cast<const int*>(L->Perm), n);
+  w.array(static_cast<const int*>(L->ColCount), n);
+  if (L->is_super) {
+    const size_t ns = size_t(L->nsuper) + 1;
+    w.array(static_cast<const int*>(L->super), ns);
+    w.array(static_cast<const int*>(L->pi), ns);
+    w.array(static_cast<const int*>(L->px), ns);
+    w.array(static_cast<const int*>(L->s), size_t(L->ssize));
+    w.array(static_cast<const double*>(L->x), size_t(L->xsize));
+  } else {
+    w.array(static_cast<const int*>(L->p), n + 1);
+    w.array(static_cast<const int*>(L->i), size_t(L->nzmax));
+    w.array(static_cast<const double*>(L->x), size_t(L->nzmax));
+    w.array(static_cast<const int*>(L->nz), n);
+    w.array(static_cast<const int*>(L->next), n + 2);
+    w.array(static_cast<const int*>(L->prev), n + 2);
+  }
+  w.pod(lnz_);
+}
+
+void Cholesky::load(BinaryReader& r) {
+  llt_.reset();
+  rows_ = 0;
+  lnz_ = 0;
+  FactorHeader h;
+  r.pod(h);
+  const std::string& what = r.what();
+  // Every size is checked against the bytes left in the file before it is
+  // allocated (BinaryReader::count), so a corrupt header cannot ask for more.
+  if (h.n < 0 || h.n > (std::int64_t(1) << 31) - 3 || h.minor != h.n || (h.is_super != 0 && h.is_super != 1) ||
+      h.nzmax < 0 || h.nsuper < 0 || h.ssize < 0 || h.xsize < 0 || h.maxcsize < 0 || h.maxesize < 0)
+    fail(what, ": the saved Cholesky factor has an impossible header");
+  auto llt = std::make_shared<Llt>();
+  llt->cholmod().print = 0;
+  cholmod_common& c = llt->cholmod();
+  const size_t n = size_t(h.n);
+  cholmod_factor* L = cholmod_allocate_factor(n, &c);
+  if (!L) fail(what, ": out of memory for a factor of ", n, " rows");
+  auto read_ints = [&](void*& dst, size_t count) {
+    if (r.count(sizeof(int)) != count) fail(what, ": an array of the saved factor has the wrong size");
+    int* p = alloc<int>(count, c);
+    dst = p;
+    r.bytes(p, count * sizeof(int));
+  };
+  auto read_doubles = [&](void*& dst, size_t count) {
+    if (r.count(sizeof(double)) != count) fail(what, ": an array of the saved factor has the wrong size");
+    double* p = alloc<double>(count, c);
+    dst = p;
+    r.bytes(p, count * sizeof(double));
+  };
+  try {
+    r.array_into(static_cast<int*>(L->Perm), n);
+    r.array_into(static_cast<int*>(L->ColCount), n);
+    L->ordering = int(h.ordering);
+    L->is_monotonic = int(h.is_monotonic);
+    L->is_ll = 1;
+    L->xtype = CHOLMOD_REAL;
+    if (h.is_super) {
+      L->is_super = 1;
+      L->nsuper = size_t(h.nsuper), L->ssize = size_t(h.ssize), L->xsize = size_t(h.xsize);
+      L->maxcsize = size_t(h.maxcsize), L->maxesize = size_t(h.maxesize);
+      read_ints(L->super, L->nsuper + 1);
+      read_ints(L->pi, L->nsuper + 1);
+      read_ints(L->px, L->nsuper + 1);
+      read_ints(L->s, L->ssize);
+      read_doubles(L->x, L->xsize);
+    } else {
+      L->nzmax = size_t(h.nzmax);
+      read_ints(L->p, n + 1);
+      read_ints(L->i, L->nzmax);
+      read_doubles(L->x, L->nzmax);
+      read_ints(L->nz, n);
+      read_ints(L->next, n + 2);
+      read_ints(L->prev, n + 2);
+    }
+    L->minor = n;
+    double lnz = 0;
+    r.pod(lnz);
+    if (!cholmod_check_factor(L, &c))
+      fail(what, ": the saved Cholesky factor is inconsistent (CHOLMOD status ", c.status, ")");
+    llt->adopt(L);
+    L = nullptr;
+    llt_ = std::move(llt);
+    rows_ = int(n);
+    lnz_ = lnz;
+  } catch (...) {
+    // A partly filled factor: cholmod_free_factor frees by the fields set so
+    // far; arrays not read yet are null.
+    if (L) cholmod_free_factor(&L, &c);
+    throw;
+  }
 }
 
 }  // namespace softcut::solve

@@ -9,6 +9,11 @@
 #include <memory>
 #include <string>
 
+namespace softcut {
+class BinaryWriter;
+class BinaryReader;
+}  // namespace softcut
+
 namespace softcut::solve {
 
 // CHOLMOD workspace of one thread: lets a second thread solve with a factor
@@ -48,6 +53,13 @@ class Cholesky {
 
   // Nonzeros of the factor L (CHOLMOD's count after the symbolic analysis).
   double factor_nonzeros() const { return lnz_; }
+
+  // The numeric factor as bytes (the precompute cache), and back: load()
+  // rebuilds CHOLMOD's factor from them, checks it with cholmod_check_factor,
+  // and solves bit for bit as the saved one. Throws softcut::Error naming the
+  // reader's file on anything inconsistent.
+  void save(BinaryWriter& w) const;
+  void load(BinaryReader& r);
 
   int rows() const { return rows_; }
   bool factored() const { return bool(llt_); }

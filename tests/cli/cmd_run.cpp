@@ -46,6 +46,30 @@ TEST_SUITE("cli/cmd_run") {
     CHECK(contains(slurp(dir / "off" / "summary.json"), "\"frames_rendered\": 0"));
   }
 
+  TEST_CASE("a second run loads the precompute from the cache and writes the same displacements bit for bit") {
+    const fs::path dir = softcut::test::scratch_dir("cli_run_cache");
+    fs::remove_all(dir);
+    const std::string env = "SOFTCUT_CACHE_DIR='" + (dir / "cache").string() + "' ";
+    const std::string scen = softcut::test::source("scenarios/knee_ligament.lua") + " --quiet --frames 12 --no-render";
+    // Through sh, with the cache folder in front of the command.
+    auto run_env = [&](const std::string& out, const std::string& extra) {
+      const std::string cmd = "cd '" SOFTCUT_SOURCE_DIR "' && " + env + "'" SOFTCUT_BIN "' run " + scen + " --out " +
+                              (dir / out).string() + extra + " >/dev/null 2>&1";
+      return std::system(cmd.c_str());
+    };
+    CHECK(run_env("cold", "") == 0);
+    CHECK(run_env("warm", "") == 0);
+    CHECK(run_env("off", " --no-cache") == 0);
+    const std::string cold = slurp(dir / "cold" / "summary.json"), warm = slurp(dir / "warm" / "summary.json");
+    CHECK(contains(cold, "\"precompute_cache\": {\"hit\": false"));
+    CHECK(contains(cold, "\"miss_reason\": \"no entry\""));
+    CHECK(contains(warm, "\"precompute_cache\": {\"hit\": true"));
+    CHECK(contains(slurp(dir / "off" / "summary.json"), "\"precompute_cache\": null"));
+    CHECK(slurp(dir / "cold" / "displacements.csv") == slurp(dir / "warm" / "displacements.csv"));
+    CHECK(slurp(dir / "cold" / "displacements.csv") == slurp(dir / "off" / "displacements.csv"));
+    CHECK(!slurp(dir / "cold" / "displacements.csv").empty());
+  }
+
   TEST_CASE("--frames out of range names the accepted range") {
     const auto r = run_cli("run " + softcut::test::source("scenarios/upper_leg.lua") + " --frames 99999999999");
     CHECK(r.status == 2);  // a usage error, as --help documents
