@@ -1,8 +1,12 @@
 #include "core/binary_io.hpp"
 
+#include <unistd.h>
 #include <zlib.h>
 
 #include <algorithm>
+#include <cerrno>
+#include <cstring>
+#include <thread>
 
 #include "core/error.hpp"
 
@@ -18,6 +22,17 @@ std::uint32_t crc_update(std::uint32_t crc, const void* p, size_t n) {
   }
   return crc;
 }
+// pread until n bytes are in; false on an error or end of file.
+bool read_at(int fd, char* p, size_t n, std::uint64_t off) {
+  while (n > 0) {
+    const ssize_t k = ::pread(fd, p, std::min<size_t>(n, size_t(1) << 30), off_t(off));
+    if (k < 0 && errno == EINTR) continue;
+    if (k <= 0) return false;
+    p += k, n -= size_t(k), off += std::uint64_t(k);
+  }
+  return true;
+}
+
 }  // namespace
 
 void BinaryWriter::bytes(const void* p, size_t n) {
@@ -34,10 +49,29 @@ void BinaryWriter::finish() {
 void BinaryReader::bytes(void* p, size_t n) {
   if (n == 0) return;
   if (n > left_) fail(what_, ": truncated (", n, " bytes wanted, ", left_, " left)");
-  in_.read(static_cast<char*>(p), std::streamsize(n));
-  if (size_t(in_.gcount()) != n) fail(what_, ": read failed (", in_.gcount(), " of ", n, " bytes)");
+  char* b = static_cast<char*>(p);
+  bool ok = true;
+  if (n >= (size_t(16) << 20)) {
+    // Second half on a second thread: its page faults, copy and CRC overlap ours.
+    const size_t h = n / 2;
+    bool ok2 = true;
+    std::uint32_t crc2 = 0;
+    std::thread other([&] {
+      ok2 = read_at(fd_, b + h, n - h, offset_ + h);
+      if (ok2) crc2 = crc_update(0, b + h, n - h);
+    });
+    ok = read_at(fd_, b, h, offset_);
+    const std::uint32_t crc1 = ok ? crc_update(crc_, b, h) : 0;
+    other.join();
+    ok = ok && ok2;
+    if (ok) crc_ = std::uint32_t(crc32_combine(crc1, crc2, z_off_t(n - h)));
+  } else {
+    ok = read_at(fd_, b, n, offset_);
+    if (ok) crc_ = crc_update(crc_, b, n);
+  }
+  if (!ok) fail(what_, ": read failed (", std::strerror(errno), ")");
+  offset_ += n;
   left_ -= n;
-  crc_ = crc_update(crc_, p, n);
 }
 
 size_t BinaryReader::count(size_t elem) {

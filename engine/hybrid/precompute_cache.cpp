@@ -1,10 +1,13 @@
 #include "hybrid/precompute_cache.hpp"
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
 #include <zlib.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cstdlib>
-#include <fstream>
 #include <sstream>
 
 #include "core/atomic_file.hpp"
@@ -125,16 +128,17 @@ void read_payload(BinaryReader& r, Model& M) {
 
 // Loads the entry into M (set up from the same inputs); returns the miss reason, empty on a hit.
 std::string try_load(const fs::path& file, const std::string& inputs, Model& M) {
-  std::error_code ec;
-  const auto st = fs::symlink_status(file, ec);
-  if (ec || !fs::exists(st)) return "no entry";
-  if (!fs::is_regular_file(st)) return "not a regular file";
-  const std::uintmax_t size = fs::file_size(file, ec);
-  if (ec) return "unreadable";
-  std::ifstream in(file, std::ios::binary);
-  if (!in) return "unreadable";
+  const int fd = ::open(file.c_str(), O_RDONLY | O_NOFOLLOW | O_CLOEXEC | O_NONBLOCK);
+  if (fd < 0) return errno == ENOENT ? "no entry" : errno == ELOOP ? "not a regular file" : "unreadable";
+  struct Closer {
+    int fd;
+    ~Closer() { ::close(fd); }
+  } closer{fd};
+  struct stat st {};
+  if (::fstat(fd, &st) != 0) return "unreadable";
+  if (!S_ISREG(st.st_mode)) return "not a regular file";
   try {
-    BinaryReader r(in, size, "precompute cache " + file.string());
+    BinaryReader r(fd, std::uint64_t(st.st_size), "precompute cache " + file.string());
     char magic[sizeof kMagic];
     r.bytes(magic, sizeof magic);
     if (!std::equal(magic, magic + sizeof magic, kMagic)) return "not a softcut cache file";
