@@ -9,7 +9,10 @@
 namespace softcut::hybrid {
 
 namespace {
-constexpr int kBlockNodes = 16;  // nodes per solve: 48 right-hand sides (BLAS-3 in the supernodal solve)
+// One node (3 right-hand sides) per solve, on the worker too: a node's
+// columns are then the same bits whichever thread computed them, so a run's
+// results do not depend on how far the prefetch got.
+constexpr int kBlockNodes = 1;
 enum : char { absent = 0, queued = 1, computing = 2, cached = 3 };
 }  // namespace
 
@@ -122,7 +125,7 @@ void ColumnCache::worker_loop() {
     cv_.wait(lk, [&] { return stop_ || !queue_.empty(); });
     if (stop_) return;
     std::vector<int> batch;
-    while (!queue_.empty() && batch.size() < size_t(kBlockNodes)) {
+    while (!queue_.empty() && batch.size() < 8) {  // a few nodes per lock
       batch.push_back(queue_.front());
       queue_.pop_front();
       state_[size_t(batch.back())] = computing;

@@ -116,6 +116,32 @@ ActiveLoad resolve_load(const Model& m, const LoadSpec& spec) {
   return a;
 }
 
+namespace {
+
+// Rest-surface nodes that scripted loads name or that a tool tip passes
+// within three radii of, sampled at every frame time (at most 4096 samples
+// per tool): what the run will load, so the solver can prepare their data.
+std::vector<int> nodes_to_be_loaded(const Model& m, const State& s) {
+  std::vector<char> mark(size_t(m.mesh.num_nodes()), 0);
+  for (const auto& l : s.loads)
+    for (int v : l.nodes) mark[size_t(v)] = 1;
+  const int frames = std::max(1, m.num_frames), stride = std::max(1, frames / 4096);
+  for (const auto& t : s.tool_specs) {
+    const double reach2 = 9.0 * t.radius * t.radius;
+    for (int f = 0; f < frames; f += stride) {
+      const Eigen::Vector3d tip = tools::evaluate(t.path, m.frame_time(f));
+      for (int v : m.surface.nodes)
+        if ((m.mesh.node(v) - tip).squaredNorm() <= reach2) mark[size_t(v)] = 1;
+    }
+  }
+  std::vector<int> out;
+  for (size_t v = 0; v < mark.size(); ++v)
+    if (mark[v]) out.push_back(int(v));
+  return out;
+}
+
+}  // namespace
+
 State make_state(const Model& m) {
   State s;
   const int n = m.mesh.num_nodes();
@@ -125,6 +151,7 @@ State make_state(const Model& m) {
   s.tool_specs = m.spec.tools;
   s.tools.resize(s.tool_specs.size());
   for (size_t k = 0; k < s.tools.size(); ++k) s.tools[k].tip = tools::evaluate(s.tool_specs[k].path, 0.0);
+  if (m.solver) m.solver->prefetch(nodes_to_be_loaded(m, s), s.warm);
   return s;
 }
 

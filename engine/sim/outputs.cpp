@@ -264,6 +264,17 @@ std::string summary_json(const Model& m, const State& s, const RunResult& r, con
   } else {
     j += "  \"precompute_cache\": null,\n";
   }
+  // Columns of loaded surface nodes computed on demand (product and factor storage).
+  if (const auto cs = m.solver ? m.solver->column_stats(s.warm) : std::nullopt) {
+    j += "  \"columns\": {\"hits\": " + std::to_string(cs->hits) + ", \"first_touches\": " +
+         std::to_string(cs->first_touches) + ", \"waited\": " + std::to_string(cs->waited) + ", \"prefetched\": " +
+         std::to_string(cs->prefetched) + ", \"evicted\": " + std::to_string(cs->evicted) + ", \"cached_nodes\": " +
+         std::to_string(cs->cached_nodes) + ", \"bytes\": " + jnum(cs->bytes) + ", \"max_bytes\": " +
+         jnum(cs->max_bytes) + ", \"first_touch_ms\": " + jms(cs->first_touch_ms) + ", \"prefetch_ms\": " +
+         jms(cs->prefetch_ms) + "},\n";
+  } else {
+    j += "  \"columns\": null,\n";
+  }
   const RunStatistics& st = s.stats;
   const double nf = st.frames > 0 ? double(st.frames) : 1.0;
   auto stage = [&](const char* name, const StageStat& v, bool last) {

@@ -169,6 +169,14 @@ class HybridSolver final : public Solver {
   std::vector<std::pair<std::string, double>> precompute_ms() const override { return timings_; }
   const BackendChoice& backend() const override { return choice_; }
   const hybrid::CacheReport* precompute_cache() const override { return cache_.enabled ? &cache_ : nullptr; }
+  std::optional<hybrid::ColumnStats> column_stats(const SolverWarmStart& warm) const override {
+    const auto* rs = dynamic_cast<const HybridRunState*>(warm.backend.get());
+    if (!rs || !rs->state.columns) return std::nullopt;
+    return rs->state.columns->stats();
+  }
+  void prefetch(const std::vector<int>& nodes, SolverWarmStart& warm) const override {
+    hybrid::prefetch_columns(model_, run_state(warm).state, nodes);
+  }
 
   long system_generation(const SolverWarmStart& warm) const override {
     const auto* rs = dynamic_cast<const HybridRunState*>(warm.backend.get());

@@ -7,11 +7,13 @@
 #include <Eigen/Core>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "core/error.hpp"
 #include "fem/material.hpp"
+#include "hybrid/columns.hpp"
 #include "hybrid/partition.hpp"
 #include "hybrid/precompute_cache.hpp"
 #include "mesh/tet_mesh.hpp"
@@ -83,6 +85,16 @@ class Solver {
   // Precompute timings, ms, by stage name (Table 3), in a stable order.
   virtual std::vector<std::pair<std::string, double>> precompute_ms() const = 0;
   virtual const BackendChoice& backend() const = 0;
+  // Hint: these nodes will be loaded (scripted tool paths); the hybrid
+  // backends compute their columns on a worker thread (hybrid/columns.hpp).
+  virtual void prefetch(const std::vector<int>& nodes, SolverWarmStart& warm) const {
+    (void)nodes, (void)warm;
+  }
+  // The run's column cache (hybrid backends in product or factor storage), else nullopt.
+  virtual std::optional<hybrid::ColumnStats> column_stats(const SolverWarmStart& warm) const {
+    (void)warm;
+    return std::nullopt;
+  }
   // The precompute cache's report (hybrid backends with a cache folder), else null.
   virtual const hybrid::CacheReport* precompute_cache() const { return nullptr; }
 

@@ -75,8 +75,8 @@ TEST_SUITE("hybrid/columns") {
     CHECK(st.cached_nodes == P.product.ns());
     for (int pos : all) {
       const auto x = a.get(pos), y = b.get(pos);
-      CHECK(rel(x->Kstar_inv, y->Kstar_inv) <= 1e-13);  // blocked solve against a single one
-      CHECK(rel(x->KI2_K22inv, y->KI2_K22inv) <= 1e-13);
+      CHECK(x->Kstar_inv == y->Kstar_inv);  // the same bits on either thread: runs stay deterministic
+      CHECK(x->KI2_K22inv == y->KI2_K22inv);
     }
     st = a.stats();
     CHECK(st.hits == P.product.ns());
