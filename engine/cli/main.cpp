@@ -5,6 +5,7 @@
 
 #include "cli/commands.hpp"
 #include "core/error.hpp"
+#include "core/threads.hpp"
 #include "core/printable.hpp"
 
 namespace {
@@ -48,6 +49,8 @@ int main(int argc, char** argv) {
     return 0;
   }
   const Args args(argv + 2, argv + argc);
+  // BLAS threads that do not fight other runs for the cores (core/threads.hpp).
+  softcut::apply_blas_threads(softcut::thread_policy().threads);
   try {
     if (cmd == "mesh") return cmd_mesh(args);
     if (cmd == "bench") return cmd_bench(args);

@@ -9,6 +9,7 @@
 #include <thread>
 
 #include "core/error.hpp"
+#include "core/threads.hpp"
 
 namespace softcut {
 
@@ -51,7 +52,7 @@ void BinaryReader::bytes(void* p, size_t n) {
   if (n > left_) fail(what_, ": truncated (", n, " bytes wanted, ", left_, " left)");
   char* b = static_cast<char*>(p);
   bool ok = true;
-  if (n >= (size_t(16) << 20)) {
+  if (n >= (size_t(16) << 20) && (threads_ > 0 ? threads_ : thread_policy().threads) > 1) {
     // Second half on a second thread: its page faults, copy and CRC overlap ours.
     const size_t h = n / 2;
     bool ok2 = true;

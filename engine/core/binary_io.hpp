@@ -44,7 +44,9 @@ class BinaryReader {
   // Reads the open file `fd` from its start; `size`: its bytes; `what` names
   // it in errors. Large arrays are read and checksummed in two halves on two
   // threads (the cache's point is speed: a 0.5 GB entry in ~0.2 s).
-  BinaryReader(int fd, std::uint64_t size, std::string what) : fd_(fd), left_(size), what_(std::move(what)) {}
+  // `threads`: 0 = thread_policy() (core/threads.hpp); 1 reads on the calling thread only.
+  BinaryReader(int fd, std::uint64_t size, std::string what, int threads = 0)
+      : fd_(fd), left_(size), what_(std::move(what)), threads_(threads) {}
   void bytes(void* p, size_t n);  // throws softcut::Error when fewer than n bytes are left
   template <class T>
   void pod(T& v) {
@@ -70,6 +72,7 @@ class BinaryReader {
   std::uint64_t left_;
   std::string what_;
   std::uint32_t crc_ = 0;
+  int threads_ = 0;
 };
 
 }  // namespace softcut

@@ -4,6 +4,7 @@
 #include <thread>
 
 #include "core/error.hpp"
+#include "core/threads.hpp"
 #include "core/timer.hpp"
 
 namespace softcut::hybrid {
@@ -57,9 +58,8 @@ State make_state(const Model& M, std::unique_ptr<OperationalSolver> solver, cons
   // Two threads pay for the dense product once it is far larger than the
   // caches (measured: 3.7 -> 2.6 ms for 11k x 1.5k on 2 cores); below that
   // the thread start costs more than it saves.
-  const int hw = int(std::max(1u, std::thread::hardware_concurrency()));
   S.product_threads = opt.product_threads > 0 ? opt.product_threads
-                      : double(M.Kstar_inv_Pstar.size()) >= 4e6 ? std::min(2, hw)
+                      : double(M.Kstar_inv_Pstar.size()) >= 4e6 ? std::min(2, thread_policy().threads)
                                                                 : 1;
   return S;
 }

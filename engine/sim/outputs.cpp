@@ -16,6 +16,7 @@
 #include "core/atomic_file.hpp"
 #include "core/checked_file.hpp"
 #include "core/error.hpp"
+#include "core/threads.hpp"
 #include "core/json_text.hpp"
 #include "core/output_budget.hpp"
 #include "render/contact_sheet.hpp"
@@ -264,6 +265,8 @@ std::string summary_json(const Model& m, const State& s, const RunResult& r, con
   } else {
     j += "  \"precompute_cache\": null,\n";
   }
+  j += "  \"threads\": {\"count\": " + std::to_string(thread_policy().threads) + ", \"reason\": " +
+       jstr(thread_policy().reason) + "},\n";
   // Columns of loaded surface nodes computed on demand (product and factor storage).
   if (const auto cs = m.solver ? m.solver->column_stats(s.warm) : std::nullopt) {
     j += "  \"columns\": {\"hits\": " + std::to_string(cs->hits) + ", \"first_touches\": " +

@@ -70,6 +70,22 @@ TEST_SUITE("cli/cmd_run") {
     CHECK(!slurp(dir / "cold" / "displacements.csv").empty());
   }
 
+  TEST_CASE("the thread count comes from SOFTCUT_THREADS, else from the idle cores, and is in the summary") {
+    const fs::path dir = softcut::test::scratch_dir("cli_run_threads");
+    const std::string scen = softcut::test::source("scenarios/knee_ligament.lua") + " --quiet --frames 2 --no-render";
+    auto run = [&](const std::string& env, const std::string& out) {
+      const std::string cmd = "cd '" SOFTCUT_SOURCE_DIR "' && " + env + " '" SOFTCUT_BIN "' run " + scen + " --out " +
+                              (dir / out).string() + " >/dev/null 2>&1";
+      CHECK(std::system(cmd.c_str()) == 0);
+      return slurp(dir / out / "summary.json");
+    };
+    CHECK(contains(run("SOFTCUT_THREADS=3", "three"), "\"threads\": {\"count\": 3, \"reason\": \"SOFTCUT_THREADS=3\"}"));
+    const std::string bad = run("SOFTCUT_THREADS=lots", "bad");
+    CHECK(contains(bad, "SOFTCUT_THREADS='lots' ignored (want 1..1024); "));
+    CHECK(contains(bad, " idle\"}"));
+    CHECK(contains(run("env -u SOFTCUT_THREADS", "auto"), " cores, load "));
+  }
+
   TEST_CASE("--frames out of range names the accepted range") {
     const auto r = run_cli("run " + softcut::test::source("scenarios/upper_leg.lua") + " --frames 99999999999");
     CHECK(r.status == 2);  // a usage error, as --help documents

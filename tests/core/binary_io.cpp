@@ -24,12 +24,12 @@ fs::path write_file(const std::string& name, const std::string& bytes) {
 }
 
 // Reads back what write_sample wrote; throws softcut::Error on anything wrong.
-std::vector<double> read_sample(const fs::path& p) {
+std::vector<double> read_sample(const fs::path& p, int threads = 2) {
   const int fd = ::open(p.c_str(), O_RDONLY);
   REQUIRE(fd >= 0);
   std::vector<double> big;
   try {
-    BinaryReader r(fd, fs::file_size(p), "sample");
+    BinaryReader r(fd, fs::file_size(p), "sample", threads);
     std::int32_t tag = 0;
     r.pod(tag);
     if (tag != 42) fail("sample: wrong tag ", tag);
@@ -63,6 +63,7 @@ TEST_SUITE("core/binary_io") {
       const std::string bytes = write_sample(big);
       const fs::path p = write_file("softcut-binio", bytes);
       CHECK(read_sample(p) == big);
+      CHECK(read_sample(p, 1) == big);  // one thread: the same bytes, the same checksum
       for (size_t at : {size_t(2), bytes.size() / 3, bytes.size() * 3 / 4, bytes.size() - 1}) {
         std::string bad = bytes;
         bad[at] = char(bad[at] ^ 1);

@@ -1,0 +1,54 @@
+#include "core/threads.hpp"
+
+#include <dlfcn.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <thread>
+
+#include "core/error.hpp"
+
+namespace softcut {
+
+namespace {
+
+ThreadPolicy decide() {
+  ThreadPolicy p;
+  const int cores = int(std::max(1u, std::thread::hardware_concurrency()));
+  if (const char* v = std::getenv("SOFTCUT_THREADS"); v && *v) {
+    char* end = nullptr;
+    const long n = std::strtol(v, &end, 10);
+    if (end && *end == '\0' && n >= 1 && n <= 1024) {
+      p.threads = int(n);
+      p.reason = cat("SOFTCUT_THREADS=", n);
+      return p;
+    }
+    p.reason = cat("SOFTCUT_THREADS='", v, "' ignored (want 1..1024); ");
+  }
+  double load = 0;
+  std::ifstream in("/proc/loadavg");
+  if (!(in >> load) || !std::isfinite(load) || load < 0) load = 0;
+  const int idle = std::max(1, cores - int(std::lround(load)));
+  p.threads = idle;
+  p.reason += cat(cores, " cores, load ", std::round(load * 100) / 100, ": ", idle, " idle");
+  return p;
+}
+
+}  // namespace
+
+const ThreadPolicy& thread_policy() {
+  static const ThreadPolicy p = decide();
+  return p;
+}
+
+bool apply_blas_threads(int threads) {
+  bool any = false;
+  using SetFn = void (*)(int);
+  if (auto f = reinterpret_cast<SetFn>(::dlsym(RTLD_DEFAULT, "openblas_set_num_threads"))) f(threads), any = true;
+  if (auto f = reinterpret_cast<SetFn>(::dlsym(RTLD_DEFAULT, "omp_set_num_threads"))) f(threads), any = true;
+  return any;
+}
+
+}  // namespace softcut
