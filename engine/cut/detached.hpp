@@ -13,17 +13,17 @@ namespace softcut::cut {
 
 struct DetachedPiece {
   std::vector<int> tets;   // sorted tet ids
-  std::vector<int> nodes;  // sorted ids of every node of those tets (fixed ones included)
+  std::vector<int> nodes;  // sorted ids of the nodes of those tets that no anchored part uses (fixed ones included)
   int fixed_nodes = 0;     // fixed nodes among `nodes`: none, or all at one point or on one line
 };
 
-// Connected parts of `m` (tets sharing a node, as hybrid::make_partition
-// counts them) whose fixed nodes (node_fixed, nnode, nonzero = fixed) do not
-// pin all six rigid motions: none, all within 1e-9 x (part diagonal) of one
-// point, or of one line. Ordered by smallest node id; empty when every part is
-// anchored. Parts joined only through a node or an edge count as one part
-// (the cutter separates a node around which all faces are cut). Throws
-// softcut::Error when node_fixed does not have one entry per node.
+// Rigid parts of `m` (tets joined through faces, fem::anchor_parts) that
+// nothing anchors: no fixed node, fixed nodes only at one point or on one line,
+// or hanging from the rest of the body by a single node or edge (a hinge).
+// `nodes` are the piece's nodes that belong to no anchored part (a hinge node
+// stays with the body). Ordered by smallest node id; empty when every part is
+// anchored. Throws softcut::Error when node_fixed does not have one entry per
+// node.
 std::vector<DetachedPiece> find_detached(const mesh::TetMesh& m, const std::vector<char>& node_fixed);
 
 }  // namespace softcut::cut

@@ -5,6 +5,7 @@
 #include <numeric>
 
 #include "core/error.hpp"
+#include "fem/anchoring.hpp"
 #include "mesh/surface.hpp"
 
 namespace softcut::hybrid {
@@ -36,73 +37,31 @@ std::vector<char> tets_where(const mesh::TetMesh& m, Pred pred) {
   return mask;
 }
 
-// Union-find over node ids.
-struct Components {
-  std::vector<int> parent;
-  explicit Components(int n) : parent(size_t(n)) { std::iota(parent.begin(), parent.end(), 0); }
-  int find(int a) {
-    while (parent[size_t(a)] != a) a = parent[size_t(a)] = parent[size_t(parent[size_t(a)])];
-    return a;
-  }
-  void unite(int a, int b) {
-    a = find(a), b = find(b);
-    if (a != b) parent[size_t(std::max(a, b))] = std::min(a, b);
-  }
-};
-
-// Every connected part of the body needs fixed nodes that pin all six rigid
-// motions: at least three not on one line. (Parts joined through a single node
-// or edge can still be singular; the Cholesky factorisation reports those.)
+// Every rigid part of the body (tets joined through faces, fem::anchor_parts)
+// needs pinned nodes that stop all six rigid motions: three not on one line,
+// fixed or shared with an anchored part. A part hanging by one node or one
+// edge can turn about it and makes the stiffness matrix singular.
 void check_parts_are_fixed(const mesh::TetMesh& m, const std::vector<char>& op_tet,
-                           const std::vector<char>& is_fixed, const std::vector<char>& used) {
-  const int nn = m.num_nodes();
-  Components comp(nn);
-  for (int t = 0; t < m.num_tets(); ++t)
-    for (int k = 1; k < 4; ++k) comp.unite(m.tets(t, 0), m.tets(t, k));
-  struct Part {
-    int tets_op = 0, tets_non = 0;
-    Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300), hi = Eigen::Vector3d::Constant(-1e300);
-    std::vector<int> fixed;
-  };
-  std::vector<Part> parts(static_cast<size_t>(nn));
-  for (int t = 0; t < m.num_tets(); ++t) {
-    Part& p = parts[size_t(comp.find(m.tets(t, 0)))];
-    (op_tet[size_t(t)] ? p.tets_op : p.tets_non)++;
-  }
-  for (int v = 0; v < nn; ++v) {
-    if (!used[size_t(v)]) continue;
-    Part& p = parts[size_t(comp.find(v))];
-    p.lo = p.lo.cwiseMin(m.node(v));
-    p.hi = p.hi.cwiseMax(m.node(v));
-    if (is_fixed[size_t(v)]) p.fixed.push_back(v);
-  }
-  for (int root = 0; root < nn; ++root) {
-    const Part& p = parts[size_t(root)];
-    if (!used[size_t(root)] || comp.find(root) != root) continue;
-    const char* region = p.tets_op == 0 ? "nonoperational region"
-                         : p.tets_non == 0 ? "operational region" : "operational and nonoperational regions";
-    auto where = [&] {
-      return cat("the connected part of the body containing node ", root, " (", p.tets_op + p.tets_non,
-                 " tets: ", p.tets_op, " operational, ", p.tets_non, " nonoperational; in the ", region,
-                 "; bounding box [", p.lo.x(), ", ", p.lo.y(), ", ", p.lo.z(), "] .. [", p.hi.x(), ", ",
-                 p.hi.y(), ", ", p.hi.z(), "] m)");
-    };
-    if (p.fixed.empty())
-      fail("hybrid partition: ", where(), " has no fixed node, so its stiffness matrix is singular; "
+                           const std::vector<char>& is_fixed) {
+  const fem::Anchoring A = fem::anchor_parts(m, {}, is_fixed);
+  for (size_t p = 0; p < A.parts.size(); ++p) {
+    const fem::Anchoring::Part& P = A.parts[p];
+    if (P.anchored) continue;
+    int op = 0;
+    for (int t = 0; t < m.num_tets(); ++t) op += A.tet_part[size_t(t)] == int(p) && op_tet[size_t(t)];
+    const int non = P.tets - op;
+    const char* region = op == 0 ? "nonoperational region" : non == 0 ? "operational region"
+                                                                     : "operational and nonoperational regions";
+    const std::string where =
+        cat("the connected part of the body containing node ", P.first_node, " (", P.tets, " tets: ", op,
+            " operational, ", non, " nonoperational; in the ", region, "; bounding box [", P.lo.x(), ", ", P.lo.y(),
+            ", ", P.lo.z(), "] .. [", P.hi.x(), ", ", P.hi.y(), ", ", P.hi.z(), "] m)");
+    if (P.pin == fem::Anchoring::Pin::none)
+      fail("hybrid partition: ", where, " has no fixed node, so its stiffness matrix is singular; "
            "fix at least three non-collinear nodes of that part");
-    // Largest distance of a fixed node from the line through two far-apart ones.
-    const Eigen::Vector3d a = m.node(p.fixed.front());
-    int far = p.fixed.front();
-    for (int v : p.fixed)
-      if ((m.node(v) - a).squaredNorm() > (m.node(far) - a).squaredNorm()) far = v;
-    const Eigen::Vector3d d = m.node(far) - a;
-    double off = 0;
-    if (d.norm() > 0)
-      for (int v : p.fixed) off = std::max(off, (m.node(v) - a).cross(d).norm() / d.norm());
-    const double size = (p.hi - p.lo).norm();
-    if (!(off > 1e-9 * size))
-      fail("hybrid partition: ", where(), " has ", p.fixed.size(), " fixed node(s), all on one line, so it "
-           "can still rotate (singular stiffness matrix); fix at least three non-collinear nodes of that part");
+    if (P.through_shared) fail("hybrid partition: ", where, " ", A.why_loose(int(p)));
+    fail("hybrid partition: ", where, " has ", P.fixed, " fixed node(s), all on one line, so it "
+         "can still rotate (singular stiffness matrix); fix at least three non-collinear nodes of that part");
   }
 }
 
@@ -163,7 +122,7 @@ Partition make_partition(const mesh::TetMesh& m, const std::vector<char>& op_tet
   }
   std::vector<char> used(static_cast<size_t>(nn));
   for (int v = 0; v < nn; ++v) used[size_t(v)] = touch_op[size_t(v)] || touch_non[size_t(v)];
-  check_parts_are_fixed(m, p.operational_tet, is_fixed, used);
+  check_parts_are_fixed(m, p.operational_tet, is_fixed);
 
   const std::vector<char> on_surface = mesh::surface_node_mask(m, mesh::extract_surface(m));
   p.node_set.assign(size_t(nn), NodeSet::unused);

@@ -21,12 +21,24 @@ namespace softcut::sim {
 
 namespace {
 
+// Every solve is checked: a relative residual ||b - A x|| / ||b|| above this is
+// an error, never a result (a nearly singular system gives huge, wrong
+// displacements with a "successful" factorization).
+constexpr double kMaxRelativeResidual = 1e-8;
+
+void check_residual(double r, const char* what) {
+  if (!(r <= kMaxRelativeResidual))
+    fail(what, ": the relative residual of the solve is ", r, " (more than ", kMaxRelativeResidual,
+         "): the system is singular or nearly so; is a part of the body held only by a node or an edge?");
+}
+
 // Whole-mesh reference: K u = f over every tet with the fixed DOFs
 // eliminated, one CHOLMOD factor at compile time (and one per cut, kept in the
 // run state), one solve per frame.
 struct MonolithicSystem {
   int nnode = 0;
   fem::DofMap map;
+  fem::SparseMatrix K;  // free DOFs (both triangles), for the residual check
   solve::Cholesky factor;
   long generation = 0;
 
@@ -42,10 +54,10 @@ struct MonolithicSystem {
       for (int k = 0; k < 4; ++k) free[size_t(m.tets(e, k))] = 1;
     for (int n = 0; n < nnode; ++n) free[size_t(n)] &= !node_fixed[size_t(n)];
     map = fem::make_dof_map(free);
-    const fem::SparseMatrix Kf = fem::restrict_matrix(K, map);
+    this->K = fem::restrict_matrix(K, map);
     if (timings) timings->emplace_back("assemble", t.ms());
     t.reset();
-    factor.factor(Kf, "whole-mesh stiffness (is every part of the body fixed somewhere?)", max_bytes);
+    factor.factor(this->K, "whole-mesh stiffness (is every part of the body fixed somewhere?)", max_bytes);
     if (timings) timings->emplace_back("factor", t.ms());
   }
 };
@@ -101,8 +113,10 @@ class MonolithicSolver final : public Solver {
     const MonolithicSystem& S = system(warm);
     const Eigen::VectorXd f = fem::restrict_vector(fem::flatten(forces), S.map);
     const Eigen::VectorXd x = f.squaredNorm() > 0 ? S.factor.solve(f) : Eigen::VectorXd::Zero(f.size());
-    u = fem::unflatten(fem::expand_vector(x, S.map, S.nnode));
     stats = SolveStats{};
+    if (f.squaredNorm() > 0) stats.relative_residual = (f - S.K * x).norm() / f.norm();
+    check_residual(stats.relative_residual, "whole-mesh solve");
+    u = fem::unflatten(fem::expand_vector(x, S.map, S.nnode));
     stats.operational_ms = t.ms();
   }
 
@@ -237,6 +251,7 @@ class HybridSolver final : public Solver {
     hybrid::UpdateOptions opt;
     opt.recover_interior = need_interior_;
     const hybrid::FrameReport& rep = hybrid::update(model_, rs->state, rs->loads, operational_solver(*rs), opt);
+    check_residual(rep.solve.relative_residual, "operational solve");
     u = rs->state.u;
     stats = SolveStats{};
     stats.cg_iterations = rep.solve.iterations;

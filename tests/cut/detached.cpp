@@ -8,6 +8,7 @@
 #include "cut/cutter.hpp"
 #include "mesh/generate/box.hpp"
 #include "mesh_checks.hpp"
+#include "../fem/fem_fixtures.hpp"
 
 using namespace softcut;
 using Eigen::Vector3d;
@@ -94,6 +95,27 @@ TEST_SUITE("cut/detached") {
     REQUIRE(int(pieces[0].nodes.size()) == b.num_nodes());
     for (size_t k = 0; k < pieces[0].tets.size(); ++k) CHECK(pieces[0].tets[k] == ta + int(k));
     for (size_t k = 0; k < pieces[0].nodes.size(); ++k) CHECK(pieces[0].nodes[k] == na + int(k));
+  }
+
+  TEST_CASE("a box hanging by an edge or a node is a piece, without the hinge nodes - one joined by a face is not") {
+    for (const Vector3d& shift : {Vector3d(1, 1, 0), Vector3d(1, 1, 1), Vector3d(1, 0, 0)}) {
+      const mesh::TetMesh m = test::touching_boxes({Vector3d::Zero(), shift});
+      std::vector<char> fixed(size_t(m.num_nodes()), 0);
+      for (int v = 0; v < m.num_nodes(); ++v) fixed[size_t(v)] = m.nodes(v, 0) == 0;
+      const auto pieces = cut::find_detached(m, fixed);
+      CAPTURE(shift.transpose());
+      if (shift.y() == 0) {  // a face is shared: one rigid, anchored part
+        CHECK(pieces.empty());
+        continue;
+      }
+      REQUIRE(pieces.size() == 1);
+      CHECK(pieces[0].tets.size() == 48);
+      CHECK(pieces[0].fixed_nodes == 0);
+      // Every node of the second box but the hinge: 27 less 3 (an edge of 2 cells) or 1.
+      CHECK(pieces[0].nodes.size() == (shift.z() == 0 ? 24u : 26u));
+      for (int v : pieces[0].nodes) CHECK(m.node(v).x() >= 1.0);
+      for (int v : pieces[0].nodes) CHECK(!(m.nodes(v, 0) == 1.0 && m.nodes(v, 1) == 1.0 && (shift.z() == 0 || m.nodes(v, 2) == 1.0)));
+    }
   }
 
   TEST_CASE("a through-cut near the free end of a box fixed at the other end frees exactly the far side") {

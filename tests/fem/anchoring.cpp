@@ -2,6 +2,8 @@
 
 #include <doctest/doctest.h>
 
+#include <array>
+
 #include "core/error.hpp"
 #include "fem_fixtures.hpp"
 
@@ -21,6 +23,14 @@ mesh::TetMesh two_boxes() {
   m.tets << a.tets, (b.tets.array() + a.num_nodes()).matrix();
   m.labels = Eigen::VectorXi::Zero(m.num_tets());
   return m;
+}
+
+// Nodes of the box face x = 0 of the first box.
+std::vector<int> face_x0(const mesh::TetMesh& m) {
+  std::vector<int> f;
+  for (int v = 0; v < m.num_nodes(); ++v)
+    if (m.nodes(v, 0) == 0 && m.nodes(v, 1) <= 1 && m.nodes(v, 2) <= 1 && m.nodes(v, 1) >= 0) f.push_back(v);
+  return f;
 }
 
 std::vector<char> flags(int nn, const std::vector<int>& ids) {
@@ -72,6 +82,49 @@ TEST_SUITE("fem/anchoring") {
     CHECK_THROWS_WITH_AS(fem::check_anchored(m, {}, flags(nn, {0, 1, 2}), "test"),
                          doctest::Contains("line through nodes 0 and 2"), Error);
     CHECK_NOTHROW(fem::check_anchored(m, {}, flags(nn, {0, 2, 3}), "test"));
+  }
+
+  TEST_CASE("a part hanging by an edge or a node is not anchored, one joined by a face or two edges is") {
+    const Eigen::Vector3d O(0, 0, 0);
+    // The second box touches the first (whose face x = 0 is fixed) at...
+    const mesh::TetMesh by_face = test::touching_boxes({O, {1, 0, 0}});
+    const mesh::TetMesh by_edge = test::touching_boxes({O, {1, 1, 0}});
+    const mesh::TetMesh by_node = test::touching_boxes({O, {1, 1, 1}});
+    CHECK_NOTHROW(fem::check_anchored(by_face, {}, flags(by_face.num_nodes(), face_x0(by_face)), "test"));
+    CHECK(fem::connected_parts(by_edge).count == 1);  // one part by shared nodes: why the old check missed it
+    CHECK_THROWS_WITH_AS(fem::check_anchored(by_edge, {}, flags(by_edge.num_nodes(), face_x0(by_edge)), "test"),
+                         doctest::Contains("hangs by the edge through nodes"), Error);
+    CHECK_THROWS_WITH_AS(fem::check_anchored(by_node, {}, flags(by_node.num_nodes(), face_x0(by_node)), "test"),
+                         doctest::Contains("hangs by node"), Error);
+    const fem::Anchoring A = fem::anchor_parts(by_edge, {}, flags(by_edge.num_nodes(), face_x0(by_edge)));
+    REQUIRE(A.parts.size() == 2);
+    CHECK(A.parts[0].anchored);
+    CHECK(!A.parts[1].anchored);
+    CHECK(A.parts[1].pin == fem::Anchoring::Pin::line);
+    CHECK(A.parts[1].through_shared);
+    CHECK(A.parts[1].tets == 48);
+    // The hinge edge's nodes lie on x = 1, y = 1.
+    for (int v : {A.parts[1].pin_a, A.parts[1].pin_b}) {
+      CHECK(by_edge.nodes(v, 0) == 1.0);
+      CHECK(by_edge.nodes(v, 1) == 1.0);
+    }
+    // A box between two fixed boxes, touching each along an edge on a
+    // different line: pinned at four nodes not on one line, anchored.
+    const mesh::TetMesh bridge = test::touching_boxes({O, {1, 1, 0}, {2, 0, 1}});
+    std::vector<int> fixed = face_x0(bridge);
+    for (int v = 0; v < bridge.num_nodes(); ++v)
+      if (bridge.nodes(v, 0) == 3) fixed.push_back(v);  // the far face of the third box
+    const fem::Anchoring B = fem::anchor_parts(bridge, {}, flags(bridge.num_nodes(), fixed));
+    REQUIRE(B.parts.size() == 3);
+    for (const auto& P : B.parts) CHECK(P.anchored);
+    CHECK_NOTHROW(fem::check_anchored(bridge, {}, flags(bridge.num_nodes(), fixed), "test"));
+    // Anchoring spreads along a chain joined by faces, not along one joined by an edge.
+    const mesh::TetMesh chain = test::touching_boxes({O, {1, 0, 0}, {2, 0, 0}, {3, 1, 0}});
+    const fem::Anchoring C = fem::anchor_parts(chain, {}, flags(chain.num_nodes(), face_x0(chain)));
+    REQUIRE(C.parts.size() == 2);
+    CHECK(C.parts[0].anchored);
+    CHECK(C.parts[0].tets == 3 * 48);
+    CHECK(!C.parts[1].anchored);
   }
 
   TEST_CASE("sizes and ids are checked") {

@@ -1,6 +1,7 @@
 #pragma once
 // Meshes and helpers shared by the fem test suites (header only, no suite).
 #include <Eigen/Dense>
+#include <array>
 #include <cmath>
 #include <random>
 #include <vector>
@@ -56,6 +57,34 @@ inline Eigen::MatrixXd rigid_motions(const Eigen::MatrixX3d& x) {
     }
   }
   return R;
+}
+
+// Boxes [0,1]^3 shifted by `shifts`, nodes at equal positions merged: boxes
+// that touch share a face, an edge or a node.
+inline mesh::TetMesh touching_boxes(const std::vector<Eigen::Vector3d>& shifts) {
+  const mesh::TetMesh a = test::jittered_box(2, 2, 2, 0, 1);
+  std::vector<Eigen::Vector3d> pos;
+  std::vector<std::array<int, 4>> tets;
+  auto id_of = [&](const Eigen::Vector3d& x) {
+    for (size_t k = 0; k < pos.size(); ++k)
+      if ((pos[k] - x).norm() < 1e-12) return int(k);
+    pos.push_back(x);
+    return int(pos.size() - 1);
+  };
+  for (const Eigen::Vector3d& d : shifts)
+    for (int t = 0; t < a.num_tets(); ++t) {
+      std::array<int, 4> q;
+      for (int k = 0; k < 4; ++k) q[size_t(k)] = id_of(a.node(a.tets(t, k)) + d);
+      tets.push_back(q);
+    }
+  mesh::TetMesh m;
+  m.nodes.resize(Eigen::Index(pos.size()), 3);
+  for (size_t k = 0; k < pos.size(); ++k) m.nodes.row(Eigen::Index(k)) = pos[k].transpose();
+  m.tets.resize(Eigen::Index(tets.size()), 4);
+  for (size_t t = 0; t < tets.size(); ++t)
+    for (int k = 0; k < 4; ++k) m.tets(Eigen::Index(t), k) = tets[t][size_t(k)];
+  m.labels = Eigen::VectorXi::Zero(m.num_tets());
+  return m;
 }
 
 }  // namespace softcut::test

@@ -5,6 +5,7 @@
 #include <random>
 
 #include "fixtures.hpp"
+#include "../fem/fem_fixtures.hpp"
 #include "mesh/surface.hpp"
 
 using namespace softcut;
@@ -80,6 +81,29 @@ TEST_SUITE("hybrid/partition") {
     CHECK(all.interior.empty());
     CHECK(all.counts.operational + all.counts.fixed == m.num_nodes() - 1);
     CHECK(describe(all.counts).find("nonoperational 0 nodes") != std::string::npos);
+  }
+
+  TEST_CASE("a part hanging by an edge is refused with its region and the hinge, one joined by a face is not") {
+    const mesh::TetMesh m = test::touching_boxes({Eigen::Vector3d::Zero(), Eigen::Vector3d(1, 1, 0)});
+    std::vector<int> fixed;
+    for (int v = 0; v < m.num_nodes(); ++v)
+      if (m.nodes(v, 0) == 0) fixed.push_back(v);
+    std::vector<char> op(size_t(m.num_tets()), 0);
+    op[size_t(m.num_tets() - 1)] = 1;  // one operational tet in the hanging box
+    try {
+      make_partition(m, op, fixed);
+      FAIL("expected an error");
+    } catch (const Error& e) {
+      const std::string msg = e.what();
+      CHECK(msg.find("48 tets: 1 operational, 47 nonoperational") != std::string::npos);
+      CHECK(msg.find("hangs by the edge through nodes") != std::string::npos);
+      CHECK(msg.find("join it through a face") != std::string::npos);
+    }
+    const mesh::TetMesh joined = test::touching_boxes({Eigen::Vector3d::Zero(), Eigen::Vector3d(1, 0, 0)});
+    std::vector<int> fixed2;
+    for (int v = 0; v < joined.num_nodes(); ++v)
+      if (joined.nodes(v, 0) == 0) fixed2.push_back(v);
+    CHECK_NOTHROW(make_partition(joined, {}, fixed2));
   }
 
   TEST_CASE("a part of the body without fixed nodes is named in the error") {
