@@ -21,17 +21,6 @@ namespace softcut::sim {
 
 namespace {
 
-// Every solve is checked: a relative residual ||b - A x|| / ||b|| above this is
-// an error, never a result (a nearly singular system gives huge, wrong
-// displacements with a "successful" factorization).
-constexpr double kMaxRelativeResidual = 1e-8;
-
-void check_residual(double r, const char* what) {
-  if (!(r <= kMaxRelativeResidual))
-    fail(what, ": the relative residual of the solve is ", r, " (more than ", kMaxRelativeResidual,
-         "): the system is singular or nearly so; is a part of the body held only by a node or an edge?");
-}
-
 // Whole-mesh reference: K u = f over every tet with the fixed DOFs
 // eliminated, one CHOLMOD factor at compile time (and one per cut, kept in the
 // run state), one solve per frame.
@@ -115,7 +104,7 @@ class MonolithicSolver final : public Solver {
     const Eigen::VectorXd x = f.squaredNorm() > 0 ? S.factor.solve(f) : Eigen::VectorXd::Zero(f.size());
     stats = SolveStats{};
     if (f.squaredNorm() > 0) stats.relative_residual = (f - S.K * x).norm() / f.norm();
-    check_residual(stats.relative_residual, "whole-mesh solve");
+    check_solve_residual(stats.relative_residual, "whole-mesh solve");
     u = fem::unflatten(fem::expand_vector(x, S.map, S.nnode));
     stats.operational_ms = t.ms();
   }
@@ -251,7 +240,7 @@ class HybridSolver final : public Solver {
     hybrid::UpdateOptions opt;
     opt.recover_interior = need_interior_;
     const hybrid::FrameReport& rep = hybrid::update(model_, rs->state, rs->loads, operational_solver(*rs), opt);
-    check_residual(rep.solve.relative_residual, "operational solve");
+    check_solve_residual(rep.solve.relative_residual, "operational solve");
     u = rs->state.u;
     stats = SolveStats{};
     stats.cg_iterations = rep.solve.iterations;
@@ -307,6 +296,12 @@ class HybridSolver final : public Solver {
 };
 
 }  // namespace
+
+void check_solve_residual(double r, const char* what) {
+  if (!(r <= kMaxRelativeResidual))
+    fail(what, ": the relative residual of the solve is ", r, " (more than ", kMaxRelativeResidual,
+         "): the system is singular or nearly so; is a part of the body held only by a node or an edge?");
+}
 
 BackendChoice choose_backend(const SolverSpec& spec, const gpu::EglContext* context) {
   BackendChoice c;

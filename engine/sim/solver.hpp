@@ -54,6 +54,13 @@ struct BackendChoice {
 // shaders. Throws naming the accepted values for an unknown backend.
 BackendChoice choose_backend(const SolverSpec& spec, const gpu::EglContext* context);
 
+// Every solve is checked: a relative residual ||b - A x|| / ||b|| above
+// kMaxRelativeResidual (or NaN) is an error naming `what`, never a result (a
+// nearly singular system gives huge, wrong displacements from a factorization
+// that "succeeded").
+constexpr double kMaxRelativeResidual = 1e-8;
+void check_solve_residual(double relative_residual, const char* what);
+
 // Backend-owned per-run data (e.g. hybrid::State: warm start, running sums).
 struct SolverRunState {
   virtual ~SolverRunState() = default;

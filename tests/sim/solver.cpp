@@ -2,6 +2,8 @@
 
 #include <doctest/doctest.h>
 
+#include <cmath>
+
 #include "core/error.hpp"
 #include "core/timer.hpp"
 #include "fixtures.hpp"
@@ -43,6 +45,15 @@ sim::ScenarioSpec gpu_spec(const std::string& backend) {
 }  // namespace
 
 TEST_SUITE("sim/solver") {
+  TEST_CASE("a solve whose residual is not small is an error, never a result") {
+    CHECK_NOTHROW(sim::check_solve_residual(0.0, "x"));
+    CHECK_NOTHROW(sim::check_solve_residual(sim::kMaxRelativeResidual, "x"));
+    CHECK_THROWS_WITH_AS(sim::check_solve_residual(1e-6, "operational solve"),
+                         doctest::Contains("operational solve: the relative residual of the solve is 1e-06"), Error);
+    CHECK_THROWS_AS(sim::check_solve_residual(std::nan(""), "x"), Error);
+    CHECK_THROWS_AS(sim::check_solve_residual(INFINITY, "x"), Error);
+  }
+
   TEST_CASE("backend choice without a context: auto gives the CPU's CHOLMOD and gpu is an error naming the fix") {
     sim::SolverSpec s;
     s.backend = "auto";
