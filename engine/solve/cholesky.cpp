@@ -24,7 +24,11 @@ SolveWorkspace::SolveWorkspace() {
   c_.print = 0;
 }
 
-SolveWorkspace::~SolveWorkspace() { cholmod_finish(&c_); }
+SolveWorkspace::~SolveWorkspace() {
+  for (cholmod_dense** d : {&X, &Y, &E})
+    if (*d) cholmod_free_dense(d, &c_);
+  cholmod_finish(&c_);
+}
 
 Cholesky::Cholesky(const Eigen::SparseMatrix<double>& A, const std::string& what) { factor(A, what); }
 
@@ -87,6 +91,21 @@ Eigen::MatrixXd Cholesky::solve(const Eigen::MatrixXd& B, SolveWorkspace& ws) co
   Eigen::MatrixXd X = Eigen::Map<const Eigen::MatrixXd>(static_cast<const double*>(x->x), B.rows(), B.cols());
   cholmod_free_dense(&x, &ws.common());
   return X;
+}
+
+void Cholesky::solve_into(const Eigen::VectorXd& b, Eigen::VectorXd& x, SolveWorkspace& ws) const {
+  if (!llt_) fail("Cholesky::solve called before factor()");
+  if (b.size() != rows_) fail("Cholesky::solve: right-hand side of size ", b.size(), " for a ", rows_, "-row factor");
+  cholmod_dense B{};
+  B.nrow = size_t(b.size());
+  B.ncol = 1;
+  B.nzmax = B.d = B.nrow;
+  B.x = const_cast<double*>(b.data());  // read only
+  B.xtype = CHOLMOD_REAL;
+  B.dtype = CHOLMOD_DOUBLE;
+  if (!cholmod_solve2(CHOLMOD_A, llt_->raw(), &B, nullptr, &ws.X, nullptr, &ws.Y, &ws.E, &ws.common()))
+    fail("Cholesky::solve: CHOLMOD failed (status ", ws.common().status, "; out of memory?)");
+  x = Eigen::Map<const Eigen::VectorXd>(static_cast<const double*>(ws.X->x), b.size());
 }
 
 Eigen::MatrixXd Cholesky::solve(const Eigen::SparseMatrix<double>& B) const {

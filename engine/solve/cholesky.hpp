@@ -26,6 +26,10 @@ class SolveWorkspace {
   SolveWorkspace(const SolveWorkspace&) = delete;
   SolveWorkspace& operator=(const SolveWorkspace&) = delete;
   cholmod_common& common() { return c_; }
+  // Solution and scratch of cholmod_solve2, kept between solves (no allocation per frame).
+  cholmod_dense* X = nullptr;
+  cholmod_dense* Y = nullptr;
+  cholmod_dense* E = nullptr;
 
  private:
   cholmod_common c_;
@@ -50,6 +54,9 @@ class Cholesky {
   // The same solve with the caller's workspace (thread-safe against solves
   // that use other workspaces).
   Eigen::MatrixXd solve(const Eigen::MatrixXd& B, SolveWorkspace& ws) const;
+  // x = A^-1 b with the workspace's kept buffers: no allocation once sized
+  // (the per-frame solve of small systems, where allocation is a large share).
+  void solve_into(const Eigen::VectorXd& b, Eigen::VectorXd& x, SolveWorkspace& ws) const;
 
   // Nonzeros of the factor L (CHOLMOD's count after the symbolic analysis).
   double factor_nonzeros() const { return lnz_; }

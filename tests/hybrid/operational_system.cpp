@@ -82,6 +82,51 @@ TEST_SUITE("hybrid/operational_system") {
     CHECK(r2.relative_residual <= 1e-12);
   }
 
+  TEST_CASE("the CHOLMOD backend's dense path for small systems solves as its sparse one") {
+    std::mt19937 rng(72);
+    int checked = 0;
+    for (int trial = 0; trial < 12; ++trial) {
+      const test::HybridCase c = test::random_case(rng, trial % 4, 3);
+      const Model M = precompute(c.mesh, c.material, c.partition, {});
+      const OperationalSystem& sys = *M.operational;
+      if (sys.size() == 0) continue;
+      CholmodSolver sparse(false), either;
+      const Eigen::VectorXd b = Eigen::VectorXd::Random(sys.size());
+      Eigen::VectorXd x1, x2;
+      const SolveReport r1 = sparse.solve(sys, b, x1), r2 = either.solve(sys, b, x2);
+      CHECK(!sparse.uses_dense());
+      CHECK(either.uses_dense() == (sys.size() <= 500));
+      CHECK(r1.relative_residual <= 1e-12);
+      CHECK(r2.relative_residual <= 1e-12);
+      CHECK((x1 - x2).norm() <= 1e-10 * x1.norm());
+      ++checked;
+    }
+    CHECK(checked >= 6);
+  }
+
+  TEST_CASE("apply on the 3x3 node blocks equals the assembled matrix times x, and a hand-made system falls back to K") {
+    std::mt19937 rng(71);
+    int checked = 0;
+    for (int trial = 0; trial < 20; ++trial) {
+      const test::HybridCase c = test::random_case(rng, trial % 4, 3);
+      const Model M = precompute(c.mesh, c.material, c.partition, {});
+      const OperationalSystem& sys = *M.operational;
+      if (sys.size() == 0) continue;
+      CHECK(sys.block_row_start.size() == sys.nodes.size() + 1);
+      const Eigen::VectorXd x = Eigen::VectorXd::Random(sys.size());
+      Eigen::VectorXd y, y_plain;
+      sys.apply(x, y);
+      const Eigen::VectorXd ref = sys.assembled() * x;
+      CHECK((y - ref).norm() <= 1e-13 * ref.norm());
+      OperationalSystem plain = sys;  // no blocks: the scalar sparse product
+      plain.block_row_start.clear();
+      plain.apply(x, y_plain);
+      CHECK((y_plain - ref).norm() <= 1e-13 * ref.norm());
+      ++checked;
+    }
+    CHECK(checked >= 10);
+  }
+
   TEST_CASE("an operational tet reaching a nonoperational node is refused") {
     std::mt19937 rng(14);
     test::HybridCase c;
