@@ -46,7 +46,7 @@ struct Row {
 };
 
 int parse_int(const Args& args, size_t& i, const char* flag) {
-  if (i + 1 >= args.size()) fail("bench assembly: ", flag, " needs a value");
+  if (i + 1 >= args.size()) usage_fail("bench assembly: ", flag, " needs a value");
   const std::string& v = args[++i];
   try {
     size_t used = 0;
@@ -54,7 +54,7 @@ int parse_int(const Args& args, size_t& i, const char* flag) {
     if (used == v.size() && x > 0 && x <= 100000000) return int(x);
   } catch (...) {
   }
-  fail("bench assembly: ", flag, " needs a positive integer, got '", v, "'");
+  usage_fail("bench assembly: ", flag, " needs a positive integer, got '", v, "'");
 }
 
 // Minimum wall time (ms) of `repeat` calls.
@@ -157,10 +157,10 @@ int bench_assembly(const Args& args) {
     } else if (a == "--direct-max-tets") {
       direct_max = parse_int(args, i, "--direct-max-tets");
     } else if (a == "--json") {
-      if (i + 1 >= args.size()) fail("bench assembly: --json needs a file name");
+      if (i + 1 >= args.size()) usage_fail("bench assembly: --json needs a file name");
       json = args[++i];
     } else {
-      fail("bench assembly: unknown option '", a, "' (softcut bench assembly --help)");
+      usage_fail("bench assembly: unknown option '", a, "' (softcut bench assembly --help)");
     }
   }
   if (sizes.empty()) sizes = {1000, 5000, 20000, 50000, 100000, 200000};

@@ -274,7 +274,7 @@ int bench_cut(const Args& args) {
                   "  (15^3 cells, 20250 tets; --quick: 8^3 cells, two small regions) and times cut, rebuild\n"
                   "  and the frame after each step against a monolithic CHOLMOD solve of the cut mesh\n", usage);
       return 0;
-    } else fail("bench cut: unknown option '", args[i], "' (", usage, ")");
+    } else usage_fail("bench cut: unknown option '", args[i], "' (", usage, ")");
   }
   const int cells = quick ? 8 : 15, steps = 10;
   const std::vector<int> targets = quick ? std::vector<int>{300, 800} : std::vector<int>{500, 1000, 2000, 5000, 8000};

@@ -41,7 +41,7 @@ int positive(const std::string& flag, const std::string& v) {
     if (used == v.size() && x > 0 && x < 100000) return int(x);
   } catch (...) {
   }
-  fail("bench gpu: ", flag, " needs a positive integer, got '", v, "'");
+  usage_fail("bench gpu: ", flag, " needs a positive integer, got '", v, "'");
 }
 
 }  // namespace
@@ -55,7 +55,7 @@ int bench_gpu(const Args& args) {
   for (size_t i = 0; i < args.size(); ++i) {
     const std::string& a = args[i];
     auto value = [&]() -> const std::string& {
-      if (i + 1 >= args.size()) fail("bench gpu: ", a, " needs a value");
+      if (i + 1 >= args.size()) usage_fail("bench gpu: ", a, " needs a value");
       return args[++i];
     };
     if (a == "--help" || a == "-h") {
@@ -76,11 +76,11 @@ int bench_gpu(const Args& args) {
         used = 0;
       }
       if (used != v.size() || !(peak > 0 && std::isfinite(peak)))
-        fail("bench gpu: --peak-gbs ", v, ": expected a positive bandwidth in GB/s");
+        usage_fail("bench gpu: --peak-gbs ", v, ": expected a positive bandwidth in GB/s");
     } else if (a == "--json") {
       json = value();
     } else {
-      fail("bench gpu: unknown option '", a, "' (see softcut bench gpu --help)");
+      usage_fail("bench gpu: unknown option '", a, "' (see softcut bench gpu --help)");
     }
   }
   if (cells.empty()) cells = {4, 8, 12, 16, 24};

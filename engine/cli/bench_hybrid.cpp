@@ -366,12 +366,12 @@ int bench_hybrid(const Args& args) {
       const std::string v = args[++i];
       storage = v == "dense" ? Storage::dense : v == "product" ? Storage::product : v == "factor" ? Storage::factor : Storage::automatic;
       if (v != "dense" && v != "product" && v != "factor" && v != "automatic")
-        fail("bench hybrid: --storage takes dense, product, factor or automatic, got '", v, "'");
+        usage_fail("bench hybrid: --storage takes dense, product, factor or automatic, got '", v, "'");
     }
     else if (args[i] == "--help" || args[i] == "-h") {
       std::printf("usage: softcut bench hybrid [--quick] [--only MODEL] [--storage dense|product|factor|automatic] [--json FILE] [--md FILE]\n");
       return 0;
-    } else fail("bench hybrid: unknown option '", args[i], "' (usage: softcut bench hybrid [--quick] [--only MODEL] [--storage dense|product|factor|automatic] [--json FILE] [--md FILE])");
+    } else usage_fail("bench hybrid: unknown option '", args[i], "' (usage: softcut bench hybrid [--quick] [--only MODEL] [--storage dense|product|factor|automatic] [--json FILE] [--md FILE])");
   }
   std::vector<BenchModel> models;
   models.push_back(ligament());
@@ -395,7 +395,7 @@ int bench_hybrid(const Args& args) {
     for (const BenchModel& b : models) names += (names.empty() ? "" : ", ") + b.name;
     models.erase(std::remove_if(models.begin(), models.end(), [&](const BenchModel& b) { return b.name != only; }),
                  models.end());
-    if (models.empty()) fail("bench hybrid: --only ", only, ": no such model (models: ", names, ")");
+    if (models.empty()) usage_fail("bench hybrid: --only ", only, ": no such model (models: ", names, ")");
   }
   for (size_t k = 0; k < models.size(); ++k) {
     const Result r = run_model(models[k], quick, storage);

@@ -24,7 +24,7 @@ int bench_render(const Args& args) {
   for (size_t i = 0; i < args.size(); ++i) {
     const std::string& a = args[i];
     auto value = [&]() -> const std::string& {
-      if (i + 1 >= args.size()) fail("bench render: ", a, " needs a value");
+      if (i + 1 >= args.size()) usage_fail("bench render: ", a, " needs a value");
       return args[++i];
     };
     if (a == "--help" || a == "-h") {
@@ -41,7 +41,7 @@ int bench_render(const Args& args) {
     } else if (a == "--frames") {
       frames = parse_count(value(), "--frames");
     } else if (a.rfind("-", 0) == 0) {
-      fail("bench render: unknown option '", a, "' (see softcut bench render --help)");
+      usage_fail("bench render: unknown option '", a, "' (see softcut bench render --help)");
     } else {
       scenarios.push_back(a);
     }

@@ -99,9 +99,9 @@ int bench_springs(const Args& args) {
         used = 0;
       }
       if (used != v.size() || !(radius > 0 && radius < 1))
-        fail("bench springs: --radius ", v, ": expected a grasper radius in m, greater than 0 and below 1");
+        usage_fail("bench springs: --radius ", v, ": expected a grasper radius in m, greater than 0 and below 1");
     } else {
-      fail("bench springs: unknown option '", a, "' (see softcut bench springs --help)");
+      usage_fail("bench springs: unknown option '", a, "' (see softcut bench springs --help)");
     }
   }
   std::printf("| backend | spring | grasped nodes | frame ms (mean) | springs ms/frame w/o builds | compliance builds | "

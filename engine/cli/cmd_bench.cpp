@@ -15,14 +15,8 @@ int cmd_bench(const Args& args) {
     return args.empty() ? 2 : 0;
   }
   for (const auto& b : benchmarks())
-    if (args[0] == b.name) try {
-        return b.run(Args(args.begin() + 1, args.end()));
-      } catch (const UsageError& e) {
-        // The benchmarks report every bad option with status 1 (their own
-        // parsers do); the shared option parsers' usage errors follow suit.
-        throw Error(e.what());
-      }
-  fail("bench: unknown benchmark '", args[0], "' (softcut bench --help lists them)");
+    if (args[0] == b.name) return b.run(Args(args.begin() + 1, args.end()));  // bad options: UsageError, exit 2
+  usage_fail("bench: unknown benchmark '", args[0], "' (softcut bench --help lists them)");
 }
 
 }  // namespace softcut::cli

@@ -167,10 +167,12 @@ std::vector<std::vector<std::string>> rows_starting(const std::string& text, con
 }
 
 // `softcut bench ARGS` must fail with exit status 1 and a message holding `part`.
-void check_rejected(const std::string& args, const std::string& part) {
+// A bad option is a usage error (status 2, as softcut --help documents); a
+// missing input file an error (status 1).
+void check_rejected(const std::string& args, const std::string& part, int status = 2) {
   CAPTURE(args);
   const auto r = run_cli("bench " + args);
-  CHECK(r.status == 1);
+  CHECK(r.status == status);
   CHECK_MESSAGE(contains(r.output, part), r.output);
 }
 
@@ -427,7 +429,7 @@ TEST_SUITE("cli/bench") {
     check_rejected("render --msaa four", "--msaa four");
     check_rejected("render --frames", "--frames needs a value");
     check_rejected("render --frobnicate", "unknown option '--frobnicate'");
-    check_rejected("render no_such.lua", "no_such.lua not found");
+    check_rejected("render no_such.lua", "no_such.lua not found", 1);
     // The defaults are looked up in the working directory.
     const auto r = run_cli("bench render --frames 1", softcut::test::scratch_dir("cli_bench_render_cwd"));
     CHECK(r.status == 1);
