@@ -41,6 +41,5 @@ inline std::string slurp(const std::filesystem::path& p) {
   return ss.str();
 }
 
-inline bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
 
 }  // namespace softcut::test

@@ -8,26 +8,16 @@
 #include <unistd.h>
 
 #include <fstream>
-#include <functional>
 
 #include "core/error.hpp"
 #include "test_support.hpp"
 
 namespace fs = std::filesystem;
 using softcut::Access;
+using softcut::test::contains;
+using softcut::test::error_of;
 
 namespace {
-
-std::string error_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const softcut::Error& e) {
-    return e.what();
-  }
-  return "";
-}
-
-bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
 
 void put(const fs::path& p, const std::string& text) { std::ofstream(p, std::ios::binary) << text; }
 

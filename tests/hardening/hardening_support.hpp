@@ -29,19 +29,8 @@ inline std::filesystem::path put_file(const std::filesystem::path& p, const std:
   return p;
 }
 
-// Calls f() and returns the softcut::Error message ("" when f returned).
-// Any other exception escapes (the test fails on it).
-template <class F>
-std::string error_of(F&& f) {
-  try {
-    f();
-    return "";
-  } catch (const Error& e) {
-    return e.what();
-  }
-}
-
-inline bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
+using test::contains;
+using test::error_of;
 
 // Runs f() in a forked child after `limit` (e.g. RLIMIT_FSIZE) is set; returns
 // the child's exit status (f's return value), or 128 + signal.

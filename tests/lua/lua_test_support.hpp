@@ -57,6 +57,5 @@ inline std::string scenario_error(const std::filesystem::path& file, lua::RunOut
   }
 }
 
-inline bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
 
 }  // namespace softcut::test

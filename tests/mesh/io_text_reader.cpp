@@ -2,21 +2,12 @@
 
 #include <doctest/doctest.h>
 
-#include <functional>
 #include <string>
 
-using softcut::mesh::io::TextReader;
+#include "test_support.hpp"
 
-namespace {
-std::string error_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const softcut::Error& e) {
-    return e.what();
-  }
-  return "";
-}
-}  // namespace
+using softcut::mesh::io::TextReader;
+using softcut::test::error_of;
 
 TEST_SUITE("mesh/io/text_reader") {
   TEST_CASE("line mode skips blank and comment lines and counts lines") {
