@@ -41,8 +41,7 @@ std::vector<DetachedPiece> find_detached(const mesh::TetMesh& m, const std::vect
     }
   }
   for (DetachedPiece& d : pieces) {
-    std::sort(d.nodes.begin(), d.nodes.end());
-    d.nodes.erase(std::unique(d.nodes.begin(), d.nodes.end()), d.nodes.end());
+    std::sort(d.nodes.begin(), d.nodes.end());  // each node was added once (`seen`)
     for (int v : d.nodes) d.fixed_nodes += node_fixed[size_t(v)] != 0;
   }
   return pieces;

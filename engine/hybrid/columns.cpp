@@ -9,10 +9,6 @@
 namespace softcut::hybrid {
 
 namespace {
-// One node (3 right-hand sides) per solve, on the worker too: a node's
-// columns are then the same bits whichever thread computed them, so a run's
-// results do not depend on how far the prefetch got.
-constexpr int kBlockNodes = 1;
 enum : char { absent = 0, queued = 1, computing = 2, cached = 3 };
 }  // namespace
 
@@ -33,27 +29,16 @@ ColumnCache::~ColumnCache() {
   if (worker_.joinable()) worker_.join();
 }
 
-std::vector<std::shared_ptr<NodeColumns>> ColumnCache::compute(const std::vector<int>& positions,
-                                                              solve::SolveWorkspace& ws) const {
-  const Eigen::Index ns3 = 3 * Eigen::Index(model_.ns()), n23 = 3 * Eigen::Index(model_.nonop_nodes.size());
-  std::vector<std::shared_ptr<NodeColumns>> out;
-  for (size_t b0 = 0; b0 < positions.size(); b0 += kBlockNodes) {
-    const size_t k = std::min<size_t>(kBlockNodes, positions.size() - b0);
-    // Unit right-hand sides on the nodes' DOFs: surface position p is K22
-    // node p (surface nodes come first in the K22 order).
-    Eigen::MatrixXd E = Eigen::MatrixXd::Zero(n23, 3 * Eigen::Index(k));
-    for (size_t j = 0; j < k; ++j)
-      for (int a = 0; a < 3; ++a) E(3 * Eigen::Index(positions[b0 + j]) + a, 3 * Eigen::Index(j) + a) = 1.0;
-    const Eigen::MatrixXd X = model_.K22.solve(E, ws);
-    for (size_t j = 0; j < k; ++j) {
-      auto c = std::make_shared<NodeColumns>();
-      const auto Xj = X.middleCols<3>(3 * Eigen::Index(j));
-      c->Kstar_inv = Xj.topRows(ns3);
-      c->KI2_K22inv = model_.KI2 * Xj;
-      out.push_back(std::move(c));
-    }
-  }
-  return out;
+std::shared_ptr<NodeColumns> ColumnCache::compute(int pos, solve::SolveWorkspace& ws) const {
+  // Unit right-hand sides on the node's DOFs: surface position p is K22 node
+  // p (surface nodes come first in the K22 order).
+  Eigen::MatrixXd E = Eigen::MatrixXd::Zero(3 * Eigen::Index(model_.nonop_nodes.size()), 3);
+  for (int a = 0; a < 3; ++a) E(3 * Eigen::Index(pos) + a, a) = 1.0;
+  const Eigen::MatrixXd X = model_.K22.solve(E, ws);
+  auto c = std::make_shared<NodeColumns>();
+  c->Kstar_inv = X.topRows(3 * Eigen::Index(model_.ns()));
+  c->KI2_K22inv = model_.KI2 * X;
+  return c;
 }
 
 void ColumnCache::insert_locked(int pos, std::shared_ptr<const NodeColumns> c) {
@@ -93,7 +78,7 @@ std::shared_ptr<const NodeColumns> ColumnCache::get(int pos) {
   }
   lk.unlock();
   Timer t;
-  std::shared_ptr<const NodeColumns> c = std::move(compute({pos}, frame_ws_).front());
+  std::shared_ptr<const NodeColumns> c = compute(pos, frame_ws_);
   lk.lock();
   ++stats_.first_touches;
   stats_.first_touch_ms += t.ms();
@@ -124,29 +109,24 @@ void ColumnCache::worker_loop() {
   for (;;) {
     cv_.wait(lk, [&] { return stop_ || !queue_.empty(); });
     if (stop_) return;
-    std::vector<int> batch;
-    while (!queue_.empty() && batch.size() < 8) {  // a few nodes per lock
-      batch.push_back(queue_.front());
-      queue_.pop_front();
-      state_[size_t(batch.back())] = computing;
-    }
+    const int pos = queue_.front();
+    queue_.pop_front();
+    state_[size_t(pos)] = computing;
     lk.unlock();
     Timer t;
-    std::vector<std::shared_ptr<NodeColumns>> cols;
+    std::shared_ptr<NodeColumns> c;
     try {
-      cols = compute(batch, worker_ws_);
+      c = compute(pos, worker_ws_);
     } catch (...) {
-      cols.clear();  // get() recomputes on the frame thread and reports the error there
+      c.reset();  // get() recomputes on the frame thread and reports the error there
     }
     lk.lock();
     stats_.prefetch_ms += t.ms();
-    for (size_t j = 0; j < batch.size(); ++j) {
-      if (j < cols.size()) {
-        insert_locked(batch[j], std::move(cols[j]));
-        ++stats_.prefetched;
-      } else {
-        state_[size_t(batch[j])] = absent;
-      }
+    if (c) {
+      insert_locked(pos, std::move(c));
+      ++stats_.prefetched;
+    } else {
+      state_[size_t(pos)] = absent;
     }
     cv_.notify_all();
   }

@@ -62,8 +62,10 @@ class ColumnCache {
   ColumnStats stats() const;
 
  private:
-  // Columns of `positions`, in blocks of right-hand sides, with workspace ws.
-  std::vector<std::shared_ptr<NodeColumns>> compute(const std::vector<int>& positions, solve::SolveWorkspace& ws) const;
+  // Columns of surface position `pos`, one 3-column solve with workspace ws:
+  // the same bits on either thread, so a run's results do not depend on how
+  // far the prefetch got.
+  std::shared_ptr<NodeColumns> compute(int pos, solve::SolveWorkspace& ws) const;
   void insert_locked(int pos, std::shared_ptr<const NodeColumns> c);
   void worker_loop();
 

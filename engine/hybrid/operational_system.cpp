@@ -165,18 +165,23 @@ SolveReport CholmodSolver::solve(const OperationalSystem& sys, const Eigen::Vect
     return {};
   }
   if (generation_ != sys.generation) {
-    const SparseMatrix A = sys.assembled();
-    factor_.factor(A, "operational system (K + K')");
-    generation_ = sys.generation;
     // Small systems: a dense LL' solve has less overhead per call than
     // CHOLMOD's supernodal one (measured, 321 unknowns: 8.5 against 12.5 us).
     // Chosen by size, not by timing, so a run's results never depend on the
-    // machine's load.
+    // machine's load. Only one of the two factors is made.
+    const SparseMatrix A = sys.assembled();
     dense_.reset();
     if (allow_dense_ && sys.size() <= kDenseMax) {
-      auto d = std::make_unique<Eigen::LLT<Eigen::MatrixXd>>(Eigen::MatrixXd(A));
-      if (d->info() == Eigen::Success) dense_ = std::move(d);
+      dense_ = std::make_unique<Eigen::LLT<Eigen::MatrixXd>>(Eigen::MatrixXd(A));
+      if (dense_->info() != Eigen::Success) {
+        dense_.reset();
+        fail("operational system (K + K'): the stiffness matrix is singular or not positive definite; every "
+             "connected part of the body needs fixed nodes");
+      }
+    } else {
+      factor_.factor(A, "operational system (K + K')");
     }
+    generation_ = sys.generation;
   }
   if (dense_) x = dense_->solve(b);
   else factor_.solve_into(b, x, ws_);
