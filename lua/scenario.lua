@@ -309,13 +309,4 @@ function M.after_frame(s, ctx, frame, time, dt, num_nodes)
   return true
 end
 
--- Expectations never reached (run stopped early, --frames).
-function M.pending(s)
-  local out = {}
-  for _, e in ipairs(s._expect) do
-    if not e._done then out[#out + 1] = { name = e.name, where = e.where, at = e.at } end
-  end
-  return out
-end
-
 return M

@@ -153,6 +153,22 @@ TEST_SUITE("lua/scenario_runner") {
     CHECK(rows == 1 + 6 * 2);  // header + frames x logged nodes
   }
 
+  TEST_CASE("no script code runs after the run: expectations not reached are read from the spec") {
+    // A script that plants a function where the runner used to call one after
+    // the last frame cannot change (or stop) what is reported then.
+    const fs::path f = write_scenario(
+        "runner_after",
+        "local P = softcut.params{ force = 0.05, label = 'x', fast = false }\n" + std::string(kBoxHead) +
+            "require('scenario').pending = function() error('script code ran after the run') end\n" + kPull);
+    softcut::lua::RunRequest req;
+    req.max_frames = 1;
+    softcut::lua::RunOutcome out;
+    REQUIRE(scenario_error(f, &out, req) == "");
+    int not_reached = 0;
+    for (const auto& e : out.expectations) not_reached += contains(e.message, "not reached");
+    CHECK(not_reached == 3);
+  }
+
   TEST_CASE("--frames limits the run") {
     softcut::lua::RunRequest req;
     req.max_frames = 2;
