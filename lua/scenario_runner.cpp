@@ -190,8 +190,8 @@ sim::ScenarioSpec spec_from_table(lua_State* L, int s, const fs::path& source) {
     const int v = lua_gettop(L);
     spec.solver.cg_tolerance = get_number(L, v, "tolerance", spec.solver.cg_tolerance);
     spec.solver.cg_max_iterations = get_int(L, v, "max_iterations", 0);
-    spec.solver.backend = get_string(L, v, "backend", spec.solver.backend);
-    spec.solver.mode = get_string(L, v, "mode", spec.solver.mode);
+    spec.solver.backend = sim::parse_backend(get_string(L, v, "backend", "auto"));
+    spec.solver.storage = hybrid::parse_storage(get_string(L, v, "mode", "auto"));
     spec.solver.gpu_fp64 = get_bool(L, v, "gpu_fp64", spec.solver.gpu_fp64);
   }
   lua_pop(L, 1);
@@ -447,7 +447,7 @@ RunOutcome run_watched(const RunRequest& req, const Watchdog& dog) {
   if (req.width > 0) spec.outputs.render.width = req.width;
   if (req.height > 0) spec.outputs.render.height = req.height;
   if (req.msaa_samples >= 0) spec.outputs.render.msaa_samples = req.msaa_samples;
-  if (!req.backend.empty()) spec.solver.backend = req.backend;
+  if (req.backend) spec.solver.backend = *req.backend;
   spec.solver.cache_dir = req.cache_dir;
   if (!req.trusted) {
     // What the scenario's numbers make the engine allocate counts against
@@ -465,7 +465,7 @@ RunOutcome run_watched(const RunRequest& req, const Watchdog& dog) {
   // never creates one) and outliving the Model and the renderer.
   std::unique_ptr<gpu::EglContext> context;
   if (sim::wants_gpu_context(spec)) {
-    const bool required = spec.solver.backend == "gpu" || spec.outputs.render.enabled;
+    const bool required = spec.solver.backend == sim::Backend::gpu || spec.outputs.render.enabled;
     try {
       context = std::make_unique<gpu::EglContext>();
     } catch (const Error& e) {
@@ -478,7 +478,7 @@ RunOutcome run_watched(const RunRequest& req, const Watchdog& dog) {
   // unless the GPU solver needs the shared context on this thread.
   std::unique_ptr<render::FrameWriter> frames;
   if (spec.outputs.render.enabled) {
-    const bool solver_on_gpu = model.solver->backend().backend == "gpu";
+    const bool solver_on_gpu = model.solver->backend().backend == sim::Backend::gpu;
     frames = std::make_unique<render::FrameWriter>(*context,
                                                    solver_on_gpu || req.render_inline
                                                        ? render::FrameWriter::Mode::inline_draw

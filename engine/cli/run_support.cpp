@@ -14,10 +14,12 @@ void add_override(std::map<std::string, std::string>& overrides, const std::stri
   overrides[pair.substr(0, eq)] = pair.substr(eq + 1);
 }
 
-std::string parse_backend(const std::string& text) {
-  for (const char* b : {"auto", "cpu", "gpu", "direct", "monolithic"})
-    if (text == b) return text;
-  usage_fail("--backend ", text, ": expected auto, cpu, gpu, direct or monolithic");
+sim::Backend parse_backend(const std::string& text) {
+  try {
+    return sim::parse_backend(text);
+  } catch (const Error&) {
+    usage_fail("--backend ", text, ": expected auto, cpu, gpu, direct or monolithic");
+  }
 }
 
 int parse_count(const std::string& text, const char* option) {

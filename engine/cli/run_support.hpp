@@ -7,13 +7,15 @@
 #include <string>
 #include <utility>
 
+#include "sim/scenario_spec.hpp"
+
 namespace softcut::cli {
 
 // Every parse failure below is a softcut::UsageError (exit status 2).
 // "key=value" -> overrides[key] = value; throws on a malformed pair.
 void add_override(std::map<std::string, std::string>& overrides, const std::string& pair);
 // --backend value: auto|cpu|gpu|direct|monolithic, else throws listing them.
-std::string parse_backend(const std::string& text);
+sim::Backend parse_backend(const std::string& text);
 // A non-negative integer option value; throws naming the option.
 int parse_count(const std::string& text, const char* option);
 // Seconds (>= 0; 0: no limit); throws naming the option.

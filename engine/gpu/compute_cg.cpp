@@ -48,19 +48,12 @@ std::uint32_t groups_for(std::uint32_t items) { return (items + L::kGroupSize - 
 
 }  // namespace
 
-struct ComputeCg::Impl {
+struct CgKernels {
   bool fp64;
   ComputeProgram spmv, dense, dot_p_ap, reduce_alpha, update, reduce_beta, direction, start;
   ComputeProgram shift;  // renumbers kept block columns after rows were inserted or removed
-  StorageBuffer buf[12];
-  StorageBuffer scratch;  // staging for kept runs that move within a buffer
-  BlockSystem cached;     // what the device holds (values in double)
-  bool have_system = false;
-  SystemUpload upload;    // what the last set_system did
 
-  std::size_t scalar() const { return fp64 ? 8 : 4; }
-
-  explicit Impl(bool fp64_) : fp64(fp64_) {
+  explicit CgKernels(bool fp64_) : fp64(fp64_) {
     namespace S = cg_shaders;
     spmv = ComputeProgram("cg.spmv", S::spmv(fp64));
     dense = ComputeProgram("cg.dense", S::dense(fp64));
@@ -72,16 +65,38 @@ struct ComputeCg::Impl {
     start = ComputeProgram("cg.start", S::start(fp64));
     shift = ComputeProgram("cg.shift_cols", S::shift_cols());
   }
+};
+
+struct ComputeCg::Impl {
+  std::shared_ptr<const CgKernels> kernels;  // shared; uniforms are set before each use
+  bool fp64;
+  const ComputeProgram &spmv, &dense, &dot_p_ap, &reduce_alpha, &update, &reduce_beta, &direction, &start, &shift;
+  StorageBuffer buf[12];
+  StorageBuffer scratch;  // staging for kept runs that move within a buffer
+  BlockSystem cached;     // what the device holds (values in double)
+  bool have_system = false;
+  SystemUpload upload;    // what the last set_system did
+
+  std::size_t scalar() const { return fp64 ? 8 : 4; }
+
+  explicit Impl(std::shared_ptr<const CgKernels> k)
+      : kernels(std::move(k)), fp64(kernels->fp64), spmv(kernels->spmv), dense(kernels->dense),
+        dot_p_ap(kernels->dot_p_ap), reduce_alpha(kernels->reduce_alpha), update(kernels->update),
+        reduce_beta(kernels->reduce_beta), direction(kernels->direction), start(kernels->start),
+        shift(kernels->shift) {}
 
   void set_sizes() {
-    for (ComputeProgram* p : {&spmv, &dense, &dot_p_ap, &reduce_alpha, &update, &reduce_beta, &direction, &start}) {
+    for (const ComputeProgram* p : {&spmv, &dense, &dot_p_ap, &reduce_alpha, &update, &reduce_beta, &direction, &start}) {
       p->set_uint("nb", std::uint32_t(cached.num_blocks));
       p->set_uint("dense_off", std::uint32_t(cached.dense_offset));
       p->set_uint("dense_m", std::uint32_t(cached.dense_size));
     }
   }
 
-  void bind_all() const {
+  // Before dispatching: this system's buffers and sizes (the kernels may
+  // have been used by another ComputeCg since).
+  void prepare() {
+    set_sizes();
     for (std::uint32_t b = 0; b < 12; ++b) buf[b].bind(b);
   }
 
@@ -278,12 +293,23 @@ struct ComputeCg::Impl {
   }
 };
 
-ComputeCg::ComputeCg(EglContext& context, ComputeCgOptions options) : opt_(options), context_(context) {
-  context_.make_current();
-  const auto& info = context_.info();
+std::shared_ptr<const CgKernels> compile_cg_kernels(EglContext& context, bool fp64) {
+  context.make_current();
+  const auto& info = context.info();
   if (!info.compute)
     fail("GPU solver: the OpenGL context (", info.summary(), ") has no compute shaders; use --backend cpu");
-  impl_ = std::make_unique<Impl>(opt_.fp64);
+  return std::make_shared<const CgKernels>(fp64);
+}
+
+ComputeCg::ComputeCg(EglContext& context, ComputeCgOptions options)
+    : ComputeCg(context, compile_cg_kernels(context, options.fp64), options) {}
+
+ComputeCg::ComputeCg(EglContext& context, std::shared_ptr<const CgKernels> kernels, ComputeCgOptions options)
+    : opt_(options), context_(context) {
+  if (!kernels || kernels->fp64 != options.fp64)
+    fail("GPU solver: kernels of the wrong precision (fp64 = ", kernels && kernels->fp64, ") for fp64 = ", options.fp64);
+  context_.make_current();
+  impl_ = std::make_unique<Impl>(std::move(kernels));
 }
 
 ComputeCg::~ComputeCg() {
@@ -331,7 +357,7 @@ void ComputeCg::apply_device(const Eigen::VectorXd& x, Eigen::VectorXd& y) {
   const int n = m.cached.size();
   if (x.size() != n) fail("GPU solver: vector of size ", x.size(), " for a system of size ", n);
   context_.make_current();
-  m.bind_all();
+  m.prepare();
   const auto xb = to_device(x.data(), std::size_t(n), m.fp64);
   m.buf[L::kP].upload_range(0, xb.data(), xb.size());
   m.spmv_p();
@@ -354,7 +380,7 @@ int ComputeCg::solve_device(const Eigen::VectorXd& r, Eigen::VectorXd& d, double
   if (!std::isfinite(scale)) fail("GPU solver: the right-hand side has NaN or Inf entries");
   const Eigen::VectorXd r_unit = scale > 0 ? Eigen::VectorXd(r / scale) : r;
   context_.make_current();
-  m.bind_all();
+  m.prepare();
   const auto rb = to_device(r_unit.data(), std::size_t(n), m.fp64);
   m.buf[L::kR].upload_range(0, rb.data(), rb.size());
   storage_barrier();
@@ -431,7 +457,7 @@ ComputeCgReport ComputeCg::solve(const solve::LinearOperator& exact, const Eigen
 double ComputeCg::time_spmv(int repeats) {
   if (!impl_->have_system) fail("GPU solver: time_spmv before set_system");
   context_.make_current();
-  impl_->bind_all();
+  impl_->prepare();
   glFinish();
   Timer t;
   for (int i = 0; i < repeats; ++i) impl_->spmv_p();

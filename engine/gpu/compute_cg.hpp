@@ -49,11 +49,21 @@ struct SystemUpload {
   bool reallocated = false;     // some device buffer was (re)allocated
 };
 
+// The CG kernels of one precision, compiled in one context: fixed data,
+// shared by every ComputeCg made from them (a Model compiles them once; each
+// run gets its own buffers). Uniforms are program state, so a ComputeCg sets
+// its sizes before every dispatch.
+struct CgKernels;
+// Throws softcut::Error when the context has no compute shaders (or no fp64
+// when asked).
+std::shared_ptr<const CgKernels> compile_cg_kernels(EglContext& context, bool fp64);
+
 class ComputeCg {
  public:
-  // Compiles the kernels in `context` (made current). Throws softcut::Error
-  // when the context has no compute shaders (or no fp64 when asked).
+  // Compiles its own kernels in `context` (made current); throws as compile_cg_kernels.
   ComputeCg(EglContext& context, ComputeCgOptions options = {});
+  // Uses shared kernels of the precision options.fp64.
+  ComputeCg(EglContext& context, std::shared_ptr<const CgKernels> kernels, ComputeCgOptions options);
   ~ComputeCg();
   ComputeCg(const ComputeCg&) = delete;
   ComputeCg& operator=(const ComputeCg&) = delete;

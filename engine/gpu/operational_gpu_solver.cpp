@@ -6,6 +6,10 @@ namespace softcut::gpu {
 
 OperationalGpuSolver::OperationalGpuSolver(EglContext& context, ComputeCgOptions options) : cg_(context, options) {}
 
+OperationalGpuSolver::OperationalGpuSolver(EglContext& context, std::shared_ptr<const CgKernels> kernels,
+                                           ComputeCgOptions options)
+    : cg_(context, std::move(kernels), options) {}
+
 hybrid::SolveReport OperationalGpuSolver::solve(const hybrid::OperationalSystem& sys, const Eigen::VectorXd& b,
                                                 Eigen::VectorXd& x) {
   if (sys.size() == 0) {

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "core/error.hpp"
+#include "core/printable.hpp"
 #include "core/timer.hpp"
 #include "fem/assembly.hpp"
 #include "hybrid/loads.hpp"
@@ -18,6 +19,13 @@ const char* to_string(Storage s) {
     case Storage::factor: return "factor";
   }
   return "?";
+}
+
+Storage parse_storage(std::string_view text) {
+  if (text == "auto") return Storage::automatic;
+  for (Storage s : {Storage::dense, Storage::product, Storage::factor})
+    if (text == to_string(s)) return s;
+  fail("solver: unknown mode '", printable(text), "' (use auto, dense, product or factor)");
 }
 
 Model setup_model(const mesh::TetMesh& m, const std::vector<fem::Material>& tet_material, const Partition& p,

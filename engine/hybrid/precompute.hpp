@@ -32,6 +32,7 @@
 #include <limits>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "fem/material.hpp"
@@ -44,6 +45,9 @@ namespace softcut::hybrid {
 
 enum class Storage { automatic, dense, product, factor };
 const char* to_string(Storage s);
+// The names users write (Lua's solver `mode`): "auto", "dense", "product",
+// "factor". Throws softcut::Error naming the accepted values.
+Storage parse_storage(std::string_view text);
 
 struct PrecomputeOptions {
   Storage storage = Storage::automatic;

@@ -195,7 +195,7 @@ std::vector<CutEvent> cut_stage(const Model& m, State& s, int frame, double t) {
       fail(spec.where.empty() ? "" : spec.where + ": ", "scalpel '", spec.name, "': blade position is not finite at t = ",
            t, " s");
     Timer timer;
-    if (!s.cut) s.cut = std::make_shared<CutMesh>(initial_cut_mesh(m));
+    if (!s.cut) s.cut = std::make_unique<CutMesh>(initial_cut_mesh(m));
     CutMesh& cm = *s.cut;
     if (!ts.in_cut) cut::begin_stroke(cm.cut);  // the blade enters the tissue: a new cut surface
     cut::SweptSurface world = cut::sweep_segment(ts.prev_a, ts.prev_b, ts.blade_a, ts.blade_b);
@@ -258,7 +258,7 @@ std::vector<CutEvent> cut_stage(const Model& m, State& s, int frame, double t) {
         ev.warnings.push_back(w);
         s.warnings.push_back(cat("frame ", frame, " (t = ", t, " s), scalpel '", spec.name, "': ", w));
       }
-      m.solver->apply_cut(cm, rec, s.warm);
+      m.solver->apply_cut(cm, rec, s.solver_run);
       ts.cut_events++;
     }
     ev.nodes_after = cm.mesh.num_nodes(), ev.tets_after = cm.mesh.num_tets();

@@ -32,7 +32,7 @@ fem::Material resolve_material(const MaterialAssignment& a) {
 }  // namespace
 
 bool wants_gpu_context(const ScenarioSpec& spec) {
-  return spec.outputs.render.enabled || spec.solver.backend == "gpu";
+  return spec.outputs.render.enabled || spec.solver.backend == Backend::gpu;
 }
 
 Model compile(const ScenarioSpec& spec, const RunResources& resources) {
@@ -151,8 +151,28 @@ State make_state(const Model& m) {
   s.tool_specs = m.spec.tools;
   s.tools.resize(s.tool_specs.size());
   for (size_t k = 0; k < s.tools.size(); ++k) s.tools[k].tip = tools::evaluate(s.tool_specs[k].path, 0.0);
-  if (m.solver) m.solver->prefetch(nodes_to_be_loaded(m, s), s.warm);
+  if (m.solver) {
+    m.solver->start_run(s.solver_run, nullptr);
+    m.solver->prefetch(nodes_to_be_loaded(m, s), s.solver_run);
+  }
   return s;
+}
+
+State copy_state(const Model& m, const State& s) {
+  State c;
+  static_cast<PhysicsState&>(c) = PhysicsState{s.frame, s.time, s.displacement, s.forces, s.tools,
+                                                s.cut ? std::make_unique<CutMesh>(*s.cut) : nullptr};
+  c.loads = s.loads;
+  c.tool_specs = s.tool_specs;
+  c.stop_requested = s.stop_requested;
+  c.last = s.last;
+  c.last_cg_iterations = s.last_cg_iterations;
+  c.stats = s.stats;
+  c.warnings = s.warnings;
+  c.cut_events = s.cut_events;
+  c.springs.enabled = s.springs.enabled;
+  if (m.solver) m.solver->start_run(c.solver_run, c.cut.get());
+  return c;
 }
 
 Eigen::MatrixX3d deformed_positions(const Model& m, const State& s) {

@@ -28,7 +28,7 @@ struct Model {
   std::vector<fem::Material> tet_material;               // (ntet)
   hybrid::Partition partition;                           // node sets (fixed, 1, I, s, i), Table 2 counts
   std::vector<int> log_nodes;                            // sorted ids written to displacements.csv
-  std::unique_ptr<Solver> solver;                        // solver->backend(): what runs and why
+  std::unique_ptr<const Solver> solver;                  // solver->backend(): what runs and why
   std::vector<std::pair<std::string, double>> precompute_ms;  // Table 3 (+ mesh, selectors)
   std::vector<std::string> warnings;                     // from compile
   int num_frames = 1;                                    // see Timeline
@@ -92,29 +92,53 @@ struct RunStatistics {
   double max_relative_residual = 0;
 };
 
-struct State {
+// What a frame changes in the world: the tissue (displacements, the cut
+// mesh) and the instruments. Scene extraction, outputs and expectations read it.
+struct PhysicsState {
   int frame = -1;                    // last completed frame, -1 before the first step
   double time = 0.0;                 // s, of `frame`
   Eigen::MatrixX3d displacement;     // (nnode x 3) m
   Eigen::MatrixX3d forces;           // (nnode x 3) N, external nodal forces of this frame
+  std::vector<tools::ToolState> tools;  // (ntools) parallel to RunBookkeeping::tool_specs
+  // Cutting (sim/cutting.hpp): the current mesh once a scalpel cut (null
+  // before; then displacement/forces have its node count).
+  std::unique_ptr<CutMesh> cut;
+};
+
+// The run's bookkeeping: what the script controls, the solver's per-run data
+// and caches, statistics and logs.
+struct RunBookkeeping {
   std::vector<ActiveLoad> loads;
   std::vector<tools::ToolSpec> tool_specs;  // copies; the script may change them between frames
-  std::vector<tools::ToolState> tools;      // (ntools) parallel to tool_specs
-  SolverWarmStart warm;
+  bool stop_requested = false;       // set by the script: finish after this frame
+  SolverRun solver_run;              // Solver::start_run: warm start, factors, column cache, device buffers
   SpringCache springs;               // implicit spring compliance (per run)
   FrameTimings last;                 // of the last frame
   int last_cg_iterations = 0;
   RunStatistics stats;
   std::vector<std::string> warnings;  // runtime, deduplicated by the writer
-  bool stop_requested = false;        // set by the script: finish after this frame
-  // Cutting (sim/cutting.hpp): the current mesh once a scalpel cut (null
-  // before; then displacement/forces have its node count), and every cut event.
-  // Copying a State shares `cut` like `warm`: use make_state() for a new run.
-  std::shared_ptr<CutMesh> cut;
-  std::vector<CutEvent> cut_events;
+  std::vector<CutEvent> cut_events;   // every cut so far
 };
 
+// One run: move-only (it owns its cut mesh and solver data); copy_state()
+// is the explicit copy.
+struct State : PhysicsState, RunBookkeeping {
+  State() = default;
+  State(State&&) = default;
+  State& operator=(State&&) = default;
+  State(const State&) = delete;
+  State& operator=(const State&) = delete;
+};
+
+// A new run at frame -1 (loads resolved, the solver's run data made and the
+// columns of nodes the tool paths reach queued for prefetching).
 State make_state(const Model& m);
+// An independent run from where `s` is: the physics, controls, statistics and
+// logs deep-copied; the solver's run data made afresh on the same (cut)
+// system, so both continue to the same displacements (to the solver's
+// tolerance: CG warm starts differ). The spring cache starts empty.
+State copy_state(const Model& m, const State& s);
+
 
 // Deformed positions rest + displacement of the current (possibly cut) mesh, (nnode x 3), m.
 Eigen::MatrixX3d deformed_positions(const Model& m, const State& s);

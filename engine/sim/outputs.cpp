@@ -244,7 +244,7 @@ std::string summary_json(const Model& m, const State& s, const RunResult& r, con
        ", \"interior\": " + std::to_string(c.interior) + ", \"unused\": " + std::to_string(c.unused) + "},\n";
   if (m.solver) {
     const BackendChoice& bc = m.solver->backend();
-    j += "  \"solver\": {\"backend\": " + jstr(bc.backend) + ", \"requested\": " + jstr(bc.requested) +
+    j += "  \"solver\": {\"backend\": " + jstr(to_string(bc.backend)) + ", \"requested\": " + jstr(to_string(bc.requested)) +
          ", \"reason\": " + jstr(bc.reason) + ", \"device\": " + jstr(bc.device) +
          ", \"gpu_fp64\": " + (bc.gpu_fp64 ? "true" : "false") + ", \"description\": " + jstr(m.solver->name()) +
          ", \"cg_tolerance\": " + jnum(sp.solver.cg_tolerance) + "},\n";
@@ -268,7 +268,7 @@ std::string summary_json(const Model& m, const State& s, const RunResult& r, con
   j += "  \"threads\": {\"count\": " + std::to_string(thread_policy().threads) + ", \"reason\": " +
        jstr(thread_policy().reason) + "},\n";
   // Columns of loaded surface nodes computed on demand (product and factor storage).
-  if (const auto cs = m.solver ? m.solver->column_stats(s.warm) : std::nullopt) {
+  if (const auto cs = m.solver ? m.solver->column_stats(s.solver_run) : std::nullopt) {
     j += "  \"columns\": {\"hits\": " + std::to_string(cs->hits) + ", \"first_touches\": " +
          std::to_string(cs->first_touches) + ", \"waited\": " + std::to_string(cs->waited) + ", \"prefetched\": " +
          std::to_string(cs->prefetched) + ", \"evicted\": " + std::to_string(cs->evicted) + ", \"cached_nodes\": " +

@@ -82,14 +82,30 @@ void check_spec(const ScenarioSpec& s) {
   if (!(s.solver.cg_tolerance > 0 && s.solver.cg_tolerance < 1))
     fail("solver: cg_tolerance must lie in (0, 1), got ", s.solver.cg_tolerance);
   if (s.solver.cg_max_iterations < 0) fail("solver: cg_max_iterations must be >= 0");
-  static const std::set<std::string> backends = {"auto", "cpu", "gpu", "direct", "monolithic"}, modes = {"auto", "dense", "product", "factor"};
-  if (!backends.count(s.solver.backend))
-    fail("solver: unknown backend '", s.solver.backend, "' (use auto, cpu, gpu, direct or monolithic)");
-  if (!modes.count(s.solver.mode)) fail("solver: unknown mode '", s.solver.mode, "' (use auto, dense or factor)");
   if (!(s.cutting.snap_fraction > 0 && s.cutting.snap_fraction < 0.5))
     fail("cutting: snap_fraction must lie in (0, 0.5), got ", s.cutting.snap_fraction);
   if (!(s.cutting.min_dihedral_deg >= 0 && s.cutting.min_dihedral_deg < 60))
     fail("cutting: min_dihedral_deg must lie in [0, 60), got ", s.cutting.min_dihedral_deg);
+}
+
+namespace {
+constexpr std::pair<Backend, const char*> kBackendNames[] = {{Backend::automatic, "auto"},
+                                                            {Backend::cpu, "cpu"},
+                                                            {Backend::gpu, "gpu"},
+                                                            {Backend::direct, "direct"},
+                                                            {Backend::monolithic, "monolithic"}};
+}  // namespace
+
+const char* to_string(Backend b) {
+  for (const auto& [v, name] : kBackendNames)
+    if (v == b) return name;
+  return "?";
+}
+
+Backend parse_backend(std::string_view text) {
+  for (const auto& [v, name] : kBackendNames)
+    if (text == name) return v;
+  fail("solver: unknown backend '", printable(text), "' (use auto, cpu, gpu, direct or monolithic)");
 }
 
 const char* to_string(LoadSpec::Direction d) { return d == LoadSpec::Direction::world ? "world" : "normal"; }

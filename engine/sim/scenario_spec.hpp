@@ -9,9 +9,11 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "fem/material.hpp"
+#include "hybrid/precompute.hpp"
 #include "sim/selector.hpp"
 #include "tools/ramp.hpp"
 #include "tools/tool.hpp"
@@ -108,18 +110,25 @@ struct OutputSpec {
   RenderSettings render;            // stored for the renderer
 };
 
+// The operational backend (sim::choose_backend): automatic (CHOLMOD on the
+// operational system, the fastest exact solver measured), cpu (block-Jacobi
+// CG, the paper's solver), gpu (compute-shader CG in the application's EGL
+// context, also on llvmpipe; an error without a context), direct (CHOLMOD,
+// what automatic picks on a CPU), monolithic (no hybrid: whole-mesh CHOLMOD
+// reference, for checks). Parsed once, where the text enters (Lua, CLI).
+enum class Backend { automatic, cpu, gpu, direct, monolithic };
+// The names users write: "auto", "cpu", "gpu", "direct", "monolithic".
+const char* to_string(Backend b);
+// Throws softcut::Error naming the accepted values.
+Backend parse_backend(std::string_view text);
+
 struct SolverSpec {
   double cg_tolerance = 1e-10;  // relative residual of the operational CG
   int cg_max_iterations = 0;    // 0: automatic
-  // Operational backend: "auto" (CHOLMOD on the operational system, the
-  // fastest exact solver measured; see sim::choose_backend), "cpu"
-  // (block-Jacobi CG, the paper's solver), "gpu" (compute-shader CG in the
-  // application's EGL context, also on llvmpipe; an error without a
-  // context), "direct" (CHOLMOD, what auto picks), "monolithic" (no hybrid:
-  // whole-mesh CHOLMOD reference, for checks).
-  std::string backend = "auto";
+  Backend backend = Backend::automatic;
   bool gpu_fp64 = false;        // gpu: fp64 kernels instead of fp32 + fp64 refinement
-  std::string mode = "auto";    // nonoperational data: "auto", "dense", "product", "factor"
+  // Nonoperational data (hybrid/precompute.hpp; Lua's `mode`).
+  hybrid::Storage storage = hybrid::Storage::automatic;
   // The most the precomputed nonoperational data may take, bytes (the
   // runner sets the sandbox's memory budget); more is an error.
   double max_bytes = std::numeric_limits<double>::infinity();

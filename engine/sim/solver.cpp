@@ -69,20 +69,24 @@ class MonolithicSolver final : public Solver {
   bool interior_valid() const override { return true; }
   std::vector<std::pair<std::string, double>> precompute_ms() const override { return timings_; }
   const BackendChoice& backend() const override { return choice_; }
-  long system_generation(const SolverWarmStart& warm) const override { return system(warm).generation; }
+  long system_generation(const SolverRun& warm) const override { return system(warm).generation; }
 
-  void apply_cut(const CutMesh& cm, const cut::CutRecord&, SolverWarmStart& warm) const override {
-    auto* rs = dynamic_cast<MonolithicRunState*>(warm.backend.get());
-    if (!rs) {
-      auto fresh = std::make_shared<MonolithicRunState>();
-      warm.backend = fresh;
-      rs = fresh.get();
-    }
-    const long gen = system(warm).generation + 1;
-    rs->cut = std::make_shared<const MonolithicSystem>(cm.mesh, cm.tet_material, cm.node_fixed, gen, nullptr, max_bytes_);
+  void start_run(SolverRun& warm, const CutMesh* cut) const override {
+    auto rs = std::make_unique<MonolithicRunState>();
+    if (cut)
+      rs->cut = std::make_shared<const MonolithicSystem>(cut->mesh, cut->tet_material, cut->node_fixed, 1, nullptr,
+                                                         max_bytes_);
+    warm.backend = std::move(rs);
   }
 
-  void unit_responses(const std::vector<int>& nodes, SolverWarmStart& warm, Eigen::MatrixXd& out) const override {
+  void apply_cut(const CutMesh& cm, const cut::CutRecord&, SolverRun& warm) const override {
+    if (!dynamic_cast<MonolithicRunState*>(warm.backend.get())) start_run(warm, nullptr);
+    auto& rs = static_cast<MonolithicRunState&>(*warm.backend);
+    const long gen = system(warm).generation + 1;
+    rs.cut = std::make_shared<const MonolithicSystem>(cm.mesh, cm.tet_material, cm.node_fixed, gen, nullptr, max_bytes_);
+  }
+
+  void unit_responses(const std::vector<int>& nodes, SolverRun& warm, Eigen::MatrixXd& out) const override {
     const MonolithicSystem& S = system(warm);
     Eigen::MatrixXd E = Eigen::MatrixXd::Zero(S.map.size(), Eigen::Index(3 * nodes.size()));
     for (size_t j = 0; j < nodes.size(); ++j)
@@ -96,7 +100,7 @@ class MonolithicSolver final : public Solver {
     for (Eigen::Index c = 0; c < E.cols(); ++c) out.col(c) = fem::expand_vector(X.col(c), S.map, S.nnode);
   }
 
-  void solve(const Eigen::MatrixX3d& forces, Eigen::MatrixX3d& u, SolverWarmStart& warm,
+  void solve(const Eigen::MatrixX3d& forces, Eigen::MatrixX3d& u, SolverRun& warm,
              SolveStats& stats) const override {
     Timer t;
     const MonolithicSystem& S = system(warm);
@@ -110,7 +114,7 @@ class MonolithicSolver final : public Solver {
   }
 
  private:
-  const MonolithicSystem& system(const SolverWarmStart& warm) const {
+  const MonolithicSystem& system(const SolverRun& warm) const {
     const auto* rs = dynamic_cast<const MonolithicRunState*>(warm.backend.get());
     return rs && rs->cut ? *rs->cut : *rest_;
   }
@@ -122,7 +126,7 @@ class MonolithicSolver final : public Solver {
 };
 
 struct HybridRunState final : SolverRunState {
-  hybrid::State state;
+  hybrid::State state;  // its solver: CHOLMOD, CG, or the device CG with this run's buffers
   std::vector<hybrid::Load> loads;  // scratch
   std::unique_ptr<hybrid::State> unit;  // scratch state for unit_responses(), created on first use
 };
@@ -134,26 +138,19 @@ class HybridSolver final : public Solver {
                const SolverSpec& spec, bool need_interior, BackendChoice choice, gpu::EglContext* context)
       : spec_(spec), need_interior_(need_interior), choice_(std::move(choice)) {
     hybrid::PrecomputeOptions opt;
-    opt.storage = spec.mode == "dense"     ? hybrid::Storage::dense
-                  : spec.mode == "product" ? hybrid::Storage::product
-                  : spec.mode == "factor"  ? hybrid::Storage::factor
-                                           : hybrid::Storage::automatic;
+    opt.storage = spec.storage;
     opt.max_bytes = spec.max_bytes;
     model_ = hybrid::precompute_cached(m, tet_material, p, opt, {spec.cache_dir}, &cache_);
-    if (choice_.backend == "gpu") {
-      // One device solver for every run of this Model: kernels compile once,
-      // here, so a context without what they need fails at compile time.
-      gpu::ComputeCgOptions g;
-      g.fp64 = spec.gpu_fp64;
-      g.tolerance = spec.cg_tolerance;
-      g.max_inner_iterations = spec.cg_max_iterations;
+    if (choice_.backend == Backend::gpu) {
+      // The kernels compile once, here, so a context without what they need
+      // fails at compile time; each run gets its own device buffers.
       Timer tg;
-      gpu_ = std::make_unique<gpu::OperationalGpuSolver>(*context, g);
+      context_ = context;
+      kernels_ = gpu::compile_cg_kernels(*context, spec.gpu_fp64);
       // Stage 5's dense product on the device too when the block is large
       // enough for the device to pay off (bandwidth-bound; double precision).
-      if (model_.has_Kstar_inv_Pstar() &&
-          double(model_.Kstar_inv_Pstar.size()) >= gpu::DeviceDenseProduct::kWorthwhileEntries)
-        nonop_product_ = std::make_shared<gpu::DeviceDenseProduct>(*context, model_.Kstar_inv_Pstar);
+      device_product_ = model_.has_Kstar_inv_Pstar() &&
+                        double(model_.Kstar_inv_Pstar.size()) >= gpu::DeviceDenseProduct::kWorthwhileEntries;
       gpu_ms_ = tg.ms();
     }
     const hybrid::PrecomputeTimings& t = model_.timings;
@@ -162,7 +159,7 @@ class HybridSolver final : public Solver {
                 {"Kstar_inv", t.Kstar_inv_ms},         {"Kstar_inv_Pstar", t.Kstar_inv_Pstar_ms},
                 {"Kstar_inv_Ps0", t.Kstar_inv_Ps0_ms}, {"operational_system", t.operational_ms},
                 {"hybrid_total", t.total_ms}};
-    if (gpu_) timings_.emplace_back("gpu_kernels", gpu_ms_);
+    if (kernels_) timings_.emplace_back("gpu_kernels", gpu_ms_);
   }
 
   std::string name() const override {
@@ -172,27 +169,32 @@ class HybridSolver final : public Solver {
   std::vector<std::pair<std::string, double>> precompute_ms() const override { return timings_; }
   const BackendChoice& backend() const override { return choice_; }
   const hybrid::CacheReport* precompute_cache() const override { return cache_.enabled ? &cache_ : nullptr; }
-  std::optional<hybrid::ColumnStats> column_stats(const SolverWarmStart& warm) const override {
+  std::optional<hybrid::ColumnStats> column_stats(const SolverRun& warm) const override {
     const auto* rs = dynamic_cast<const HybridRunState*>(warm.backend.get());
     if (!rs || !rs->state.columns) return std::nullopt;
     return rs->state.columns->stats();
   }
-  void prefetch(const std::vector<int>& nodes, SolverWarmStart& warm) const override {
+  void prefetch(const std::vector<int>& nodes, SolverRun& warm) const override {
     hybrid::prefetch_columns(model_, run_state(warm).state, nodes);
   }
 
-  long system_generation(const SolverWarmStart& warm) const override {
+  void start_run(SolverRun& warm, const CutMesh* cut) const override {
+    auto rs = std::make_unique<HybridRunState>();
+    rs->state = hybrid::make_state(model_, make_operational_solver());
+    if (device_product_)
+      rs->state.nonoperational_product = std::make_shared<gpu::DeviceDenseProduct>(*context_, model_.Kstar_inv_Pstar);
+    if (cut) hybrid::set_operational_system(rs->state, cut_system(*cut));
+    warm.backend = std::move(rs);
+  }
+
+  long system_generation(const SolverRun& warm) const override {
     const auto* rs = dynamic_cast<const HybridRunState*>(warm.backend.get());
     return rs ? rs->state.operational->generation : model_.operational->generation;
   }
 
-  void apply_cut(const CutMesh& cm, const cut::CutRecord& rec, SolverWarmStart& warm) const override {
+  void apply_cut(const CutMesh& cm, const cut::CutRecord& rec, SolverRun& warm) const override {
     HybridRunState& rs = run_state(warm);
-    std::vector<int> op;
-    for (int t = 0; t < cm.mesh.num_tets(); ++t)
-      if (cm.operational_tet[size_t(t)]) op.push_back(t);
-    hybrid::set_operational_system(
-        rs.state, hybrid::rebuild_operational_system(model_, cm.mesh, cm.tet_material, op, cm.node_fixed));
+    hybrid::set_operational_system(rs.state, cut_system(cm));
     // Warm start and running state onto the new nodes (the next update
     // gathers the CG start from u because the system generation changed).
     if (rs.state.u.rows() == rec.nodes_before) rs.state.u = cut::map_node_field(rec, rs.state.u);
@@ -203,7 +205,7 @@ class HybridSolver final : public Solver {
     }
   }
 
-  void unit_responses(const std::vector<int>& nodes, SolverWarmStart& warm, Eigen::MatrixXd& out) const override {
+  void unit_responses(const std::vector<int>& nodes, SolverRun& warm, Eigen::MatrixXd& out) const override {
     HybridRunState& rs = run_state(warm);
     if (!rs.unit) rs.unit = std::make_unique<hybrid::State>(hybrid::make_state(model_));
     hybrid::State& scratch = *rs.unit;
@@ -213,7 +215,7 @@ class HybridSolver final : public Solver {
     // Responses are measured against the zero-load state, so initial model
     // loads (none in sim, but allowed by hybrid) cancel.
     std::vector<hybrid::Load> none;
-    hybrid::update(model_, scratch, none, operational_solver(rs), opt);
+    hybrid::update(model_, scratch, none, *rs.state.solver, opt);
     const Eigen::VectorXd u_zero = fem::flatten(scratch.u);
     out.resize(u_zero.size(), 3 * Eigen::Index(nodes.size()));
     for (size_t j = 0; j < nodes.size(); ++j)
@@ -224,12 +226,12 @@ class HybridSolver final : public Solver {
           fail("unit_responses: node ", nodes[j], " is ", set == hybrid::NodeSet::fixed ? "fixed" : "interior");
         hybrid::Load unit{nodes[j], Eigen::Vector3d::Unit(a)};
         scratch.x_operational.setZero();  // each column from zero: no dependence on column order
-        hybrid::update(model_, scratch, std::span<const hybrid::Load>(&unit, 1), operational_solver(rs), opt);
+        hybrid::update(model_, scratch, std::span<const hybrid::Load>(&unit, 1), *rs.state.solver, opt);
         out.col(Eigen::Index(3 * j + a)) = fem::flatten(scratch.u) - u_zero;
       }
   }
 
-  void solve(const Eigen::MatrixX3d& forces, Eigen::MatrixX3d& u, SolverWarmStart& warm,
+  void solve(const Eigen::MatrixX3d& forces, Eigen::MatrixX3d& u, SolverRun& warm,
              SolveStats& stats) const override {
     HybridRunState* rs = &run_state(warm);
     rs->loads.clear();
@@ -239,7 +241,7 @@ class HybridSolver final : public Solver {
         rs->loads.push_back({n, forces.row(n).transpose()});
     hybrid::UpdateOptions opt;
     opt.recover_interior = need_interior_;
-    const hybrid::FrameReport& rep = hybrid::update(model_, rs->state, rs->loads, operational_solver(*rs), opt);
+    const hybrid::FrameReport& rep = hybrid::update(model_, rs->state, rs->loads, *rs->state.solver, opt);
     check_solve_residual(rep.solve.relative_residual, "operational solve");
     u = rs->state.u;
     stats = SolveStats{};
@@ -252,32 +254,35 @@ class HybridSolver final : public Solver {
 
  private:
   std::string backend_name() const {
-    if (gpu_)
+    if (kernels_)
       return cat("gpu cg, ", spec_.gpu_fp64 ? "fp64" : "fp32 + fp64 refinement",
-                 nonop_product_ ? "; (K*^-1 P*) AI on the device" : "");
-    return choice_.backend == "direct" ? "cholmod" : "cg";
+                 device_product_ ? "; (K*^-1 P*) AI on the device" : "");
+    return choice_.backend == Backend::direct ? "cholmod" : "cg";
   }
 
-  HybridRunState& run_state(SolverWarmStart& warm) const {
-    auto* rs = dynamic_cast<HybridRunState*>(warm.backend.get());
-    if (!rs) {
-      auto fresh = std::make_shared<HybridRunState>();
-      fresh->state = hybrid::make_state(model_, make_operational_solver());
-      fresh->state.nonoperational_product = nonop_product_;
-      warm.backend = fresh;
-      rs = fresh.get();
-    }
-    return *rs;
+  HybridRunState& run_state(SolverRun& warm) const {
+    if (!dynamic_cast<HybridRunState*>(warm.backend.get())) start_run(warm, nullptr);
+    return static_cast<HybridRunState&>(*warm.backend);
   }
 
-  // The device solver is shared by every run of the Model (it re-uploads
-  // only when the system's generation changes); CPU solvers live per run.
-  hybrid::OperationalSolver& operational_solver(HybridRunState& rs) const {
-    return gpu_ ? static_cast<hybrid::OperationalSolver&>(*gpu_) : *rs.state.solver;
+  std::shared_ptr<const hybrid::OperationalSystem> cut_system(const CutMesh& cm) const {
+    std::vector<int> op;
+    for (int t = 0; t < cm.mesh.num_tets(); ++t)
+      if (cm.operational_tet[size_t(t)]) op.push_back(t);
+    return hybrid::rebuild_operational_system(model_, cm.mesh, cm.tet_material, op, cm.node_fixed);
   }
 
+  // One per run: CPU solvers keep a factor or warm start, the device solver
+  // this run's buffers (it re-uploads only when the system's generation changes).
   std::unique_ptr<hybrid::OperationalSolver> make_operational_solver() const {
-    if (choice_.backend == "direct") return std::make_unique<hybrid::CholmodSolver>();
+    if (kernels_) {
+      gpu::ComputeCgOptions g;
+      g.fp64 = spec_.gpu_fp64;
+      g.tolerance = spec_.cg_tolerance;
+      g.max_inner_iterations = spec_.cg_max_iterations;
+      return std::make_unique<gpu::OperationalGpuSolver>(*context_, kernels_, g);
+    }
+    if (choice_.backend == Backend::direct) return std::make_unique<hybrid::CholmodSolver>();
     solve::CgOptions cg;
     cg.tolerance = spec_.cg_tolerance;
     cg.max_iterations = spec_.cg_max_iterations;
@@ -287,9 +292,12 @@ class HybridSolver final : public Solver {
   SolverSpec spec_;
   bool need_interior_ = false;
   BackendChoice choice_;
-  std::unique_ptr<gpu::OperationalGpuSolver> gpu_;  // backend gpu only
-  std::shared_ptr<hybrid::NonoperationalProduct> nonop_product_;  // backend gpu with a large dense K*^-1 P*
-  double gpu_ms_ = 0;                               // kernel compile time
+  // Backend gpu: the application's context (outlives the Model) and the
+  // compiled kernels every run shares; whether stage 5 runs on the device.
+  gpu::EglContext* context_ = nullptr;
+  std::shared_ptr<const gpu::CgKernels> kernels_;
+  bool device_product_ = false;  // a large dense K*^-1 P*
+  double gpu_ms_ = 0;            // kernel compile time
   hybrid::Model model_;
   hybrid::CacheReport cache_;
   std::vector<std::pair<std::string, double>> timings_;
@@ -310,34 +318,37 @@ BackendChoice choose_backend(const SolverSpec& spec, const gpu::EglContext* cont
     const gpu::ContextInfo& info = context->info();
     c.device = info.renderer + (info.software ? ", software" : "");
   }
-  const std::string& b = spec.backend;
-  if (b == "cpu" || b == "direct" || b == "monolithic") {
-    c.backend = b;
-    c.reason = "requested";
-  } else if (b == "gpu") {
-    if (!context)
-      fail("solver: backend 'gpu' needs an OpenGL context, and none was created (the CLI makes one for --backend gpu; "
-           "check the EGL error above, or use --backend cpu)");
-    if (!context->info().compute)
-      fail("solver: backend 'gpu': the OpenGL context (", context->info().summary(),
-           ") has no compute shaders (OpenGL 4.3 needed); use --backend cpu");
-    c.backend = "gpu";
-    c.reason = context->info().software ? "requested (on a software rasteriser: correct but slower than cpu)"
-                                        : "requested";
-  } else if (b == "auto") {
-    // Measured (bench hybrid, docs/bench-hybrid.md): the kept CHOLMOD factor
-    // of the operational system beats block-Jacobi CG (100-300 iterations)
-    // at every size. GPU CG has not been measured against it on a hardware
-    // GPU yet, so auto stays on the CPU there too; llvmpipe is never chosen.
-    c.backend = "direct";
-    c.reason = context && !context->info().software && context->info().compute
-                   ? "auto: CHOLMOD on the operational system (kept factor); GPU CG is not yet measured faster on "
-                     "this machine"
-                   : "auto: CHOLMOD on the operational system (kept factor), the fastest exact solver on a CPU";
-  } else {
-    fail("solver: unknown backend '", b, "' (use auto, cpu, gpu, direct or monolithic)");
+  switch (spec.backend) {
+    case Backend::cpu:
+    case Backend::direct:
+    case Backend::monolithic:
+      c.backend = spec.backend;
+      c.reason = "requested";
+      break;
+    case Backend::gpu:
+      if (!context)
+        fail("solver: backend 'gpu' needs an OpenGL context, and none was created (the CLI makes one for --backend "
+             "gpu; check the EGL error above, or use --backend cpu)");
+      if (!context->info().compute)
+        fail("solver: backend 'gpu': the OpenGL context (", context->info().summary(),
+             ") has no compute shaders (OpenGL 4.3 needed); use --backend cpu");
+      c.backend = Backend::gpu;
+      c.reason = context->info().software ? "requested (on a software rasteriser: correct but slower than cpu)"
+                                          : "requested";
+      break;
+    case Backend::automatic:
+      // Measured (bench hybrid, docs/bench-hybrid.md): the kept CHOLMOD factor
+      // of the operational system beats block-Jacobi CG (100-300 iterations)
+      // at every size. GPU CG has not been measured against it on a hardware
+      // GPU yet, so auto stays on the CPU there too; llvmpipe is never chosen.
+      c.backend = Backend::direct;
+      c.reason = context && !context->info().software && context->info().compute
+                     ? "auto: CHOLMOD on the operational system (kept factor); GPU CG is not yet measured faster on "
+                       "this machine"
+                     : "auto: CHOLMOD on the operational system (kept factor), the fastest exact solver on a CPU";
+      break;
   }
-  c.gpu_fp64 = c.backend == "gpu" && spec.gpu_fp64;
+  c.gpu_fp64 = c.backend == Backend::gpu && spec.gpu_fp64;
   return c;
 }
 
@@ -345,9 +356,10 @@ std::unique_ptr<Solver> make_solver(const mesh::TetMesh& m, const std::vector<fe
                                     const hybrid::Partition& partition, const SolverSpec& spec, bool need_interior,
                                     const RunResources& resources, Diagnostics& diag) {
   BackendChoice choice = choose_backend(spec, resources.context);
-  if (spec.gpu_fp64 && choice.backend != "gpu")
-    diag.warn("solver: gpu_fp64 ignored: the operational backend is ", choice.backend, " (", choice.reason, ")");
-  if (choice.backend == "monolithic")
+  if (spec.gpu_fp64 && choice.backend != Backend::gpu)
+    diag.warn("solver: gpu_fp64 ignored: the operational backend is ", to_string(choice.backend), " (", choice.reason,
+              ")");
+  if (choice.backend == Backend::monolithic)
     return std::make_unique<MonolithicSolver>(m, tet_material, partition, std::move(choice), spec.max_bytes);
   return std::make_unique<HybridSolver>(m, tet_material, partition, spec, need_interior, std::move(choice),
                                         resources.context);

@@ -30,6 +30,7 @@ namespace softcut::sim {
 
 struct SolverSpec;
 struct CutMesh;
+enum class Backend;
 
 // What the application lends a run. The library never creates an OpenGL
 // context: the CLI makes one (for rendering or the GPU backend) and passes it
@@ -41,17 +42,16 @@ struct RunResources {
 
 // The operational backend actually used and why (written to summary.json).
 struct BackendChoice {
-  std::string requested;  // SolverSpec::backend as given: auto|cpu|gpu|direct|monolithic
-  std::string backend;    // chosen: cpu|gpu|direct|monolithic
+  Backend requested;      // SolverSpec::backend as given
+  Backend backend;        // chosen: cpu, gpu, direct or monolithic (never automatic)
   std::string reason;     // one sentence, e.g. "auto: llvmpipe (...) is a software rasteriser; CPU CG"
   std::string device;     // the context's GL renderer (+ ", software"), empty without a context
   bool gpu_fp64 = false;  // backend gpu: fp64 kernels (else fp32 + fp64 refinement)
 };
 
-// Resolves SolverSpec::backend against the context: auto -> gpu only on a
-// hardware device with compute shaders, else cpu; gpu -> the device even when
-// it is software (llvmpipe), an Error when there is no context or no compute
-// shaders. Throws naming the accepted values for an unknown backend.
+// Resolves SolverSpec::backend against the context: automatic -> direct (see
+// the reason in solver.cpp); gpu -> the device even when it is software
+// (llvmpipe), an Error when there is no context or no compute shaders.
 BackendChoice choose_backend(const SolverSpec& spec, const gpu::EglContext* context);
 
 // Every solve is checked: a relative residual ||b - A x|| / ||b|| above
@@ -66,10 +66,11 @@ struct SolverRunState {
   virtual ~SolverRunState() = default;
 };
 
-// Per-run mutable solver data kept in State, created by the first solve.
-// Copying a State shares it: use make_state() for an independent run.
-struct SolverWarmStart {
-  std::shared_ptr<SolverRunState> backend;
+// Per-run mutable solver data kept in State (Solver::start_run makes it):
+// warm starts, running sums, the cut system, the column cache, device
+// buffers. Owned by one run: a State is not copied implicitly.
+struct SolverRun {
+  std::unique_ptr<SolverRunState> backend;
 };
 
 struct SolveStats {
@@ -86,19 +87,23 @@ class Solver {
   virtual std::string name() const = 0;  // e.g. "hybrid (dense storage, operational cg)"
   // forces (nnode x 3), N -> u (nnode x 3), m. Fixed nodes get zero. Rows of
   // nonoperational interior nodes are valid only when interior_valid().
-  virtual void solve(const Eigen::MatrixX3d& forces, Eigen::MatrixX3d& u, SolverWarmStart& warm,
+  virtual void solve(const Eigen::MatrixX3d& forces, Eigen::MatrixX3d& u, SolverRun& warm,
                      SolveStats& stats) const = 0;
   virtual bool interior_valid() const = 0;
   // Precompute timings, ms, by stage name (Table 3), in a stable order.
   virtual std::vector<std::pair<std::string, double>> precompute_ms() const = 0;
   virtual const BackendChoice& backend() const = 0;
+  // A new run's solver data (on the device for backend gpu: its buffers,
+  // sharing the kernels compiled with the Model). When `cut` is given the run
+  // starts on that cut mesh's system (State's explicit copy).
+  virtual void start_run(SolverRun& warm, const CutMesh* cut) const = 0;
   // Hint: these nodes will be loaded (scripted tool paths); the hybrid
   // backends compute their columns on a worker thread (hybrid/columns.hpp).
-  virtual void prefetch(const std::vector<int>& nodes, SolverWarmStart& warm) const {
+  virtual void prefetch(const std::vector<int>& nodes, SolverRun& warm) const {
     (void)nodes, (void)warm;
   }
   // The run's column cache (hybrid backends in product or factor storage), else nullopt.
-  virtual std::optional<hybrid::ColumnStats> column_stats(const SolverWarmStart& warm) const {
+  virtual std::optional<hybrid::ColumnStats> column_stats(const SolverRun& warm) const {
     (void)warm;
     return std::nullopt;
   }
@@ -111,14 +116,14 @@ class Solver {
   // update per column on a scratch state: the paper's selective columns).
   // nodes: free (not fixed), not interior-nonoperational. Leaves `warm`'s
   // frame state unchanged (it may keep scratch data there).
-  virtual void unit_responses(const std::vector<int>& nodes, SolverWarmStart& warm, Eigen::MatrixXd& out) const = 0;
+  virtual void unit_responses(const std::vector<int>& nodes, SolverRun& warm, Eigen::MatrixXd& out) const = 0;
   // Identifies the system solve() uses now (changes when cutting rebuilds
   // the operational system); caches of unit_responses() are keyed by it.
-  virtual long system_generation(const SolverWarmStart& warm) const = 0;
+  virtual long system_generation(const SolverRun& warm) const = 0;
   // After a cut step changed the mesh to `cm` (rec: the change): rebuilds the
   // run's system (hybrid: only the operational one, K' and the rest stay),
   // maps the warm start onto the new nodes, bumps system_generation().
-  virtual void apply_cut(const CutMesh& cm, const cut::CutRecord& rec, SolverWarmStart& warm) const = 0;
+  virtual void apply_cut(const CutMesh& cm, const cut::CutRecord& rec, SolverRun& warm) const = 0;
 };
 
 // tet_material (ntet). need_interior: interior nonoperational rows of u are

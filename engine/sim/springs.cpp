@@ -37,10 +37,10 @@ int solve_implicit_springs(const Model& m, State& s) {
   const Eigen::Index ng = Eigen::Index(3 * nodes.size());
 
   SpringCache& c = s.springs;
-  const long generation = m.solver->system_generation(s.warm);
+  const long generation = m.solver->system_generation(s.solver_run);
   if (!c.enabled || c.nodes != nodes || c.generation != generation) {
     Timer t;
-    m.solver->unit_responses(nodes, s.warm, c.response);
+    m.solver->unit_responses(nodes, s.solver_run, c.response);
     c.compliance.resize(ng, ng);
     for (size_t j = 0; j < nodes.size(); ++j)
       c.compliance.middleRows(Eigen::Index(3 * j), 3) = c.response.middleRows(3 * Eigen::Index(nodes[j]), 3);

@@ -64,7 +64,7 @@ void step(const Model& m, State& s) {
   double poke_drag_ms = timer.ms();
 
   SolveStats st;
-  m.solver->solve(s.forces, s.displacement, s.warm, st);
+  m.solver->solve(s.forces, s.displacement, s.solver_run, st);
   timer.reset();
   const bool springs = solve_implicit_springs(m, s) > 0;
   const double springs_ms = timer.ms();

@@ -330,7 +330,7 @@ s:solver{ mode = "dense" }
 return s)");
     req.scenario = dense.scen / "s.lua";
     req.out_dir = dense.root / "out";
-    req.backend = "cpu";
+    req.backend = softcut::sim::Backend::cpu;
     req.memory_budget = 8u << 20;
     const std::string msg = error_of([&] { softcut::lua::run_scenario(req); });
     CHECK(contains(msg, "storage mode 'dense' needs"));
@@ -494,7 +494,7 @@ end))lua", "0.1"));
     softcut::lua::RunRequest req;
     req.scenario = f.scen / "s.lua";
     req.out_dir = f.root / "out";
-    req.backend = "cpu";
+    req.backend = softcut::sim::Backend::cpu;
     softcut::lua::RunOutcome out;
     CHECK(error_of([&] { out = softcut::lua::run_scenario(req); }) == "");
     CHECK(out.expectations.size() == 10000);

@@ -62,7 +62,7 @@ sim::ScenarioSpec bar_cut_spec(const std::string& name, double cut_pressure, con
   s.timeline.duration = 1.0;
   s.timeline.frame_rate = 20.0;
   s.outputs.dir = softcut::test::scratch_dir(name);
-  s.solver.backend = backend;
+  s.solver.backend = sim::parse_backend(backend);
   s.solver.cg_tolerance = 1e-12;
   return s;
 }
@@ -81,6 +81,32 @@ std::string slurp(const std::filesystem::path& p) {
 }  // namespace
 
 TEST_SUITE("sim/cutting") {
+  TEST_CASE("copy_state forks a run mid-cut: both continue to the same displacements, and neither sees the other") {
+    for (const std::string backend : {"direct", "cpu", "monolithic"}) {
+      CAPTURE(backend);
+      const sim::Model m = sim::compile(bar_cut_spec("cut_copy_" + backend, 1000.0, backend));
+      sim::State s = sim::make_state(m);
+      while (s.cut_events.empty()) sim::step(m, s);  // the first cut has happened
+      sim::State c = sim::copy_state(m, s);
+      REQUIRE(c.cut);
+      CHECK(c.cut.get() != s.cut.get());  // deep: its own cut mesh
+      CHECK(c.frame == s.frame);
+      CHECK(c.cut_events.size() == s.cut_events.size());
+      // The original runs on alone for a while (cutting further), then both finish.
+      for (int k = 0; k < 4; ++k) sim::step(m, s);
+      CHECK(c.cut->mesh.num_tets() <= s.cut->mesh.num_tets());
+      CHECK(c.frame == s.frame - 4);
+      run_all(m, s);
+      run_all(m, c);
+      REQUIRE(c.displacement.rows() == s.displacement.rows());
+      CHECK((c.cut->mesh.tets.array() == s.cut->mesh.tets.array()).all());
+      const double scale = s.displacement.cwiseAbs().maxCoeff();
+      REQUIRE(scale > 0);
+      CHECK((c.displacement - s.displacement).cwiseAbs().maxCoeff() <= 1e-9 * scale);
+      CHECK(c.cut_events.size() == s.cut_events.size());
+    }
+  }
+
   TEST_CASE("a through-cut splits the bar in two anchored pieces - hybrid equals whole-mesh solves of the cut mesh") {
     const sim::Model m = sim::compile(bar_cut_spec("cut_hybrid", 1000.0, "cpu"));
     const sim::Model mono = sim::compile(bar_cut_spec("cut_mono", 1000.0, "monolithic"));

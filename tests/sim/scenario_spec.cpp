@@ -68,8 +68,6 @@ TEST_SUITE("sim/scenario_spec") {
         {"msaa", [](ScenarioSpec& s) { s.outputs.render.msaa_samples = 17; }, "msaa_samples must be 0..16"},
         {"cg tolerance", [](ScenarioSpec& s) { s.solver.cg_tolerance = 1; }, "cg_tolerance must lie in (0, 1), got 1"},
         {"cg iterations", [](ScenarioSpec& s) { s.solver.cg_max_iterations = -1; }, "cg_max_iterations must be >= 0"},
-        {"backend", [](ScenarioSpec& s) { s.solver.backend = "cuda"; }, "unknown backend 'cuda' (use auto, cpu, gpu"},
-        {"mode", [](ScenarioSpec& s) { s.solver.mode = "sparse"; }, "unknown mode 'sparse' (use auto, dense or factor)"},
         {"snap", [](ScenarioSpec& s) { s.cutting.snap_fraction = 0.5; }, "snap_fraction must lie in (0, 0.5), got 0.5"},
         {"snap zero", [](ScenarioSpec& s) { s.cutting.snap_fraction = 0; }, "snap_fraction must lie in (0, 0.5)"},
         {"dihedral", [](ScenarioSpec& s) { s.cutting.min_dihedral_deg = 60; }, "min_dihedral_deg must lie in [0, 60), got 60"},
@@ -116,5 +114,18 @@ TEST_SUITE("sim/scenario_spec") {
       s.loads.push_back(s.loads[0]);
       CHECK_THROWS_WITH_AS(check_spec(s), doctest::Contains("load 'push': another load has the same name"), Error);
     }
+  }
+
+  TEST_CASE("backend and storage names parse once, round-trip, and a wrong one names the accepted values") {
+    for (Backend b : {Backend::automatic, Backend::cpu, Backend::gpu, Backend::direct, Backend::monolithic})
+      CHECK(parse_backend(to_string(b)) == b);
+    CHECK(std::string(to_string(Backend::automatic)) == "auto");
+    CHECK_THROWS_WITH_AS(parse_backend("cuda"), doctest::Contains("unknown backend 'cuda' (use auto, cpu, gpu"), Error);
+    CHECK_THROWS_WITH_AS(parse_backend("CPU"), doctest::Contains("unknown backend 'CPU'"), Error);
+    CHECK(hybrid::parse_storage("auto") == hybrid::Storage::automatic);
+    for (hybrid::Storage st : {hybrid::Storage::dense, hybrid::Storage::product, hybrid::Storage::factor})
+      CHECK(hybrid::parse_storage(hybrid::to_string(st)) == st);
+    CHECK_THROWS_WITH_AS(hybrid::parse_storage("sparse"),
+                         doctest::Contains("unknown mode 'sparse' (use auto, dense, product or factor)"), Error);
   }
 }

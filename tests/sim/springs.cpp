@@ -55,7 +55,7 @@ struct Monolithic {
 sim::ScenarioSpec grasp_spec(const std::string& scratch, const std::string& backend) {
   auto spec = softcut::test::cantilever_spec(softcut::test::scratch_dir(scratch), 0.3);
   spec.loads[0].magnitude = tools::Ramp::constant_value(0.01);
-  spec.solver.backend = backend;
+  spec.solver.backend = sim::parse_backend(backend);
   tools::ToolSpec g;
   g.name = "jaw";
   g.kind = tools::ToolSpec::Kind::grasper;
@@ -101,25 +101,26 @@ double displacement_error(const sim::Model& m, const sim::State& s, const Monoli
 // standing in for cutting (which rebuilds the operational system).
 class GenerationProbe final : public sim::Solver {
  public:
-  explicit GenerationProbe(std::unique_ptr<sim::Solver> inner) : inner_(std::move(inner)) {}
+  explicit GenerationProbe(std::unique_ptr<const sim::Solver> inner) : inner_(std::move(inner)) {}
   long generation = 0;
   std::string name() const override { return inner_->name(); }
-  void solve(const Eigen::MatrixX3d& f, Eigen::MatrixX3d& u, sim::SolverWarmStart& w, sim::SolveStats& st) const override {
+  void solve(const Eigen::MatrixX3d& f, Eigen::MatrixX3d& u, sim::SolverRun& w, sim::SolveStats& st) const override {
     inner_->solve(f, u, w, st);
   }
   bool interior_valid() const override { return inner_->interior_valid(); }
   std::vector<std::pair<std::string, double>> precompute_ms() const override { return inner_->precompute_ms(); }
   const sim::BackendChoice& backend() const override { return inner_->backend(); }
-  void unit_responses(const std::vector<int>& nodes, sim::SolverWarmStart& w, Eigen::MatrixXd& out) const override {
+  void unit_responses(const std::vector<int>& nodes, sim::SolverRun& w, Eigen::MatrixXd& out) const override {
     inner_->unit_responses(nodes, w, out);
   }
-  long system_generation(const sim::SolverWarmStart&) const override { return generation; }
-  void apply_cut(const sim::CutMesh& cm, const softcut::cut::CutRecord& rec, sim::SolverWarmStart& w) const override {
+  void start_run(sim::SolverRun& w, const sim::CutMesh* cut) const override { inner_->start_run(w, cut); }
+  long system_generation(const sim::SolverRun&) const override { return generation; }
+  void apply_cut(const sim::CutMesh& cm, const softcut::cut::CutRecord& rec, sim::SolverRun& w) const override {
     inner_->apply_cut(cm, rec, w);
   }
 
  private:
-  std::unique_ptr<sim::Solver> inner_;
+  std::unique_ptr<const sim::Solver> inner_;
 };
 
 }  // namespace

@@ -25,7 +25,7 @@ TEST_SUITE("sim/step") {
     for (int a = 0; a < 3; ++a) {
       Eigen::MatrixX3d f = Eigen::MatrixX3d::Zero(probe_model.mesh.num_nodes(), 3), u;
       f(corner, a) = 1.0;
-      sim::SolverWarmStart warm;
+      sim::SolverRun warm;
       sim::SolveStats st;
       probe_model.solver->solve(f, u, warm, st);
       C.col(a) = u.row(corner).transpose();
