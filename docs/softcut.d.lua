@@ -449,7 +449,7 @@ function Frame:max_displacement(nodes) end
 ---@return table
 function Frame:tool(name) end
 
----Cutting so far: events (frames in which a blade changed the mesh), nodes_added, nodes, tets (of the current mesh), components (connected pieces).
+---Cutting so far: events (frames in which a blade changed the mesh), nodes_added, nodes, tets (of the current mesh), faces_separated (faces the blades opened, all events), faces_pending (faces on the cut still joined now: the cut front), components (pieces joined through shared nodes), pieces (rigid pieces: joined through shared faces, so a piece hanging by an edge counts apart), detached (pieces cut free and held). A cut through the section shows as components > 1.
 ---@return table
 function Frame:cutting() end
 

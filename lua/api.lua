@@ -322,7 +322,10 @@ api.functions = {
     positional = { F("name", "string", "tool name", { required = true }) }, fields = {}, returns = "table",
     example = "local jaw = f:tool(\"jaw\")" },
   { name = "Frame:cutting", summary = "Cutting so far: events (frames in which a blade changed the mesh), "
-      .. "nodes_added, nodes, tets (of the current mesh), components (connected pieces).",
+      .. "nodes_added, nodes, tets (of the current mesh), faces_separated (faces the blades opened, all events), "
+      .. "faces_pending (faces on the cut still joined now: the cut front), components (pieces joined through "
+      .. "shared nodes), pieces (rigid pieces: joined through shared faces, so a piece hanging by an edge counts "
+      .. "apart), detached (pieces cut free and held). A cut through the section shows as components > 1.",
     positional = {}, fields = {}, returns = "table",
     example = "if f:cutting().components == 2 then f:stop() end" },
   { name = "Frame:move_tool", summary = "Places a tool's tip for the next frames (overrides its path); nil returns it to the path.",

@@ -123,21 +123,17 @@ int frame_tool(lua_State* L) {
 int frame_cutting(lua_State* L) {
   return protect(L, [L] {
     FrameContext& c = ctx(L);
-    const mesh::TetMesh& mesh = sim::current_mesh(*c.model, *c.state);
-    charge_work(L, double(mesh.num_tets()), "f:cutting");  // counting the pieces visits every tet
-    int added = 0;
-    for (const auto& e : c.state->cut_events) added += e.nodes_added;
-    lua_createtable(L, 0, 5);
-    lua_pushinteger(L, lua_Integer(c.state->cut_events.size()));
-    lua_setfield(L, -2, "events");
-    lua_pushinteger(L, added);
-    lua_setfield(L, -2, "nodes_added");
-    lua_pushinteger(L, mesh.num_nodes());
-    lua_setfield(L, -2, "nodes");
-    lua_pushinteger(L, mesh.num_tets());
-    lua_setfield(L, -2, "tets");
-    lua_pushinteger(L, sim::count_components(mesh));
-    lua_setfield(L, -2, "components");
+    const int tets = sim::current_mesh(*c.model, *c.state).num_tets();
+    charge_work(L, 2.0 * tets, "f:cutting");  // counting the pieces visits every tet twice
+    const sim::CuttingSummary cs = sim::cutting_summary(*c.model, *c.state);
+    lua_createtable(L, 0, 9);
+    for (const auto& [name, value] : {std::pair{"events", cs.events}, {"nodes_added", cs.nodes_added},
+                                      {"nodes", cs.nodes}, {"tets", cs.tets}, {"faces_separated", cs.faces_separated},
+                                      {"faces_pending", cs.faces_pending}, {"components", cs.components},
+                                      {"pieces", cs.pieces}, {"detached", cs.detached}}) {
+      lua_pushinteger(L, value);
+      lua_setfield(L, -2, name);
+    }
     return 1;
   });
 }

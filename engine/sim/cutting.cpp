@@ -12,6 +12,7 @@
 #include "cut/blade.hpp"
 #include "cut/detached.hpp"
 #include "cut/rest_map.hpp"
+#include "fem/anchoring.hpp"
 #include "sim/model.hpp"
 
 namespace softcut::sim {
@@ -304,6 +305,21 @@ void hold_detached(State& s) {
   const CutMesh& cm = *s.cut;
   for (int v = 0; v < int(cm.node_held.size()) && v < s.displacement.rows(); ++v)
     if (cm.node_held[size_t(v)]) s.displacement.row(v) = cm.held_displacement.row(v);
+}
+
+CuttingSummary cutting_summary(const Model& m, const State& s) {
+  CuttingSummary c;
+  const mesh::TetMesh& mesh = current_mesh(m, s);
+  c.events = int(s.cut_events.size());
+  for (const CutEvent& e : s.cut_events) c.nodes_added += e.nodes_added, c.faces_separated += e.faces_separated;
+  c.nodes = mesh.num_nodes();
+  c.tets = mesh.num_tets();
+  c.faces_pending = s.cut ? int(s.cut->cut.pending.size()) : 0;
+  c.components = count_components(mesh);
+  std::vector<char> fixed(size_t(mesh.num_nodes()), 0);
+  c.pieces = int(fem::anchor_parts(mesh, {}, fixed).parts.size());
+  c.detached = s.cut ? s.cut->detached_pieces : 0;
+  return c;
 }
 
 DetachedCounts detached_counts(const State& s) {

@@ -94,6 +94,21 @@ struct DetachedCounts {
 };
 DetachedCounts detached_counts(const State& s);
 
+// What cutting did so far, for scripts (Frame:cutting) and checks: enough to
+// tell a cut through from a refinement or a cut front still joined.
+struct CuttingSummary {
+  int events = 0;            // frames in which a blade changed the mesh
+  int nodes_added = 0;       // by cutting, all events
+  int nodes = 0, tets = 0;   // of the current mesh
+  int faces_separated = 0;   // faces that became two boundary faces, all events
+  int faces_pending = 0;     // faces on the cut still joined now (the cut front)
+  int components = 0;        // pieces joined through shared nodes (count_components)
+  int pieces = 0;            // rigid pieces: tets joined through shared faces (a hinge splits them)
+  int detached = 0;          // pieces cut free so far (held where they separated)
+};
+// Visits every tet of the current mesh (pieces and components).
+CuttingSummary cutting_summary(const Model& m, const State& s);
+
 // Connected pieces of a tet mesh (tets joined through shared nodes); unused
 // nodes do not count.
 int count_components(const mesh::TetMesh& mesh);

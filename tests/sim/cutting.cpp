@@ -141,6 +141,13 @@ TEST_SUITE("sim/cutting") {
     CHECK(s.cut_events.size() >= 3);
     CHECK(sim::count_components(m.mesh) == 1);
     CHECK(sim::count_components(s.cut->mesh) == 2);
+    const sim::CuttingSummary cs = sim::cutting_summary(m, s);
+    CHECK(cs.events == int(s.cut_events.size()));
+    CHECK(cs.components == 2);
+    CHECK(cs.pieces == 2);
+    CHECK(cs.detached == 0);  // each piece keeps its fixed end
+    CHECK(cs.faces_separated > 0);
+    CHECK(cs.tets == s.cut->mesh.num_tets());
     // Each piece keeps fixed nodes: nodes left of the cut move independently
     // of a load on the right piece only through nothing (no shared node).
     const sim::CutMesh& cm = *s.cut;
