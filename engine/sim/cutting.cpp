@@ -190,6 +190,7 @@ std::vector<CutEvent> cut_stage(const Model& m, State& s, int frame, double t) {
     const bool pressing = ts.engaged && ts.pressure >= spec.cut_pressure;
     if (!active || !ts.has_prev || !(pressing || ts.in_cut)) {
       ts.in_cut = false;
+      ts.has_rest = false;
       continue;
     }
     if (!ts.prev_a.allFinite() || !ts.blade_a.allFinite() || !ts.prev_b.allFinite() || !ts.blade_b.allFinite())
@@ -198,16 +199,32 @@ std::vector<CutEvent> cut_stage(const Model& m, State& s, int frame, double t) {
     Timer timer;
     if (!s.cut) s.cut = std::make_unique<CutMesh>(initial_cut_mesh(m));
     CutMesh& cm = *s.cut;
+    const bool continuing = ts.in_cut && ts.has_rest;
     if (!ts.in_cut) cut::begin_stroke(cm.cut);  // the blade enters the tissue: a new cut surface
-    cut::SweptSurface world = cut::sweep_segment(ts.prev_a, ts.prev_b, ts.blade_a, ts.blade_b);
-    if (spec.blade_back.squaredNorm() > 0) {  // triangular blade: its area now and the sweep of its other edges
-      cut::append(world, cut::sweep_triangle(ts.blade_a, ts.blade_b, ts.blade_c));
-      cut::append(world, cut::sweep_segment(ts.prev_b, ts.prev_c, ts.blade_b, ts.blade_c));
-      cut::append(world, cut::sweep_segment(ts.prev_c, ts.prev_a, ts.blade_c, ts.blade_a));
+    // Blade corners in the rest configuration, through the operational tets
+    // only: their nodes (sets 1 and I) are solved every frame, interior
+    // nonoperational rows may be stale. The previous pose is NOT mapped again:
+    // within a stroke it keeps the rest image the previous step swept to.
+    // Mapping it with this frame's displacement would move the edge the two
+    // steps share whenever the field changed in between (a moving load, or the
+    // tissue relaxing after the previous cut), and an edge crossing that lies
+    // in the gap between the two rest quads would be tested by neither step.
+    auto to_rest = [&](const Eigen::Vector3d& x) {
+      return cut::deformed_to_rest(cm.mesh, s.displacement, x, cm.operational_tet);
+    };
+    const bool triangular = spec.blade_back.squaredNorm() > 0;
+    const Eigen::Vector3d ra0 = continuing ? ts.rest_a : to_rest(ts.prev_a);
+    const Eigen::Vector3d rb0 = continuing ? ts.rest_b : to_rest(ts.prev_b);
+    const Eigen::Vector3d ra1 = to_rest(ts.blade_a), rb1 = to_rest(ts.blade_b);
+    cut::SweptSurface rest = cut::sweep_segment(ra0, rb0, ra1, rb1);
+    Eigen::Vector3d rc1 = Eigen::Vector3d::Zero();
+    if (triangular) {  // triangular blade: its area now and the sweep of its other edges
+      const Eigen::Vector3d rc0 = continuing ? ts.rest_c : to_rest(ts.prev_c);
+      rc1 = to_rest(ts.blade_c);
+      cut::append(rest, cut::sweep_triangle(ra1, rb1, rc1));
+      cut::append(rest, cut::sweep_segment(rb0, rc0, rb1, rc1));
+      cut::append(rest, cut::sweep_segment(rc0, ra0, rc1, ra1));
     }
-    // Through the operational tets only: their nodes (sets 1 and I) are solved
-    // every frame, interior nonoperational rows may be stale.
-    const cut::SweptSurface rest = cut::deformed_to_rest(cm.mesh, s.displacement, world, cm.operational_tet);
     cut::CutOptions opt;
     opt.snap_fraction = m.spec.cutting.snap_fraction;
     opt.min_dihedral_deg = m.spec.cutting.min_dihedral_deg;
@@ -218,6 +235,10 @@ std::vector<CutEvent> cut_stage(const Model& m, State& s, int frame, double t) {
     // deformed body's box (a step may cross no edge while inside).
     ts.cutting = true;
     ts.in_cut = changed || pressing || blade_in_box(cm.mesh, s.displacement, ts, spec.radius);
+    // Rest coordinates stay valid across the step (no node moves; new nodes lie
+    // on rest edges), so the next step of this stroke starts from these.
+    ts.rest_a = ra1, ts.rest_b = rb1, ts.rest_c = rc1;
+    ts.has_rest = ts.in_cut;
     for (auto& f : ts.forces) f.setZero();
     ts.total_force.setZero();
     const double cut_ms = timer.ms();

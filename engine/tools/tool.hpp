@@ -87,6 +87,12 @@ struct ToolState {
   double pressure = 0.0;   // contact pressure this frame (before cutting), Pa
   bool cutting = false;    // the blade cut this frame (set by sim::step)
   bool in_cut = false;     // cutting and still changing the mesh: keeps cutting next frame whatever the pressure
+  // Rest-space images of blade_a / blade_b / blade_c as the last cut step
+  // mapped them (sim::cut_stage). The next step of the same stroke starts its
+  // swept quads from exactly these points, so consecutive steps share their
+  // edge in rest space even when the displacement field changed in between.
+  Eigen::Vector3d rest_a = Eigen::Vector3d::Zero(), rest_b = Eigen::Vector3d::Zero(), rest_c = Eigen::Vector3d::Zero();
+  bool has_rest = false;   // rest_a/b/c belong to the stroke in progress
   int cut_events = 0;      // frames in which this blade changed the mesh
 };
 
