@@ -101,6 +101,31 @@ std::vector<CutFace> find_cut_faces(const mesh::TetMesh& m, const Adjacency& adj
       const double lf = std::max({(x1 - x0).norm(), (x2 - x0).norm(), (x2 - x1).norm()});
       double tol = 0.5 * s * lf;  // plus how far its nodes were snapped
       for (int v : key) tol = std::max(tol, st.cut_offset[size_t(v)] + 0.5 * s * lf);
+      // Where the swept surface folds between the face's nodes (the blade path
+      // turns a corner), a flat face through three nodes on it cuts across the
+      // corner: its centre lies up to lf/2 sin(theta/2) off the surface, theta
+      // the angle between the swept triangles nearest its nodes. No fold (a
+      // flat or gently curved cut): nothing changes.
+      std::array<int, 3> node_tri = {-1, -1, -1};
+      const Eigen::Vector3d xs[3] = {x0, x1, x2};
+      for (int k = 0; k < 3; ++k) {
+        double dmin = std::numeric_limits<double>::infinity();
+        for (size_t i = 0; i < near.triangles.size(); ++i) {
+          const double d = point_triangle_distance(xs[k], near.triangles[i]);
+          if (d < dmin) dmin = d, node_tri[size_t(k)] = int(i);
+        }
+      }
+      auto tri_normal = [&](int i) {
+        const Eigen::Matrix3d& tr = near.triangles[size_t(i)];
+        return Eigen::Vector3d((tr.col(1) - tr.col(0)).cross(tr.col(2) - tr.col(0)).normalized());
+      };
+      double cos_fold = 1;
+      for (int a = 0; a < 3; ++a)
+        for (int b = a + 1; b < 3; ++b)
+          if (node_tri[size_t(a)] >= 0 && node_tri[size_t(b)] >= 0 && node_tri[size_t(a)] != node_tri[size_t(b)])
+            cos_fold = std::min(cos_fold, std::abs(tri_normal(node_tri[size_t(a)]).dot(tri_normal(node_tri[size_t(b)]))));
+      const bool folded = cos_fold < 1 - 1e-9;
+      if (folded) tol += 0.5 * lf * std::sqrt((1 - cos_fold) / 2);
       // The swept triangle it lies on: within reach of its centre and, where
       // cuts cross, the one most parallel to it.
       const Eigen::Vector3d nf = (x1 - x0).cross(x2 - x0).normalized();
@@ -116,9 +141,9 @@ std::vector<CutFace> find_cut_faces(const mesh::TetMesh& m, const Adjacency& adj
       // Sides by that triangle's plane: each tet sits on the side of its
       // farthest node off the cut (snapped nodes count as on it, wherever
       // they lie), or of its farthest node when all are on it.
-      const Eigen::Matrix3d& tri = near.triangles[size_t(near_tri)];
-      const Eigen::Vector3d n = (tri.col(1) - tri.col(0)).cross(tri.col(2) - tri.col(0)).normalized();
-      auto side = [&](int tet) {
+      auto side = [&](int tet, int tri_id) {
+        const Eigen::Matrix3d& tri = near.triangles[size_t(tri_id)];
+        const Eigen::Vector3d n = tri_normal(tri_id);
         double far = 0, far_off = 0;
         for (int k = 0; k < 4; ++k) {
           const int v = m.tets(tet, k);
@@ -129,8 +154,16 @@ std::vector<CutFace> find_cut_faces(const mesh::TetMesh& m, const Adjacency& adj
         if (far_off != 0) far = far_off;
         return std::abs(far) <= 1e-12 * lf ? 0 : far > 0 ? 1 : -1;
       };
-      const int st1 = side(t), st2 = side(other);
-      if (st1 == 0 || st2 == 0 || st1 == st2) continue;
+      auto opposite = [&](int tri_id) {
+        const int st1 = side(t, tri_id), st2 = side(other, tri_id);
+        return st1 != 0 && st2 != 0 && st1 != st2;
+      };
+      // At a fold one leg's plane, extended past the corner, can put both
+      // tets on one side: there the planes of the legs at the face's nodes
+      // are asked too.
+      bool split_by_cut = opposite(near_tri);
+      for (int k = 0; k < 3 && folded && !split_by_cut; ++k) split_by_cut = opposite(node_tri[size_t(k)]);
+      if (!split_by_cut) continue;
       if (st.locked[size_t(key[0])] || st.locked[size_t(key[1])] || st.locked[size_t(key[2])]) {
         blocked_keys.push_back(key);
         continue;

@@ -3,6 +3,7 @@
 #include <doctest/doctest.h>
 
 #include <fstream>
+#include <random>
 #include <sstream>
 
 #include "hybrid/monolithic.hpp"
@@ -67,6 +68,56 @@ sim::ScenarioSpec bar_cut_spec(const std::string& name, double cut_pressure, con
   return s;
 }
 
+// A bar 0.1 x 0.04 x 0.04 m (10 x 4 x 4 cells) held at both ends, operational
+// between x = 0.01 and 0.09; a vertical scalpel (60 mm edge along z) follows a
+// Z-shaped path in the mid-plane: across y to y1 at x = xa, diagonally to y2
+// at x = xb, then on to y_end. With a load, the top near one end moves the
+// tissue while the blade passes (4 mN, oscillating at 3 Hz).
+sim::ScenarioSpec zigzag_spec(const std::string& name, double xa, double xb, double y1, double y2, double y_end,
+                              double fps, bool moving) {
+  sim::ScenarioSpec s;
+  s.name = name;
+  s.mesh.generator = "box";
+  s.mesh.options = {{"max.x", 0.1}, {"max.y", 0.04}, {"max.z", 0.04}, {"nx", 10}, {"ny", 4}, {"nz", 4}};
+  sim::MaterialAssignment mat;
+  mat.name = "tissue";
+  mat.young = 5e3;
+  mat.poisson = 0.4;
+  s.materials.push_back(mat);
+  s.operational.kind = sim::TetSelector::Kind::box;
+  s.operational.lo = V(0.01, -1, -1);
+  s.operational.hi = V(0.09, 1, 1);
+  s.fixed = sim::NodeSelector::combine(sim::NodeSelector::Kind::union_of,
+                                       {sim::NodeSelector::box(V(-1, -1, -1), V(0, 1, 1)),
+                                        sim::NodeSelector::box(V(0.1, -1, -1), V(1, 1, 1))});
+  if (moving) {
+    sim::LoadSpec wobble;
+    wobble.name = "wobble";
+    wobble.nodes = sim::NodeSelector::box(V(0.021, -1, 0.04), V(0.039, 1, 1));
+    wobble.direction = V(0, 0, -1);
+    wobble.magnitude = tools::Ramp::sine_wave(0.004, 0.002, 3.0);
+    s.loads.push_back(wobble);
+  }
+  tools::ToolSpec blade;
+  blade.name = "blade";
+  blade.kind = tools::ToolSpec::Kind::scalpel;
+  blade.blade_length = 0.06;
+  blade.blade_axis = V(0, 0, 1);
+  blade.radius = 0.001;
+  blade.cut_pressure = 1;
+  blade.direction = V(0, 1, 0);
+  blade.force = tools::Ramp::constant_value(0.05);
+  blade.path = tools::Path::polyline({0.1, 0.35, 0.6, 0.85}, {V(xa, -0.0005, 0.02), V(xa, y1, 0.02),
+                                                                V(xb, y2, 0.02), V(xb, y_end, 0.02)});
+  s.tools.push_back(blade);
+  s.timeline.duration = 1.0;
+  s.timeline.frame_rate = fps;
+  s.outputs.dir = softcut::test::scratch_dir(name);
+  s.outputs.csv = false;
+  s.solver.backend = sim::Backend::direct;
+  return s;
+}
+
 void run_all(const sim::Model& m, sim::State& s) {
   while (s.frame < m.num_frames - 1) sim::step(m, s);
 }
@@ -81,6 +132,36 @@ std::string slurp(const std::filesystem::path& p) {
 }  // namespace
 
 TEST_SUITE("sim/cutting") {
+  TEST_CASE("random Z-shaped blade paths on still and moving tissue: a path across the section separates, one that stops short does not") {
+    // Issue #16 items 1 and 2: before the fixes 21 of 60 such through-paths on
+    // still tissue left the bar in one piece (a column of un-cut faces at a
+    // corner), and moving tissue was not cut through.
+    std::mt19937 rng(16);
+    auto uniform = [&](double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(rng); };
+    const double fps_choices[] = {30, 37, 40, 50, 60};
+    int through_cases = 0, short_cases = 0;
+    for (int k = 0; k < 24; ++k) {
+      const double xa = uniform(0.02, 0.05), xb = uniform(0.05, 0.08);
+      const double y1 = uniform(0.005, 0.02), y2 = uniform(0.02, 0.035);
+      const bool through = k % 3 != 2;
+      const double y_end = through ? 0.045 : uniform(y2 + 0.001, 0.034);
+      const double fps = fps_choices[std::uniform_int_distribution<int>(0, 4)(rng)];
+      const bool moving = k % 2 == 1;
+      INFO("case ", k, ": xa ", xa, " xb ", xb, " y1 ", y1, " y2 ", y2, " y_end ", y_end, " fps ", fps, " moving ", moving);
+      const sim::Model m = sim::compile(zigzag_spec("cut_zigzag", xa, xb, y1, y2, y_end, fps, moving));
+      sim::State s = sim::make_state(m);
+      run_all(m, s);
+      REQUIRE(s.cut);
+      const sim::CuttingSummary cs = sim::cutting_summary(m, s);
+      CHECK(cs.components == (through ? 2 : 1));
+      CHECK(cs.pieces == (through ? 2 : 1));
+      CHECK(cs.detached == 0);  // each piece keeps a fixed end
+      (through ? through_cases : short_cases)++;
+    }
+    CHECK(through_cases == 16);
+    CHECK(short_cases == 8);
+  }
+
   TEST_CASE("copy_state forks a run mid-cut: both continue to the same displacements, and neither sees the other") {
     for (const std::string backend : {"direct", "cpu", "monolithic"}) {
       CAPTURE(backend);
