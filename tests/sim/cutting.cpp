@@ -12,6 +12,7 @@
 #include "sim/outputs.hpp"
 #include "sim/run.hpp"
 #include "sim/step.hpp"
+#include "fixtures.hpp"
 #include "test_support.hpp"
 
 using V = Eigen::Vector3d;
@@ -26,21 +27,7 @@ namespace {
 // bar) presses the top at x = 0.0512, then goes down through the bar: a
 // through-cut leaves two pieces, each fixed at its end.
 sim::ScenarioSpec bar_cut_spec(const std::string& name, double cut_pressure, const std::string& backend = "cpu") {
-  sim::ScenarioSpec s;
-  s.name = name;
-  s.mesh.generator = "box";
-  s.mesh.options = {{"max.x", 0.1}, {"max.y", 0.02}, {"max.z", 0.02}, {"nx", 10}, {"ny", 4}, {"nz", 4}};
-  sim::MaterialAssignment mat;
-  mat.name = "tissue";
-  mat.young = 5e3;
-  mat.poisson = 0.4;
-  s.materials.push_back(mat);
-  s.operational.kind = sim::TetSelector::Kind::box;
-  s.operational.lo = V(0.03, -1, -1);
-  s.operational.hi = V(0.07, 1, 1);
-  s.fixed = sim::NodeSelector::combine(sim::NodeSelector::Kind::union_of,
-                                       {sim::NodeSelector::box(V(-1, -1, -1), V(0, 1, 1)),
-                                        sim::NodeSelector::box(V(0.1, -1, -1), V(1, 1, 1))});
+  sim::ScenarioSpec s = softcut::test::held_bar_spec(name, V(0.1, 0.02, 0.02), 5e3, 0.03, 0.07, true);
   sim::LoadSpec top;
   top.name = "top";
   top.nodes = sim::NodeSelector::box(V(0.015, -1, 0.02), V(0.085, 1, 1));
@@ -75,21 +62,7 @@ sim::ScenarioSpec bar_cut_spec(const std::string& name, double cut_pressure, con
 // tissue while the blade passes (4 mN, oscillating at 3 Hz).
 sim::ScenarioSpec zigzag_spec(const std::string& name, double xa, double xb, double y1, double y2, double y_end,
                               double fps, bool moving) {
-  sim::ScenarioSpec s;
-  s.name = name;
-  s.mesh.generator = "box";
-  s.mesh.options = {{"max.x", 0.1}, {"max.y", 0.04}, {"max.z", 0.04}, {"nx", 10}, {"ny", 4}, {"nz", 4}};
-  sim::MaterialAssignment mat;
-  mat.name = "tissue";
-  mat.young = 5e3;
-  mat.poisson = 0.4;
-  s.materials.push_back(mat);
-  s.operational.kind = sim::TetSelector::Kind::box;
-  s.operational.lo = V(0.01, -1, -1);
-  s.operational.hi = V(0.09, 1, 1);
-  s.fixed = sim::NodeSelector::combine(sim::NodeSelector::Kind::union_of,
-                                       {sim::NodeSelector::box(V(-1, -1, -1), V(0, 1, 1)),
-                                        sim::NodeSelector::box(V(0.1, -1, -1), V(1, 1, 1))});
+  sim::ScenarioSpec s = softcut::test::held_bar_spec(name, V(0.1, 0.04, 0.04), 5e3, 0.01, 0.09, true);
   if (moving) {
     sim::LoadSpec wobble;
     wobble.name = "wobble";

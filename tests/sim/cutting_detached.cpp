@@ -8,6 +8,7 @@
 #include "sim/cutting.hpp"
 #include "sim/model.hpp"
 #include "sim/step.hpp"
+#include "fixtures.hpp"
 #include "test_support.hpp"
 
 using V = Eigen::Vector3d;
@@ -23,22 +24,7 @@ namespace {
 // A probe pokes the free end after the cut.
 sim::ScenarioSpec free_cut_spec(const std::string& name, const std::string& backend, double op_lo, double op_hi,
                                 double cut_x, bool both_ends = false) {
-  sim::ScenarioSpec s;
-  s.name = name;
-  s.mesh.generator = "box";
-  s.mesh.options = {{"max.x", 0.1}, {"max.y", 0.02}, {"max.z", 0.02}, {"nx", 10}, {"ny", 4}, {"nz", 4}};
-  sim::MaterialAssignment mat;
-  mat.name = "tissue";
-  mat.young = 5e5;
-  mat.poisson = 0.4;
-  s.materials.push_back(mat);
-  s.operational.kind = sim::TetSelector::Kind::box;
-  s.operational.lo = V(op_lo, -1, -1);
-  s.operational.hi = V(op_hi, 1, 1);
-  const auto left = sim::NodeSelector::box(V(-1, -1, -1), V(0, 1, 1));
-  s.fixed = both_ends ? sim::NodeSelector::combine(sim::NodeSelector::Kind::union_of,
-                                                   {left, sim::NodeSelector::box(V(0.1, -1, -1), V(1, 1, 1))})
-                      : left;
+  sim::ScenarioSpec s = softcut::test::held_bar_spec(name, V(0.1, 0.02, 0.02), 5e5, op_lo, op_hi, both_ends);
   sim::LoadSpec top;
   top.name = "top";
   top.nodes = sim::NodeSelector::box(V(0.015, -1, 0.02), V(0.095, 1, 1));

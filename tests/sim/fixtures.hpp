@@ -1,6 +1,7 @@
 #pragma once
 // Small scenarios shared by the sim tests.
 #include <filesystem>
+#include <string>
 
 #include "sim/scenario_spec.hpp"
 
@@ -35,6 +36,32 @@ inline sim::ScenarioSpec cantilever_spec(const std::filesystem::path& out, doubl
   s.timeline.frame_rate = 10.0;
   s.outputs.dir = out;
   s.solver.cg_tolerance = 1e-12;
+  return s;
+}
+
+// A box bar from the origin to `size` (m), 10 x 4 x 4 cells, of one material
+// (`young` Pa, Poisson 0.4), operational between x = op_lo and op_hi across
+// the whole section, fixed at x = 0 and, when `both_ends`, at x = size.x.
+// The cutting tests add their loads, blades and timeline.
+inline sim::ScenarioSpec held_bar_spec(const std::string& name, const Eigen::Vector3d& size, double young,
+                                       double op_lo, double op_hi, bool both_ends) {
+  using V = Eigen::Vector3d;
+  sim::ScenarioSpec s;
+  s.name = name;
+  s.mesh.generator = "box";
+  s.mesh.options = {{"max.x", size.x()}, {"max.y", size.y()}, {"max.z", size.z()}, {"nx", 10}, {"ny", 4}, {"nz", 4}};
+  sim::MaterialAssignment mat;
+  mat.name = "tissue";
+  mat.young = young;
+  mat.poisson = 0.4;
+  s.materials.push_back(mat);
+  s.operational.kind = sim::TetSelector::Kind::box;
+  s.operational.lo = V(op_lo, -1, -1);
+  s.operational.hi = V(op_hi, 1, 1);
+  const auto left = sim::NodeSelector::box(V(-1, -1, -1), V(0, 1, 1));
+  s.fixed = both_ends ? sim::NodeSelector::combine(sim::NodeSelector::Kind::union_of,
+                                                   {left, sim::NodeSelector::box(V(size.x(), -1, -1), V(1, 1, 1))})
+                      : left;
   return s;
 }
 

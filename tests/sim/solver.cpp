@@ -42,6 +42,18 @@ sim::ScenarioSpec gpu_spec(const std::string& backend) {
   return spec;
 }
 
+// The cantilever without tools, loaded from frame 0, 2 frames, compiled for
+// backend cpu and for backend gpu (fp32 kernels) in the suite's context.
+std::pair<sim::Model, sim::Model> loaded_cpu_and_gpu_models() {
+  auto spec = gpu_spec("cpu");
+  spec.tools.clear();
+  spec.loads[0].magnitude = tools::Ramp::linear_ramp(0.01, 0.02, 0.0, 1.0);  // nonzero from frame 0
+  spec.timeline.duration = 0.1;                                              // 2 frames
+  sim::Model cpu = sim::compile(spec);
+  spec.solver.backend = sim::Backend::gpu;
+  return {std::move(cpu), sim::compile(spec, sim::RunResources{&context()})};
+}
+
 }  // namespace
 
 TEST_SUITE("sim/solver") {
@@ -90,13 +102,7 @@ TEST_SUITE("sim/solver") {
       MESSAGE("no compute shaders in this context: GPU backend not testable here");
       return;
     }
-    auto spec = gpu_spec("cpu");
-    spec.tools.clear();
-    spec.loads[0].magnitude = tools::Ramp::linear_ramp(0.01, 0.02, 0.0, 1.0);  // nonzero from frame 0
-    spec.timeline.duration = 0.1;                                              // 2 frames
-    const sim::Model cpu = sim::compile(spec);
-    spec.solver.backend = sim::Backend::gpu;
-    const sim::Model gpu = sim::compile(spec, sim::RunResources{&context()});
+    const auto [cpu, gpu] = loaded_cpu_and_gpu_models();
     CHECK(gpu.solver->backend().backend == sim::Backend::gpu);
     CHECK(!gpu.solver->backend().gpu_fp64);
     CHECK(gpu.solver->name().find("gpu cg, fp32") != std::string::npos);
@@ -119,13 +125,7 @@ TEST_SUITE("sim/solver") {
       MESSAGE("no compute shaders in this context: GPU backend not testable here");
       return;
     }
-    auto spec = gpu_spec("cpu");
-    spec.tools.clear();
-    spec.loads[0].magnitude = tools::Ramp::linear_ramp(0.01, 0.02, 0.0, 1.0);
-    spec.timeline.duration = 0.1;  // 2 frames
-    const sim::Model cpu = sim::compile(spec);
-    spec.solver.backend = sim::Backend::gpu;
-    const sim::Model gpu = sim::compile(spec, sim::RunResources{&context()});
+    const auto [cpu, gpu] = loaded_cpu_and_gpu_models();
     sim::State a1 = sim::make_state(cpu), a2 = sim::make_state(cpu);
     sim::State b1 = sim::make_state(gpu), b2 = sim::make_state(gpu);
     a2.loads[0].scale = b2.loads[0].scale = -3.0;  // the second run pulls the other way
