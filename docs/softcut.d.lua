@@ -178,7 +178,7 @@ function Scenario:grasper(args) end
 ---@field stiffness? number total spring stiffness (drive spring) (N/m)
 ---@field start? number in contact from this time (s)
 ---@field stop? number until this time (default: the end) (s)
----A scalpel: a blade edge of `length` along `axis`, centred on its path, that presses the surface within `radius` of the edge like a probe (`force` ramp or spring `stiffness`). Contact pressure = |contact force| / (length x 2 radius). From the frame it reaches `cut_pressure` the tissue yields (no force) and the surface the edge sweeps between frames is cut, in the operational region only; a cut reaching the interface stops there with a warning. See docs/outputs.md (Cutting).
+---A scalpel: a blade edge of `length` along `axis`, centred on its path, that presses the surface within `radius` of the edge like a probe (`force` ramp or spring `stiffness`). Contact pressure = |contact force| / (length x 2 radius). From the frame it reaches `cut_pressure` the tissue yields (no force) and the surface the edge sweeps between frames is cut, in the operational region only, from where the blade entered the tissue; a cut reaching the interface stops there with a warning. Start the path above the surface: a blade inside the tissue that is not cutting is an error. See docs/outputs.md (Cutting).
 ---@param args Scenario_scalpel_args
 function Scenario:scalpel(args) end
 

@@ -138,7 +138,9 @@ api.functions = {
       .. "that presses the surface within `radius` of the edge like a probe (`force` ramp or spring `stiffness`). "
       .. "Contact pressure = |contact force| / (length x 2 radius). From the frame it reaches `cut_pressure` the "
       .. "tissue yields (no force) and the surface the edge sweeps between frames is cut, in the operational region "
-      .. "only; a cut reaching the interface stops there with a warning. See docs/outputs.md (Cutting).",
+      .. "only, from where the blade entered the tissue; a cut reaching the interface stops there with a warning. "
+      .. "Start the path above the surface: a blade inside the tissue that is not cutting is an error. "
+      .. "See docs/outputs.md (Cutting).",
     one_of = { { "force", "stiffness" } }, fields = {
       F("name", "string", "for messages, outputs and Frame methods", { required = true }),
       F("path", "Path", "centre of the blade edge over time", { required = true }),

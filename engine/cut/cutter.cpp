@@ -108,8 +108,8 @@ CutRecord cut_step(mesh::TetMesh& m, CutState& st, const SweptSurface& blade, co
   std::vector<Eigen::Vector3d> blade_normal;
   for (const auto& tri : blade.triangles)
     blade_normal.push_back((tri.col(1) - tri.col(0)).cross(tri.col(2) - tri.col(0)).normalized());
+  std::vector<int> uncuttable;  // near the blade but not cuttable: counted, never cut
   for (int t = 0; t < t0 && !blade.triangles.empty(); ++t) {
-    if (!st.cuttable[size_t(t)]) continue;
     Eigen::Vector3d tlo = m.node(m.tets(t, 0)), thi = tlo;
     for (int k = 1; k < 4; ++k) {
       tlo = tlo.cwiseMin(m.node(m.tets(t, k)));
@@ -122,9 +122,18 @@ CutRecord cut_step(mesh::TetMesh& m, CutState& st, const SweptSurface& blade, co
     for (size_t i = 0; i < blade.triangles.size(); ++i)
       if (std::abs(blade_normal[i].dot(centre - blade.triangles[i].col(0))) <=
           blade_normal[i].cwiseAbs().dot(half) + pad) {
-        cand.push_back(t);
+        (st.cuttable[size_t(t)] ? cand : uncuttable).push_back(t);
         break;
       }
+  }
+  // A blade that reaches tissue it may not cut (sim: the nonoperational
+  // region) says so: the caller warns when that is all it reached.
+  for (int t : uncuttable) {
+    bool crossed = false;
+    for (int i = 0; i < 4 && !crossed; ++i)
+      for (int j = i + 1; j < 4 && !crossed; ++j)
+        crossed = segment_crossing(blade, m.node(m.tets(t, i)), m.node(m.tets(t, j))) >= 0;
+    rec.uncuttable_tets_crossed += crossed;
   }
 
   // 2. Edges of the candidates, their blade crossings, shortest edge per node.

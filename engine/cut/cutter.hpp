@@ -72,6 +72,7 @@ struct CutRecord {
   int splits_vetoed = 0;           // splits replaced by a snap to keep quality
   int faces_separated = 0;         // faces that became two boundary faces this step
   int faces_pending = 0;           // faces on the cut still joined (the cut front)
+  int uncuttable_tets_crossed = 0; // tets the blade crosses that may not be cut (nonoperational)
   double worst_new_dihedral_deg = 180;  // over tets created this step (180 when none)
   double worst_dihedral_deg = 180;      // over all cuttable tets after the step
   std::vector<std::string> warnings;

@@ -40,6 +40,29 @@ Eigen::Vector3d deformed_to_rest(const mesh::TetMesh& m, const Eigen::MatrixX3d&
   return r;
 }
 
+int deformed_tet_at(const mesh::TetMesh& m, const Eigen::MatrixX3d& u, const Eigen::Vector3d& x,
+                    const std::vector<char>& mask) {
+  if (u.rows() != m.num_nodes())
+    fail("cut: displacement has ", u.rows(), " rows but the mesh has ", m.num_nodes(), " nodes");
+  if (!mask.empty() && mask.size() != size_t(m.num_tets()))
+    fail("cut: tet mask has ", mask.size(), " entries for ", m.num_tets(), " tets");
+  for (int t = 0; t < m.num_tets(); ++t) {
+    if (!mask.empty() && !mask[size_t(t)]) continue;
+    Eigen::Vector3d p[4];
+    for (int k = 0; k < 4; ++k) p[k] = (m.nodes.row(m.tets(t, k)) + u.row(m.tets(t, k))).transpose();
+    const Eigen::Vector3d lo = p[0].cwiseMin(p[1]).cwiseMin(p[2]).cwiseMin(p[3]);
+    const Eigen::Vector3d hi = p[0].cwiseMax(p[1]).cwiseMax(p[2]).cwiseMax(p[3]);
+    if ((x.array() < lo.array()).any() || (x.array() > hi.array()).any()) continue;
+    Eigen::Matrix3d e;
+    e << p[1] - p[0], p[2] - p[0], p[3] - p[0];
+    Eigen::FullPivLU<Eigen::Matrix3d> lu(e);
+    if (!lu.isInvertible()) continue;
+    const Eigen::Vector3d l = lu.solve(x - p[0]);
+    if (l.minCoeff() >= 0 && l.sum() <= 1) return t;
+  }
+  return -1;
+}
+
 SweptSurface deformed_to_rest(const mesh::TetMesh& m, const Eigen::MatrixX3d& u, const SweptSurface& s,
                               const std::vector<char>& mask) {
   SweptSurface out = s;

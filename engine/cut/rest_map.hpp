@@ -20,6 +20,12 @@ namespace softcut::cut {
 Eigen::Vector3d deformed_to_rest(const mesh::TetMesh& m, const Eigen::MatrixX3d& displacement,
                                  const Eigen::Vector3d& x, const std::vector<char>& tet_mask = {});
 
+// The tet (tet_mask[t] != 0, all when empty) whose deformed image contains
+// `x`, or -1 when x lies outside the deformed body. Brute force with a box
+// test first, O(ntet).
+int deformed_tet_at(const mesh::TetMesh& m, const Eigen::MatrixX3d& displacement, const Eigen::Vector3d& x,
+                    const std::vector<char>& tet_mask = {});
+
 // Every vertex of a swept surface mapped with deformed_to_rest.
 SweptSurface deformed_to_rest(const mesh::TetMesh& m, const Eigen::MatrixX3d& displacement,
                               const SweptSurface& s, const std::vector<char>& tet_mask = {});

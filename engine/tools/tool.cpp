@@ -67,8 +67,25 @@ void update_tool(const ToolSpec& spec, ToolState& st, double t, const ContactSur
     st.offsets.clear();
     return;
   }
+  // Scalpel contact: nodes within `radius` of the edge. A blade that moves
+  // more than its radius in a frame can pass the surface between two frames
+  // touching it on neither, so the poses in between are asked too (steps of
+  // at most a radius, from last frame's): the first that touches is the
+  // contact, and the spring drive pushes from there. Not within a cut (the
+  // tissue yields there, and a blade lifted out must not touch again).
+  Eigen::Vector3d contact_a = st.blade_a, contact_b = st.blade_b;
   if (scalpel) {
     st.nodes = nodes_near_segment(s, st.blade_a, st.blade_b, spec.radius);
+    if (st.nodes.empty() && st.has_prev && !st.in_cut) {
+      const double travel = std::max((st.blade_a - st.prev_a).norm(), (st.blade_b - st.prev_b).norm());
+      const int steps = int(std::min(256.0, std::ceil(travel / spec.radius)));
+      for (int i = 1; i < steps && st.nodes.empty(); ++i) {
+        const double f = double(i) / steps;
+        contact_a = st.prev_a + f * (st.blade_a - st.prev_a);
+        contact_b = st.prev_b + f * (st.blade_b - st.prev_b);
+        st.nodes = nodes_near_segment(s, contact_a, contact_b, spec.radius);
+      }
+    }
     st.engaged = !st.nodes.empty();
   } else if (spec.kind == ToolSpec::Kind::probe || !st.engaged) {
     // A probe re-detects contact every frame; a grasper closes on first contact.
@@ -103,7 +120,7 @@ void update_tool(const ToolSpec& spec, ToolState& st, double t, const ContactSur
       if (spec.kind == ToolSpec::Kind::grasper) {
         st.forces[i] = kn * (st.tip + st.offsets[i] - x);
       } else {  // probe / scalpel: penalty pushing the node out of the sphere / capsule
-        const Eigen::Vector3d d = x - (scalpel ? closest_point_on_segment(x, st.blade_a, st.blade_b) : st.tip);
+        const Eigen::Vector3d d = x - (scalpel ? closest_point_on_segment(x, contact_a, contact_b) : st.tip);
         const double dn = d.norm();
         Eigen::Vector3d out = dn > 0 ? Eigen::Vector3d(d / dn) : Eigen::Vector3d(s.normals.row(st.nodes[i]).transpose());
         st.forces[i] = kn * std::max(0.0, spec.radius - dn) * out;
@@ -111,7 +128,10 @@ void update_tool(const ToolSpec& spec, ToolState& st, double t, const ContactSur
     }
   }
   for (const auto& f : st.forces) st.total_force += f;
-  if (scalpel) st.pressure = st.total_force.norm() / (spec.blade_length * 2.0 * spec.radius);
+  if (scalpel) {
+    st.pressure = st.total_force.norm() / (spec.blade_length * 2.0 * spec.radius);
+    st.touch_pressure = st.pressure, st.touch_time = t;
+  }
 }
 
 bool is_implicit_spring(const ToolSpec& spec) {

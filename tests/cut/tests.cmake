@@ -20,3 +20,60 @@ foreach(case "hz=3" "hz=0,amp=0" "hz=0,amp=0,fz=-1e-30" "hz=3,fps=80" "hz=8" "hz
   set_tests_properties("cut: a blade cuts through moving tissue (${name})" PROPERTIES
                        ENVIRONMENT "SOFTCUT_CACHE_DIR=${CMAKE_BINARY_DIR}/test-cache")
 endforeach()
+
+# Issue #16 item 4: a blade that reaches only tissue it may not cut (outside
+# the operational region, or along the interface) warns with blade and time.
+foreach(case "x0=0.08,x1=0.09" "x0=0.065,x1=0.065" "x0=0.06,x1=0.06")
+  string(REPLACE "," " " name "${case}")
+  string(REPLACE "," ";" kvs "${case}")
+  set(sets "")
+  foreach(kv IN LISTS kvs)
+    list(APPEND sets --set ${kv})
+  endforeach()
+  set(test "cut: a blade over uncuttable tissue warns (${name})")
+  add_test(NAME "${test}"
+           COMMAND softcut run ${PROJECT_SOURCE_DIR}/tests/cut/blocked_blade.lua --no-render
+                   --out ${CMAKE_BINARY_DIR}/test-out/blocked_blade/${name} ${sets})
+  set_tests_properties("${test}" PROPERTIES
+    ENVIRONMENT "SOFTCUT_CACHE_DIR=${CMAKE_BINARY_DIR}/test-cache"
+    PASS_REGULAR_EXPRESSION "frame [0-9]+ \\(t = [0-9.]+ s\\), scalpel 'blade': the blade \\(centre [^)]*\\) reaches [0-9]+ tet\\(s\\) outside the operational region")
+endforeach()
+
+# Issue #16 item 5: a force-driven blade pressed in from the surface cuts
+# through, however its force ramps and however fast it moves; a path starting
+# inside the tissue, or a blade that sinks in below cut_pressure and loses
+# contact, is refused with a message (exit status 1).
+foreach(case "ramp=0.3" "ramp=0.6" "force=0.5" "force=2" "z0=0.041,ramp=0.3" "ramp=0.3,fps=80" "ramp=0.3,fps=8"
+             "ramp=0.9,force=0.013" "force=0.5,fps=5")
+  string(REPLACE "," " " name "${case}")
+  string(REPLACE "," ";" kvs "${case}")
+  set(sets "")
+  foreach(kv IN LISTS kvs)
+    list(APPEND sets --set ${kv})
+  endforeach()
+  add_test(NAME "cut: a blade pressed in from the surface cuts through (${name})"
+           COMMAND softcut run ${PROJECT_SOURCE_DIR}/tests/cut/press_in.lua --no-render --quiet
+                   --out ${CMAKE_BINARY_DIR}/test-out/press_in/${name} ${sets})
+  set_tests_properties("cut: a blade pressed in from the surface cuts through (${name})" PROPERTIES
+                       ENVIRONMENT "SOFTCUT_CACHE_DIR=${CMAKE_BINARY_DIR}/test-cache")
+endforeach()
+foreach(refusal "z0=0.03|its path starts inside the tissue"
+                "z0=0.03,force=0.5|its path starts inside the tissue"
+                "length=0.02,force=0.003|last touched the surface at t = [0-9.]+ s pressing at 75 Pa, below its cut_pressure = 100 Pa, and lost contact")
+  string(REPLACE "|" ";" parts "${refusal}")
+  list(GET parts 0 case)
+  list(GET parts 1 regex)
+  string(REPLACE "," " " name "${case}")
+  string(REPLACE "," ";" kvs "${case}")
+  set(sets "")
+  foreach(kv IN LISTS kvs)
+    list(APPEND sets --set ${kv})
+  endforeach()
+  set(test "cut: a blade inside the tissue that cannot cut is refused (${name})")
+  add_test(NAME "${test}"
+           COMMAND softcut run ${PROJECT_SOURCE_DIR}/tests/cut/press_in.lua --no-render --quiet
+                   --out ${CMAKE_BINARY_DIR}/test-out/press_in/${name} ${sets})
+  set_tests_properties("${test}" PROPERTIES
+    ENVIRONMENT "SOFTCUT_CACHE_DIR=${CMAKE_BINARY_DIR}/test-cache"
+    PASS_REGULAR_EXPRESSION "press_in.lua:[0-9]+: scalpel 'blade': at t = [0-9.]+ s its edge is [0-9.]+ mm inside the tissue.*${regex}.*start its path above the surface")
+endforeach()
