@@ -9,6 +9,7 @@ pkgs=(
   libstb-dev doctest-dev zlib1g-dev
   nlohmann-json3-dev  # JSON strings escaped by a well-kept library: summary.json is valid for every byte
   libopenblas0-pthread  # optimised BLAS/LAPACK behind CHOLMOD's supernodal factor (reference BLAS is ~10x slower)
+  libxml2-utils  # xmllint: the tests validate softcut check --junit against tests/data/junit.xsd
   clang-14 libclang-rt-14-dev llvm-14  # the test suite's sanitizer + libFuzzer build (scripts/test.sh), symbolized traces
 )
 missing=()

@@ -1,21 +1,29 @@
-// softcut check PATH... [--record] [--out DIR] [--backend B] [--max-tets N] [--trust]
+// softcut check PATH... [-j N] [--only PAT] [--exclude PAT] [--timeout S] [--set k=v] [--junit F] [--json F] ...
 // Runs each scenario, evaluates its expectations, compares its displacement
-// log with the reference next to it; one line per scenario, then
-// "N passed, N failed"; exit 1 on any failure.
+// log with the reference next to it; one line per scenario (in file order,
+// whatever -j), then "N passed, N failed[, N skipped]"; exit 1 on any failure.
+#include <fnmatch.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
+#include <cctype>
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <mutex>
 #include <sstream>
+#include <thread>
 
+#include "cli/check_report.hpp"
 #include "cli/commands.hpp"
-#include "hybrid/precompute_cache.hpp"
 #include "cli/reference_log.hpp"
 #include "cli/run_support.hpp"
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
+#include "hybrid/precompute_cache.hpp"
 #include "scenario_runner.hpp"
 
 namespace fs = std::filesystem;
@@ -25,18 +33,29 @@ namespace softcut::cli {
 namespace {
 
 const char* kCheckUsage =
-    "usage: softcut check PATH... [--record] [--out DIR] [--backend B] [--max-tets N] [--trust] [--no-cache]\n"
+    "usage: softcut check PATH... [-j N] [--only PAT] [--exclude PAT] [--timeout S] [--set key=value]\n"
+    "                     [--junit FILE] [--json FILE] [--record] [--out DIR] [--backend B] [--max-tets N]\n"
+    "                     [--trust] [--no-cache]\n"
     "\n"
     "Runs each scenario (PATH: a .lua file, or a folder searched for *.lua), evaluates its\n"
     "s:expect{...} checks and compares its displacements.csv with the reference log next to it\n"
-    "(<name>.ref.csv, tolerance from softcut.scenario{ tolerance = ... }).\n"
+    "(<file stem>.ref.csv, tolerance from softcut.scenario{ tolerance = ... }). Files that make no\n"
+    "scenario (helper modules) are skipped and listed as such.\n"
+    "  -j N        scenarios run at once (default: the machine's cores)\n"
+    "  --only PAT  run only scenarios whose name or file stem matches the glob PAT (repeatable)\n"
+    "  --exclude PAT  leave out scenarios whose name or file stem matches PAT (repeatable)\n"
+    "  --timeout S  wall-clock limit per scenario, s (default 3600; 0: none); past it the scenario fails\n"
+    "  --set key=value  override a parameter of every scenario (each must declare it in softcut.params)\n"
+    "  --junit FILE  write a JUnit XML report (one testcase per scenario, expectations as assertions)\n"
+    "  --json FILE   write a JSON report (docs/outputs.md, \"softcut check\")\n"
     "  --record   (re)write the reference logs of the scenarios whose expectations pass\n"
-    "  --out DIR  keep the outputs under DIR/<scenario name>/ (default: a temporary folder)\n"
+    "  --out DIR  keep the outputs under DIR/<scenario name>/ (default: a temporary folder, removed)\n"
     "  --backend B  operational solver for every scenario: auto, cpu, gpu, direct or monolithic\n"
     "  --max-tets N  sandbox: largest mesh a scenario may load or generate (default 2000000 tets)\n"
     "  --trust    no sandbox\n"
     "  --no-cache  redo every hybrid precompute instead of loading it from the cache\n"
-    "Prints one line per scenario and closes with 'N passed, N failed'; exit status 1 on any failure.\n";
+    "Prints one line per scenario and closes with 'N passed, N failed'. Exit status: 0 all passed,\n"
+    "1 a scenario failed, 2 usage error (bad option, no scenario, two scenarios with one name).\n";
 
 std::vector<fs::path> collect(const std::vector<std::string>& paths) {
   std::vector<fs::path> out;
@@ -45,13 +64,13 @@ std::vector<fs::path> collect(const std::vector<std::string>& paths) {
       std::vector<fs::path> found;
       for (const auto& e : fs::recursive_directory_iterator(p))
         if (e.is_regular_file() && e.path().extension() == ".lua") found.push_back(e.path());
-      if (found.empty()) fail("softcut check: no *.lua scenario under ", p);
+      if (found.empty()) usage_fail("softcut check: no *.lua scenario under ", p);
       std::sort(found.begin(), found.end());
       out.insert(out.end(), found.begin(), found.end());
     } else if (fs::is_regular_file(p)) {
       out.emplace_back(p);
     } else {
-      fail("softcut check: ", p, ": no such file or folder");
+      usage_fail("softcut check: ", p, ": no such file or folder");
     }
   }
   return out;
@@ -59,51 +78,73 @@ std::vector<fs::path> collect(const std::vector<std::string>& paths) {
 
 std::string first_line(const std::string& s) { return s.substr(0, s.find('\n')); }
 
-// One scenario -> "" (pass) or the failure reason; `detail` gets the pass note.
-// `req` carries the options shared by every scenario (sandbox, backend).
-std::string check_one(const fs::path& scenario, bool record, const fs::path& out_root, lua::RunRequest req,
-                      std::string& detail) {
-  req.scenario = scenario;
+bool matches(const std::vector<std::string>& globs, const CheckedScenario& r) {
+  for (const auto& g : globs)
+    if (fnmatch(g.c_str(), r.name.c_str(), 0) == 0 || fnmatch(g.c_str(), r.file.stem().c_str(), 0) == 0) return true;
+  return false;
+}
+
+// The temporary output root, removed however check ends.
+struct TempRoot {
+  fs::path path;
+  ~TempRoot() {
+    std::error_code ec;
+    if (!path.empty()) fs::remove_all(path, ec);
+  }
+};
+
+// Runs one scenario into `r` (status, reason, failures, expectations,
+// comparison). Any error is a failure of this scenario only.
+void check_one(CheckedScenario& r, bool record, const fs::path& out_root, lua::RunRequest req) {
+  req.scenario = r.file;
   req.render = false;
   req.interrupt = &SignalGuard::flag();
-  req.out_dir = out_root / scenario.stem();
-  lua::RunOutcome out;
+  req.out_dir = out_root / r.name;
+  auto failed = [&](const std::string& why) {
+    r.status = CheckedScenario::Status::fail;
+    if (r.reason.empty()) r.reason = first_line(why);
+    r.failures.push_back(why);
+  };
   try {
-    out = lua::run_scenario(req);
-  } catch (const Error& e) {
-    const std::string msg = e.what();
-    if (msg.find('\n') != std::string::npos) std::fprintf(stderr, "%s\n", msg.c_str());
-    return first_line(msg);
+    lua::RunOutcome out = lua::run_scenario(req);
+    for (const auto& e : out.expectations) r.expectations.push_back({e.name, e.where, e.reached, e.ok, e.message});
+    if (out.result.reason == sim::ExitReason::interrupted) return failed("interrupted");
+    if (out.result.reason == sim::ExitReason::error) return failed(out.result.message);
+    if (out.result.reason == sim::ExitReason::timeout)
+      return failed(cat("the wall-clock limit of ", req.timeout_s, " s (--timeout) passed at frame ",
+                        out.result.frames, " of ", out.num_frames));
+    for (const auto& e : out.expectations)
+      if (!e.ok) failed(cat(e.where, ": expect '", e.name, "' failed: ", e.message));
+    if (!r.failures.empty()) return;
+    const fs::path log = out.out_dir / "displacements.csv";
+    const fs::path ref = reference_path(r.file);
+    const std::string how = cat("record one with `softcut check --record ", r.file.string(), "`");
+    if (!fs::exists(log)) return failed("the run wrote no displacements.csv (s:output{ csv = false }?)");
+    const int n_expect = int(out.expectations.size());
+    if (record) {
+      std::ifstream in(log, std::ios::binary);
+      std::stringstream ss;
+      ss << in.rdbuf();
+      write_file_atomic(ref, ss.str());
+      r.detail = cat("recorded ", ref.string(), " (", out.result.frames, " frames, ", n_expect, " expectations)");
+      r.status = CheckedScenario::Status::pass;
+      return;
+    }
+    if (!fs::exists(ref)) return failed(cat("no reference log ", ref.string(), "; ", how));
+    const LogComparison c = compare_logs(log, ref, out.tolerance);  // throws on a corrupt reference
+    r.compared = true;
+    r.max_diff = c.max_diff, r.scale = c.scale, r.tolerance = out.tolerance;
+    r.worst_frame = c.worst_frame, r.worst_node = c.worst_node;
+    if (c.stale) return failed(cat("stale reference ", ref.string(), ": ", c.message, "; re-", how));
+    if (!c.ok) return failed(cat(c.message, " (", ref.string(), "); if the change is intended, re-", how));
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "%d frames, %d expectations, max |du| %.2g m (scale %.3g m), %.2f s",
+                  out.result.frames, n_expect, c.max_diff, c.scale, out.result.wall_s);
+    r.detail = buf;
+    r.status = CheckedScenario::Status::pass;
+  } catch (const std::exception& e) {
+    failed(e.what());
   }
-  if (out.result.reason == sim::ExitReason::interrupted) return "interrupted";
-  if (out.result.reason == sim::ExitReason::error) return out.result.message;
-  int passed = 0;
-  for (const auto& e : out.expectations) {
-    if (!e.ok) return cat(e.where, ": expect '", e.name, "' failed: ", e.message);
-    ++passed;
-  }
-  const fs::path log = out.out_dir / "displacements.csv";
-  const fs::path ref = reference_path(scenario);
-  const std::string how = cat("record one with `softcut check --record ", scenario.string(), "`");
-  if (!fs::exists(log)) return "the run wrote no displacements.csv (s:output{ csv = false }?)";
-  if (record) {
-    std::ifstream in(log, std::ios::binary);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    write_file_atomic(ref, ss.str());
-    detail = cat("recorded ", ref.string(), " (", out.result.frames, " frames, ", passed, " expectations)");
-    return "";
-  }
-  if (!fs::exists(ref)) return cat("no reference log ", ref.string(), "; ", how);
-  const LogComparison c = compare_logs(log, ref, out.tolerance);
-  if (c.stale) return cat("stale reference ", ref.string(), ": ", c.message, "; re-", how);
-  if (!c.ok)
-    return cat(c.message, " (", ref.string(), "); if the change is intended, re-", how);
-  char buf[160];
-  std::snprintf(buf, sizeof buf, "%d frames, %d expectations, max |du| %.2g m (scale %.3g m), %.2f s", out.result.frames,
-                passed, c.max_diff, c.scale, out.result.wall_s);
-  detail = buf;
-  return "";
 }
 
 }  // namespace
@@ -116,49 +157,137 @@ int cmd_check(const Args& args) {
   bool record = false;
   lua::RunRequest base;
   base.cache_dir = hybrid::default_cache_dir();
-  fs::path out_root;
-  std::vector<std::string> paths;
+  fs::path out_root, junit, json;
+  std::vector<std::string> paths, only, exclude;
+  int jobs = std::max(1, int(std::thread::hardware_concurrency()));
   for (size_t i = 0; i < args.size(); ++i) {
     const std::string& a = args[i];
+    auto value = [&](const char* what) -> const std::string& {
+      if (i + 1 >= args.size()) usage_fail("softcut check: ", a, " needs ", what, " (see softcut check --help)");
+      return args[++i];
+    };
     if (a == "--record") record = true;
     else if (a == "--trust") base.trusted = true;
     else if (a == "--no-cache") base.cache_dir.clear();
-    else if (a == "--backend") {
-      if (i + 1 >= args.size()) usage_fail("softcut check: --backend needs a value");
-      base.backend = parse_backend(args[++i]);
-    } else if (a == "--max-tets") {
-      if (i + 1 >= args.size()) usage_fail("softcut check: --max-tets needs a number");
-      base.max_tets = parse_count(args[++i], "--max-tets");
-    }
-    else if (a == "--out") {
-      if (i + 1 >= args.size()) usage_fail("softcut check: --out needs a folder");
-      out_root = args[++i];
-    } else if (a.rfind("-", 0) == 0) usage_fail("softcut check: unknown option '", a, "' (see softcut check --help)");
+    else if (a == "--backend") base.backend = parse_backend(value("a value"));
+    else if (a == "--max-tets") base.max_tets = parse_count(value("a number"), "--max-tets");
+    else if (a == "--out") out_root = value("a folder");
+    else if (a == "-j" || a == "--jobs") {
+      jobs = parse_count(value("a number"), "-j");
+      if (jobs < 1) usage_fail("softcut check: -j needs at least 1");
+    } else if (a.size() > 2 && a.rfind("-j", 0) == 0 && std::isdigit(static_cast<unsigned char>(a[2]))) {
+      jobs = parse_count(a.substr(2), "-j");
+      if (jobs < 1) usage_fail("softcut check: -j needs at least 1");
+    } else if (a == "--only") only.push_back(value("a name or glob"));
+    else if (a == "--exclude") exclude.push_back(value("a name or glob"));
+    else if (a == "--timeout") base.timeout_s = parse_seconds(value("seconds"), "--timeout");
+    else if (a == "--set") add_override(base.overrides, value("key=value"));
+    else if (a.rfind("--set=", 0) == 0) add_override(base.overrides, a.substr(6));
+    else if (a == "--junit") junit = value("a file");
+    else if (a == "--json") json = value("a file");
+    else if (a.rfind("-", 0) == 0) usage_fail("softcut check: unknown option '", a, "' (see softcut check --help)");
     else paths.push_back(a);
   }
-  const std::vector<fs::path> scenarios = collect(paths);
-  const bool temp = out_root.empty();
-  if (temp) out_root = fs::temp_directory_path() / cat("softcut-check-", ::getpid());
+  if (paths.empty()) usage_fail("softcut check: give a scenario file or folder (see softcut check --help)");
+  const auto t0 = std::chrono::steady_clock::now();
   const SignalGuard signals;
-  int passed = 0, failed = 0;
-  for (const fs::path& s : scenarios) {
-    std::string detail;
-    const std::string why = check_one(s, record, out_root, base, detail);
-    if (why.empty()) {
-      ++passed;
-      std::printf("PASS  %s  (%s)\n", s.string().c_str(), detail.c_str());
-    } else {
-      ++failed;
-      std::printf("FAIL  %s: %s\n", s.string().c_str(), why.c_str());
+
+  // Pass 1: every file's script part (names for folders, filters and the
+  // duplicate check; helper modules make no scenario and are skipped).
+  std::vector<CheckedScenario> all;
+  std::vector<char> runnable;  // the script made a scenario: run it in pass 2
+  for (const fs::path& file : collect(paths)) {
+    CheckedScenario r;
+    r.file = file;
+    r.name = file.stem().string();
+    lua::RunRequest req = base;
+    req.scenario = file;
+    bool run = false;
+    try {
+      r.name = lua::load_scenario_spec(req).name;
+      run = true;
+    } catch (const std::exception& e) {
+      const std::string msg = e.what();
+      if (msg.find("the script made no scenario") != std::string::npos) {
+        r.status = CheckedScenario::Status::skipped;
+        r.reason = "makes no scenario (a helper module?)";
+      } else {
+        r.reason = first_line(msg);
+        r.failures.push_back(msg);
+      }
+    }
+    if (!only.empty() && !matches(only, r)) continue;
+    if (matches(exclude, r)) continue;
+    all.push_back(std::move(r));
+    runnable.push_back(run);
+  }
+  if (all.empty()) usage_fail("softcut check: no scenario left after --only/--exclude");
+  std::map<std::string, fs::path> by_name;
+  for (size_t i = 0; i < all.size(); ++i) {
+    const CheckedScenario& r = all[i];
+    if (!runnable[i]) continue;
+    const auto [it, fresh] = by_name.emplace(r.name, r.file);
+    if (!fresh)
+      usage_fail("softcut check: two scenarios are named '", r.name, "': ", it->second.string(), " and ",
+                 r.file.string(), "; their outputs would share a folder. Give one a different "
+                 "softcut.scenario{ name = ... }");
+  }
+
+  // Pass 2: the runs, `jobs` at once; lines print in file order as soon as
+  // every earlier scenario is done.
+  TempRoot temp;
+  if (out_root.empty()) {
+    out_root = fs::temp_directory_path() / cat("softcut-check-", ::getpid());
+    temp.path = out_root;
+  }
+  std::vector<char> done(all.size(), 0);
+  std::atomic<size_t> next{0};
+  std::mutex mutex;
+  size_t printed = 0;
+  int passed = 0, failed = 0, skipped = 0;
+  auto print_ready = [&] {  // under `mutex`
+    for (; printed < all.size() && done[printed]; ++printed) {
+      const CheckedScenario& r = all[printed];
+      if (r.status == CheckedScenario::Status::pass) {
+        ++passed;
+        std::printf("PASS  %s  (%s)\n", r.file.string().c_str(), r.detail.c_str());
+      } else if (r.status == CheckedScenario::Status::skipped) {
+        ++skipped;
+        std::printf("SKIP  %s: %s\n", r.file.string().c_str(), r.reason.c_str());
+      } else {
+        ++failed;
+        std::printf("FAIL  %s: %s\n", r.file.string().c_str(), r.reason.c_str());
+        for (size_t k = 1; k < r.failures.size(); ++k) std::printf("      %s\n", first_line(r.failures[k]).c_str());
+      }
     }
     std::fflush(stdout);
-    if (SignalGuard::flag().load()) break;
-  }
-  if (temp) {
-    std::error_code ec;
-    fs::remove_all(out_root, ec);
-  }
-  std::printf("%d passed, %d failed\n", passed, failed);
+  };
+  auto worker = [&] {
+    for (size_t i; (i = next++) < all.size();) {
+      CheckedScenario& r = all[i];
+      if (runnable[i] && !SignalGuard::flag().load()) {
+        const auto s0 = std::chrono::steady_clock::now();
+        check_one(r, record, out_root, base);
+        r.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - s0).count();
+      } else if (runnable[i]) {
+        r.reason = "interrupted before it ran";
+      }
+      std::lock_guard<std::mutex> lock(mutex);
+      done[i] = 1;
+      print_ready();
+    }
+  };
+  const int n_threads = std::min<int>(jobs, int(all.size()));
+  std::vector<std::thread> threads;
+  for (int k = 1; k < n_threads; ++k) threads.emplace_back(worker);
+  worker();
+  for (auto& t : threads) t.join();
+
+  const double total_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (!junit.empty()) write_junit(junit, all, total_s);
+  if (!json.empty()) write_check_json(json, all, total_s);
+  if (skipped) std::printf("%d passed, %d failed, %d skipped\n", passed, failed, skipped);
+  else std::printf("%d passed, %d failed\n", passed, failed);
   return failed ? 1 : 0;
 }
 

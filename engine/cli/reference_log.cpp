@@ -63,13 +63,17 @@ LogComparison compare_logs(const fs::path& produced, const fs::path& reference, 
     for (int k = 0; k < 3; ++k) {
       c.scale = std::max(c.scale, std::abs(b[i].u[k]));
       const double d = std::abs(a[i].u[k] - b[i].u[k]);
-      if (!(d <= c.max_diff)) c.max_diff = std::isnan(d) ? INFINITY : d;
+      if (!(d <= c.max_diff)) {
+        c.max_diff = std::isnan(d) ? INFINITY : d;
+        c.worst_frame = a[i].frame, c.worst_node = a[i].node, c.worst_component = k;
+      }
     }
   }
   c.ok = c.max_diff <= tolerance * c.scale || (c.scale == 0 && c.max_diff == 0);
   if (!c.ok)
-    c.message = cat("displacements differ from the reference by up to ", c.max_diff, " m, more than tolerance ",
-                    tolerance, " x ", c.scale, " m");
+    c.message = cat("displacements differ from the reference by up to ", c.max_diff, " m (frame ", c.worst_frame,
+                    ", node ", c.worst_node, ", u", "xyz"[c.worst_component], "), more than tolerance ", tolerance,
+                    " x ", c.scale, " m");
   return c;
 }
 

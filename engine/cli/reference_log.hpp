@@ -13,6 +13,8 @@ struct LogComparison {
   bool stale = false;      // rows differ (frames, nodes): not comparable
   double max_diff = 0.0;   // m, largest |u - u_ref| component
   double scale = 0.0;      // m, largest |u_ref| component
+  long worst_frame = -1, worst_node = -1;  // row of max_diff (-1: none)
+  int worst_component = -1;                // 0..2: x, y, z
   std::string message;     // why not ok
 };
 

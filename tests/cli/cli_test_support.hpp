@@ -18,11 +18,26 @@ struct CliResult {
   std::string output;  // stdout and stderr together
 };
 
-// Runs `softcut ARGS` in `cwd` (default: the source folder), capturing output.
-inline CliResult run_cli(const std::string& args, const std::filesystem::path& cwd = SOFTCUT_SOURCE_DIR) {
-  const std::string cmd = "cd '" + cwd.string() + "' && '" SOFTCUT_BIN "' " + args + " 2>&1";
+// Runs `softcut ARGS` in `cwd` (default: the source folder), capturing output;
+// `env` ("NAME=value ...") goes before the program.
+inline CliResult run_cli(const std::string& args, const std::filesystem::path& cwd = SOFTCUT_SOURCE_DIR,
+                         const std::string& env = "") {
+  const std::string cmd = "cd '" + cwd.string() + "' && " + env + " '" SOFTCUT_BIN "' " + args + " 2>&1";
   CliResult r;
   FILE* p = popen(cmd.c_str(), "r");
+  if (!p) return r;
+  std::array<char, 4096> buf;
+  size_t n;
+  while ((n = fread(buf.data(), 1, buf.size(), p)) > 0) r.output.append(buf.data(), n);
+  const int st = pclose(p);
+  r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+  return r;
+}
+
+// Runs a shell command line, capturing output (tools the tests use, e.g. xmllint).
+inline CliResult run_cli_raw(const std::string& command) {
+  CliResult r;
+  FILE* p = popen((command + " 2>&1").c_str(), "r");
   if (!p) return r;
   std::array<char, 4096> buf;
   size_t n;

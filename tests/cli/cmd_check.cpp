@@ -2,6 +2,7 @@
 #include <doctest/doctest.h>
 
 #include <fstream>
+#include <nlohmann/json.hpp>
 
 #include "cli/reference_log.hpp"
 #include "cli_test_support.hpp"
@@ -12,6 +13,31 @@ using softcut::test::run_cli;
 using softcut::test::slurp;
 
 namespace {
+
+// A small fast scenario: a bar pulled at its tip by `f` N (a parameter),
+// with one expectation `expect` (a Lua boolean expression of f, the frame).
+void write_bar(const fs::path& file, const std::string& name, const std::string& expect = "true") {
+  std::ofstream(file) << "local P = softcut.params{ f = 0.01 }\n"
+                         "local s = softcut.scenario{ name = '" << name << "', duration = 0.2, fps = 10 }\n"
+                         "s:mesh{ generate = 'box', options = { max = { 0.1, 0.02, 0.02 }, nx = 5, ny = 2, nz = 2 } }\n"
+                         "s:material{ young = 5e3, poisson = 0.4 }\n"
+                         "s:fix{ nodes = softcut.select.box{ min = { -1, -1, -1 }, max = { 0, 1, 1 } } }\n"
+                         "s:load{ name = 'tip', nodes = softcut.select.box{ min = { 0.1, -1, -1 }, max = { 1, 1, 1 } },\n"
+                         "        force = { 0, 0, -P.f } }\n"
+                         "s:expect{ name = 'holds', at = 0.2, check = function(f) return "
+                      << expect << ", ('f = %g'):format(P.f) end }\n"
+                         "return s\n";
+}
+
+// Verdict and file of each scenario line ("PASS  file", "FAIL  file", "SKIP  file").
+std::vector<std::string> verdicts(const std::string& out) {
+  std::vector<std::string> v;
+  std::istringstream ss(out);
+  for (std::string line; std::getline(ss, line);)
+    if (line.rfind("PASS  ", 0) == 0 || line.rfind("FAIL  ", 0) == 0 || line.rfind("SKIP  ", 0) == 0)
+      v.push_back(line.substr(0, line.find_first_of(" :", 6)));
+  return v;
+}
 
 // A copy of scenarios/<name>.lua (+ mesh folder) in a scratch folder.
 fs::path copy_scenario(const std::string& dir_name, const std::string& name) {
@@ -72,6 +98,8 @@ TEST_SUITE("cli/cmd_check") {
     const auto diff = run_cli("check --backend cpu " + s.string());
     CHECK(diff.status == 1);
     CHECK(contains(diff.output, "displacements differ from the reference by up to"));
+    CHECK(contains(diff.output, " m (frame "));  // where the largest difference is
+    CHECK(contains(diff.output, ", node "));
     CHECK(contains(diff.output, "if the change is intended, re-record one with `softcut check --record"));
     // A reference with other rows is stale.
     std::string ref = slurp(softcut::cli::reference_path(s));
@@ -107,5 +135,126 @@ TEST_SUITE("cli/cmd_check") {
                              "limit, --trust lifts it)"));
     CHECK(run_cli("check --backend cpu --max-tets 960 " + s).status == 0);
     CHECK(contains(run_cli("check --max-tets lots " + s).output, "--max-tets lots: expected a whole number"));
+  }
+
+  // Issue #18: a folder with a passing scenario, one whose expectation fails,
+  // one with a corrupt reference and a helper module.
+  TEST_CASE("a corrupt reference fails only its scenario, the others run, the tally prints and no temporary folder is left") {
+    const fs::path dir = softcut::test::scratch_dir("check_corrupt");
+    write_bar(dir / "a.lua", "bar_a");
+    write_bar(dir / "b.lua", "bar_b", "false");
+    write_bar(dir / "c.lua", "bar_c");
+    std::ofstream(dir / "common.lua") << "local M = {}\nfunction M.twice(x) return 2 * x end\nreturn M\n";
+    REQUIRE(run_cli("check --record " + dir.string()).status == 1);  // b fails, a and c recorded
+    REQUIRE(fs::exists(dir / "c.ref.csv"));
+    std::string ref = slurp(dir / "c.ref.csv");
+    std::ofstream(dir / "c.ref.csv") << ref.substr(0, ref.find('\n') + 1) << "1,0.1,oops\n";
+    const fs::path tmp = dir / "tmp";
+    fs::create_directories(tmp);
+    const auto r = run_cli("check " + dir.string(), SOFTCUT_SOURCE_DIR, "TMPDIR='" + tmp.string() + "'");
+    CHECK(r.status == 1);
+    CHECK(contains(r.output, "PASS  " + (dir / "a.lua").string()));
+    CHECK(contains(r.output, "FAIL  " + (dir / "b.lua").string() + ": " + (dir / "b.lua").string() +
+                                 ":8: expect 'holds' failed: f = 0.01"));
+    CHECK(contains(r.output, "FAIL  " + (dir / "c.lua").string() + ": " + (dir / "c.ref.csv").string() +
+                                 ":2: expected frame,time,node,ux,uy,uz"));
+    CHECK(contains(r.output, "SKIP  " + (dir / "common.lua").string() + ": makes no scenario (a helper module?)"));
+    CHECK(contains(r.output, "1 passed, 2 failed, 1 skipped\n"));
+    CHECK(fs::is_empty(tmp));  // softcut-check-PID removed
+  }
+
+  TEST_CASE("-j 2 gives the same verdicts in the same order as -j 1") {
+    const fs::path dir = softcut::test::scratch_dir("check_jobs");
+    for (int k = 0; k < 6; ++k)
+      write_bar(dir / ("s" + std::to_string(k) + ".lua"), "bar_" + std::to_string(k), k % 3 == 1 ? "false" : "true");
+    run_cli("check --record " + dir.string());
+    const auto one = run_cli("check -j 1 " + dir.string()), two = run_cli("check -j 2 " + dir.string());
+    CHECK(one.status == 1);
+    CHECK(two.status == 1);
+    CHECK(verdicts(one.output).size() == 6);
+    CHECK(verdicts(one.output) == verdicts(two.output));
+    CHECK(contains(two.output, "4 passed, 2 failed\n"));
+    CHECK(run_cli("check -j 0 " + dir.string()).status == 2);
+  }
+
+  TEST_CASE("--only and --exclude pick scenarios by name or file glob, --set reaches every scenario, --timeout fails a long one") {
+    const fs::path dir = softcut::test::scratch_dir("check_filter");
+    write_bar(dir / "first.lua", "alpha", "P.f < 0.05");
+    write_bar(dir / "second.lua", "beta", "P.f < 0.05");
+    run_cli("check --record " + dir.string());
+    CHECK(verdicts(run_cli("check --only alpha " + dir.string()).output) ==
+          std::vector<std::string>{"PASS  " + (dir / "first.lua").string()});
+    CHECK(verdicts(run_cli("check --only 'sec*' " + dir.string()).output) ==
+          std::vector<std::string>{"PASS  " + (dir / "second.lua").string()});
+    CHECK(verdicts(run_cli("check --exclude 'a?pha' " + dir.string()).output) ==
+          std::vector<std::string>{"PASS  " + (dir / "second.lua").string()});
+    const auto none = run_cli("check --only nothing " + dir.string());
+    CHECK(none.status == 2);
+    CHECK(contains(none.output, "no scenario left after --only/--exclude"));
+    const auto set = run_cli("check --set f=0.1 " + dir.string());
+    CHECK(set.status == 1);
+    CHECK(contains(set.output, "expect 'holds' failed: f = 0.1"));
+    CHECK(contains(set.output, "0 passed, 2 failed"));
+    CHECK(run_cli("check --set f " + dir.string()).status == 2);
+    std::string slow = slurp(dir / "first.lua");
+    std::ofstream(dir / "slow.lua") << slow.replace(slow.find("duration = 0.2, fps = 10"), 24,
+                                                    "duration = 1000, fps = 100") .replace(slow.find("'alpha'"), 7, "'slow'");
+    const auto late = run_cli("check --timeout 0.5 --only slow " + dir.string());
+    CHECK(late.status == 1);
+    CHECK(contains(late.output, "FAIL  " + (dir / "slow.lua").string()));
+    CHECK(contains(late.output, "wall-clock limit"));
+  }
+
+  TEST_CASE("two scenarios with one name are a usage error naming both files") {
+    const fs::path dir = softcut::test::scratch_dir("check_dup");
+    write_bar(dir / "one.lua", "same");
+    write_bar(dir / "two.lua", "same");
+    const auto r = run_cli("check " + dir.string());
+    CHECK(r.status == 2);
+    CHECK(contains(r.output, "two scenarios are named 'same': " + (dir / "one.lua").string() + " and " +
+                                 (dir / "two.lua").string()));
+    CHECK(run_cli("check --frobnicate " + dir.string()).status == 2);
+  }
+
+  TEST_CASE("--junit writes JUnit XML that validates against the schema CI systems read, --json the same facts") {
+    const fs::path dir = softcut::test::scratch_dir("check_reports");
+    write_bar(dir / "good.lua", "good");
+    write_bar(dir / "bad.lua", "bad", "false");
+    std::ofstream(dir / "helper.lua") << "return { x = 1 }\n";
+    run_cli("check --record " + dir.string());
+    const fs::path xml = dir / "out" / "report.xml", json = dir / "out" / "report.json";
+    fs::create_directories(xml.parent_path());
+    const auto r = run_cli("check --junit " + xml.string() + " --json " + json.string() + " " + dir.string());
+    CHECK(r.status == 1);
+    const auto lint = softcut::test::run_cli_raw("xmllint --noout --schema '" +
+                                                 softcut::test::source("tests/data/junit.xsd") + "' '" +
+                                                 xml.string() + "'");
+    INFO(lint.output);
+    CHECK(lint.status == 0);
+    const std::string x = slurp(xml);
+    CHECK(contains(x, "tests=\"3\" failures=\"1\""));
+    CHECK(contains(x, "skipped=\"1\""));
+    CHECK(contains(x, "<testcase name=\"bad\" classname=\"" + (dir / "bad.lua").string() + "\""));
+    CHECK(contains(x, "<failure message=\"" + (dir / "bad.lua").string() + ":8: expect &apos;holds&apos; failed"));
+    const nlohmann::json j = nlohmann::json::parse(slurp(json));
+    CHECK(j["passed"] == 1);
+    CHECK(j["failed"] == 1);
+    CHECK(j["skipped"] == 1);
+    REQUIRE(j["scenarios"].size() == 3);
+    for (const auto& s : j["scenarios"]) {
+      if (s["name"] == "good") {
+        CHECK(s["status"] == "pass");
+        CHECK(s["expectations"].size() == 1);
+        CHECK(s["expectations"][0]["ok"] == true);
+        CHECK(s["comparison"]["max_diff_m"].get<double>() <= s["comparison"]["tolerance"].get<double>() *
+                                                                  s["comparison"]["scale_m"].get<double>());
+      } else if (s["name"] == "bad") {
+        CHECK(s["status"] == "fail");
+        CHECK(s["expectations"][0]["ok"] == false);
+        CHECK(s["expectations"][0]["message"] == "f = 0.01");
+      } else {
+        CHECK(s["status"] == "skipped");
+      }
+    }
   }
 }
