@@ -7,12 +7,37 @@
 
 namespace softcut::cut {
 
-Eigen::Vector3d deformed_to_rest(const mesh::TetMesh& m, const Eigen::MatrixX3d& u, const Eigen::Vector3d& x,
-                                 const std::vector<char>& mask) {
+namespace {
+
+void check_sizes(const mesh::TetMesh& m, const Eigen::MatrixX3d& u, const std::vector<char>& mask) {
   if (u.rows() != m.num_nodes())
     fail("cut: displacement has ", u.rows(), " rows but the mesh has ", m.num_nodes(), " nodes");
   if (!mask.empty() && mask.size() != size_t(m.num_tets()))
     fail("cut: tet mask has ", mask.size(), " entries for ", m.num_tets(), " tets");
+}
+
+// Corners of tet t in the deformed configuration (rest + displacement), m.
+void deformed_corners(const mesh::TetMesh& m, const Eigen::MatrixX3d& u, int t, Eigen::Vector3d (&p)[4]) {
+  for (int k = 0; k < 4; ++k) p[k] = (m.nodes.row(m.tets(t, k)) + u.row(m.tets(t, k))).transpose();
+}
+
+// Barycentric coordinates of x in the tet with corners p; false when the
+// tet is collapsed.
+bool barycentric(const Eigen::Vector3d (&p)[4], const Eigen::Vector3d& x, Eigen::Vector4d& bary) {
+  Eigen::Matrix3d e;
+  e << p[1] - p[0], p[2] - p[0], p[3] - p[0];
+  Eigen::FullPivLU<Eigen::Matrix3d> lu(e);
+  if (!lu.isInvertible()) return false;
+  const Eigen::Vector3d l = lu.solve(x - p[0]);
+  bary = Eigen::Vector4d(1 - l.sum(), l(0), l(1), l(2));
+  return true;
+}
+
+}  // namespace
+
+Eigen::Vector3d deformed_to_rest(const mesh::TetMesh& m, const Eigen::MatrixX3d& u, const Eigen::Vector3d& x,
+                                 const std::vector<char>& mask) {
+  check_sizes(m, u, mask);
   if (!x.allFinite()) fail("cut: point to map has a non-finite coordinate");
   int best = -1;
   double best_min = -std::numeric_limits<double>::infinity();
@@ -20,13 +45,9 @@ Eigen::Vector3d deformed_to_rest(const mesh::TetMesh& m, const Eigen::MatrixX3d&
   for (int t = 0; t < m.num_tets(); ++t) {
     if (!mask.empty() && !mask[size_t(t)]) continue;
     Eigen::Vector3d p[4];
-    for (int k = 0; k < 4; ++k) p[k] = (m.nodes.row(m.tets(t, k)) + u.row(m.tets(t, k))).transpose();
-    Eigen::Matrix3d e;
-    e << p[1] - p[0], p[2] - p[0], p[3] - p[0];
-    Eigen::FullPivLU<Eigen::Matrix3d> lu(e);
-    if (!lu.isInvertible()) continue;  // collapsed in the deformed state
-    const Eigen::Vector3d l = lu.solve(x - p[0]);
-    const Eigen::Vector4d bary(1 - l.sum(), l(0), l(1), l(2));
+    deformed_corners(m, u, t, p);
+    Eigen::Vector4d bary;
+    if (!barycentric(p, x, bary)) continue;  // collapsed in the deformed state
     if (bary.minCoeff() > best_min) {
       best_min = bary.minCoeff();
       best = t;
@@ -42,23 +63,16 @@ Eigen::Vector3d deformed_to_rest(const mesh::TetMesh& m, const Eigen::MatrixX3d&
 
 int deformed_tet_at(const mesh::TetMesh& m, const Eigen::MatrixX3d& u, const Eigen::Vector3d& x,
                     const std::vector<char>& mask) {
-  if (u.rows() != m.num_nodes())
-    fail("cut: displacement has ", u.rows(), " rows but the mesh has ", m.num_nodes(), " nodes");
-  if (!mask.empty() && mask.size() != size_t(m.num_tets()))
-    fail("cut: tet mask has ", mask.size(), " entries for ", m.num_tets(), " tets");
+  check_sizes(m, u, mask);
   for (int t = 0; t < m.num_tets(); ++t) {
     if (!mask.empty() && !mask[size_t(t)]) continue;
     Eigen::Vector3d p[4];
-    for (int k = 0; k < 4; ++k) p[k] = (m.nodes.row(m.tets(t, k)) + u.row(m.tets(t, k))).transpose();
+    deformed_corners(m, u, t, p);
     const Eigen::Vector3d lo = p[0].cwiseMin(p[1]).cwiseMin(p[2]).cwiseMin(p[3]);
     const Eigen::Vector3d hi = p[0].cwiseMax(p[1]).cwiseMax(p[2]).cwiseMax(p[3]);
     if ((x.array() < lo.array()).any() || (x.array() > hi.array()).any()) continue;
-    Eigen::Matrix3d e;
-    e << p[1] - p[0], p[2] - p[0], p[3] - p[0];
-    Eigen::FullPivLU<Eigen::Matrix3d> lu(e);
-    if (!lu.isInvertible()) continue;
-    const Eigen::Vector3d l = lu.solve(x - p[0]);
-    if (l.minCoeff() >= 0 && l.sum() <= 1) return t;
+    Eigen::Vector4d bary;
+    if (barycentric(p, x, bary) && bary.minCoeff() >= 0) return t;
   }
   return -1;
 }

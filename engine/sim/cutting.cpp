@@ -287,9 +287,7 @@ std::vector<CutEvent> cut_stage(const Model& m, State& s, int frame, double t) {
       // Not cutting. A blade inside the tissue without contact, or whose path
       // starts inside, would never cut: refuse it.
       Eigen::Vector3d at;
-      const double depth = blade_in_box(current_mesh(m, s), s.displacement, ts, 0)
-                               ? blade_depth(m, s, ts.blade_a, ts.blade_b, at)
-                               : 0.0;
+      const double depth = blade_depth(m, s, ts.blade_a, ts.blade_b, at);
       if (depth > spec.radius && (!ts.outside_seen || !ts.engaged))
         refuse_blade_inside(spec, ts, t, depth, at, !ts.outside_seen);
       ts.outside_seen = ts.outside_seen || depth <= spec.radius;
