@@ -11,21 +11,35 @@
 using namespace softcut;
 using Eigen::Vector3d;
 
+namespace {
+
+// x -> a x + b with a = I + entries in [-0.2, 0.2], b in [-0.2, 0.2]^3; returns
+// the displacement it gives every node of m.
+Eigen::MatrixX3d random_affine(const mesh::TetMesh& m, std::mt19937& rng, Eigen::Matrix3d& a, Vector3d& b) {
+  std::uniform_real_distribution<double> u(-0.2, 0.2);
+  a = Eigen::Matrix3d::Identity();
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) a(i, j) += u(rng);
+  b = Vector3d(u(rng), u(rng), u(rng));
+  Eigen::MatrixX3d disp(m.num_nodes(), 3);
+  for (int v = 0; v < m.num_nodes(); ++v) disp.row(v) = (a * m.node(v) + b - m.node(v)).transpose();
+  return disp;
+}
+
+}  // namespace
+
 TEST_SUITE("cut/rest_map") {
   TEST_CASE("an affine deformation is inverted exactly inside and outside the body") {
     std::mt19937 rng(31);
-    std::uniform_real_distribution<double> u(-0.2, 0.2), p(-0.3, 1.3);
+    std::uniform_real_distribution<double> p(-0.3, 1.3);
     mesh::BoxOptions box;
     box.nx = box.ny = box.nz = 3;
     box.jitter = 0.1;
     const mesh::TetMesh m = mesh::generate_box(box);
     for (int trial = 0; trial < 5; ++trial) {
-      Eigen::Matrix3d a = Eigen::Matrix3d::Identity();
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) a(i, j) += u(rng);
-      const Vector3d b(u(rng), u(rng), u(rng));
-      Eigen::MatrixX3d disp(m.num_nodes(), 3);
-      for (int v = 0; v < m.num_nodes(); ++v) disp.row(v) = (a * m.node(v) + b - m.node(v)).transpose();
+      Eigen::Matrix3d a;
+      Vector3d b;
+      const Eigen::MatrixX3d disp = random_affine(m, rng, a, b);
       for (int k = 0; k < 20; ++k) {
         const Vector3d rest(p(rng), p(rng), p(rng));
         const Vector3d x = a * rest + b;
@@ -36,17 +50,14 @@ TEST_SUITE("cut/rest_map") {
 
   TEST_CASE("deformed_tet_at finds the deformed tet around a point, and none outside the body") {
     std::mt19937 rng(7);
-    std::uniform_real_distribution<double> u(-0.2, 0.2), p(-0.3, 1.3);
+    std::uniform_real_distribution<double> p(-0.3, 1.3);
     mesh::BoxOptions box;  // the unit cube
     box.nx = box.ny = box.nz = 3;
     box.jitter = 0.1;
     const mesh::TetMesh m = mesh::generate_box(box);
-    Eigen::Matrix3d a = Eigen::Matrix3d::Identity();
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) a(i, j) += u(rng);
-    const Vector3d b(u(rng), u(rng), u(rng));
-    Eigen::MatrixX3d disp(m.num_nodes(), 3);
-    for (int v = 0; v < m.num_nodes(); ++v) disp.row(v) = (a * m.node(v) + b - m.node(v)).transpose();
+    Eigen::Matrix3d a;
+    Vector3d b;
+    const Eigen::MatrixX3d disp = random_affine(m, rng, a, b);
     int inside = 0;
     for (int k = 0; k < 200; ++k) {
       const Vector3d rest(p(rng), p(rng), p(rng));

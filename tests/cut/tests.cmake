@@ -1,3 +1,15 @@
+# "k1=v1,k2=v2" -> name "k1=v1 k2=v2" (for test names) and sets "--set;k1=v1;--set;k2=v2".
+function(softcut_case_sets case name_var sets_var)
+  string(REPLACE "," " " name "${case}")
+  string(REPLACE "," ";" kvs "${case}")
+  set(sets "")
+  foreach(kv IN LISTS kvs)
+    list(APPEND sets --set ${kv})
+  endforeach()
+  set(${name_var} "${name}" PARENT_SCOPE)
+  set(${sets_var} "${sets}" PARENT_SCOPE)
+endfunction()
+
 # A scenario that cuts a piece free (docs/cutting.md "Pieces cut free") through
 # the CLI: the run must complete, its expectations hold and its log match the
 # reference (tests/cut/cut_free.ref.csv, `softcut check --record` to renew).
@@ -8,12 +20,7 @@ add_test(NAME "cut: softcut check a scenario that cuts a piece free"
 # (tests/cut/moving_tissue.lua checks two anchored pieces at the end). Before
 # the fix every moving or loaded case ended in one piece.
 foreach(case "hz=3" "hz=0,amp=0" "hz=0,amp=0,fz=-1e-30" "hz=3,fps=80" "hz=8" "hz=3,path=1")
-  string(REPLACE "," " " name "${case}")
-  string(REPLACE "," ";" kvs "${case}")
-  set(sets "")
-  foreach(kv IN LISTS kvs)
-    list(APPEND sets --set ${kv})
-  endforeach()
+  softcut_case_sets("${case}" name sets)
   add_test(NAME "cut: a blade cuts through moving tissue (${name})"
            COMMAND softcut run ${PROJECT_SOURCE_DIR}/tests/cut/moving_tissue.lua --no-render --quiet
                    --out ${CMAKE_BINARY_DIR}/test-out/moving_tissue/${name} ${sets})
@@ -24,12 +31,7 @@ endforeach()
 # Issue #16 item 4: a blade that reaches only tissue it may not cut (outside
 # the operational region, or along the interface) warns with blade and time.
 foreach(case "x0=0.08,x1=0.09" "x0=0.065,x1=0.065" "x0=0.06,x1=0.06")
-  string(REPLACE "," " " name "${case}")
-  string(REPLACE "," ";" kvs "${case}")
-  set(sets "")
-  foreach(kv IN LISTS kvs)
-    list(APPEND sets --set ${kv})
-  endforeach()
+  softcut_case_sets("${case}" name sets)
   set(test "cut: a blade over uncuttable tissue warns (${name})")
   add_test(NAME "${test}"
            COMMAND softcut run ${PROJECT_SOURCE_DIR}/tests/cut/blocked_blade.lua --no-render
@@ -45,12 +47,7 @@ endforeach()
 # contact, is refused with a message (exit status 1).
 foreach(case "ramp=0.3" "ramp=0.6" "force=0.5" "force=2" "z0=0.041,ramp=0.3" "ramp=0.3,fps=80" "ramp=0.3,fps=8"
              "ramp=0.9,force=0.013" "force=0.5,fps=5")
-  string(REPLACE "," " " name "${case}")
-  string(REPLACE "," ";" kvs "${case}")
-  set(sets "")
-  foreach(kv IN LISTS kvs)
-    list(APPEND sets --set ${kv})
-  endforeach()
+  softcut_case_sets("${case}" name sets)
   add_test(NAME "cut: a blade pressed in from the surface cuts through (${name})"
            COMMAND softcut run ${PROJECT_SOURCE_DIR}/tests/cut/press_in.lua --no-render --quiet
                    --out ${CMAKE_BINARY_DIR}/test-out/press_in/${name} ${sets})
@@ -63,12 +60,7 @@ foreach(refusal "z0=0.03|its path starts inside the tissue"
   string(REPLACE "|" ";" parts "${refusal}")
   list(GET parts 0 case)
   list(GET parts 1 regex)
-  string(REPLACE "," " " name "${case}")
-  string(REPLACE "," ";" kvs "${case}")
-  set(sets "")
-  foreach(kv IN LISTS kvs)
-    list(APPEND sets --set ${kv})
-  endforeach()
+  softcut_case_sets("${case}" name sets)
   set(test "cut: a blade inside the tissue that cannot cut is refused (${name})")
   add_test(NAME "${test}"
            COMMAND softcut run ${PROJECT_SOURCE_DIR}/tests/cut/press_in.lua --no-render --quiet
