@@ -39,10 +39,19 @@ Eigen::Vector3d deformed_to_rest(const mesh::TetMesh& m, const Eigen::MatrixX3d&
                                  const std::vector<char>& mask) {
   check_sizes(m, u, mask);
   if (!x.allFinite()) fail("cut: point to map has a non-finite coordinate");
-  int best = -1;
+  // A point inside the mesh maps through the first tet (in index order)
+  // that holds it: deformed_tet_at finds it with a bounding-box test per tet.
+  // Only a point outside every tet needs the barycentric coordinates of all.
+  int best = deformed_tet_at(m, u, x, mask);
   double best_min = -std::numeric_limits<double>::infinity();
   Eigen::Vector4d best_bary;
-  for (int t = 0; t < m.num_tets(); ++t) {
+  if (best >= 0) {
+    Eigen::Vector3d p[4];
+    deformed_corners(m, u, best, p);
+    barycentric(p, x, best_bary);
+    best_min = best_bary.minCoeff();
+  }
+  for (int t = 0; t < m.num_tets() && best_min < 0; ++t) {
     if (!mask.empty() && !mask[size_t(t)]) continue;
     Eigen::Vector3d p[4];
     deformed_corners(m, u, t, p);
@@ -68,8 +77,13 @@ int deformed_tet_at(const mesh::TetMesh& m, const Eigen::MatrixX3d& u, const Eig
     if (!mask.empty() && !mask[size_t(t)]) continue;
     Eigen::Vector3d p[4];
     deformed_corners(m, u, t, p);
-    const Eigen::Vector3d lo = p[0].cwiseMin(p[1]).cwiseMin(p[2]).cwiseMin(p[3]);
-    const Eigen::Vector3d hi = p[0].cwiseMax(p[1]).cwiseMax(p[2]).cwiseMax(p[3]);
+    // The box is padded by a hair, so that a point the barycentric solve
+    // puts on a face is not dropped for lying outside the box by rounding.
+    Eigen::Vector3d lo = p[0].cwiseMin(p[1]).cwiseMin(p[2]).cwiseMin(p[3]);
+    Eigen::Vector3d hi = p[0].cwiseMax(p[1]).cwiseMax(p[2]).cwiseMax(p[3]);
+    const double pad = 1e-9 * (hi - lo).maxCoeff();
+    lo.array() -= pad;
+    hi.array() += pad;
     if ((x.array() < lo.array()).any() || (x.array() > hi.array()).any()) continue;
     Eigen::Vector4d bary;
     if (barycentric(p, x, bary) && bary.minCoeff() >= 0) return t;

@@ -66,11 +66,19 @@ std::vector<int> nodes_near_segment(const ContactSurface& s, const Eigen::Vector
   if (!hit.empty()) return hit;
   // Edge between nodes (faces larger than the radius): the nodes of every
   // face the capsule reaches, from samples along the edge at radius / 2.
+  // A face whose bounding sphere lies farther than `radius` from the whole
+  // segment cannot be reached by any sample: skipped before sampling (the
+  // slack keeps rounding from dropping a face the samples would reach).
   const int samples = 1 + int(std::min(1e4, std::ceil((b - a).norm() / (0.5 * radius))));
   for (int f = 0; f < s.surface.faces.rows(); ++f) {
     const Eigen::Vector3d p = s.positions.row(s.surface.faces(f, 0)).transpose();
     const Eigen::Vector3d q = s.positions.row(s.surface.faces(f, 1)).transpose();
     const Eigen::Vector3d r = s.positions.row(s.surface.faces(f, 2)).transpose();
+    const Eigen::Vector3d centre = (p + q + r) / 3;
+    const double reach =
+        (1 + 1e-9) * (radius + std::sqrt(std::max({(p - centre).squaredNorm(), (q - centre).squaredNorm(),
+                                                   (r - centre).squaredNorm()})));
+    if ((closest_point_on_segment(centre, a, b) - centre).squaredNorm() > reach * reach) continue;
     for (int k = 0; k <= samples; ++k) {
       const Eigen::Vector3d c = a + (double(k) / samples) * (b - a);
       if ((closest_point_on_triangle(c, p, q, r) - c).squaredNorm() <= r2) {
