@@ -160,12 +160,14 @@ CutRecord cut_step(mesh::TetMesh& m, CutState& st, const SweptSurface& blade, co
   std::sort(near_nodes.begin(), near_nodes.end());
   near_nodes.erase(std::unique(near_nodes.begin(), near_nodes.end()), near_nodes.end());
   // A node already on the cut stays there for a blade passing it again as
-  // far as it was when it joined (a snap vetoed for quality may be far).
+  // far as it was when it joined (a snap vetoed for quality may be far); not
+  // farther: adding the reach to that offset let each step drag the node
+  // along (the offset grew by the reach every step).
   near_nodes.erase(std::remove_if(near_nodes.begin(), near_nodes.end(),
                                   [&](int v) {
                                     const double d = distance(blade, m.node(v));
                                     const double reach = s * min_len[size_t(v)];
-                                    return d > reach + (current(v) ? st.cut_offset[size_t(v)] : 0);
+                                    return d > std::max(reach, current(v) ? st.cut_offset[size_t(v)] : 0.0);
                                   }),
                    near_nodes.end());
 
@@ -291,6 +293,10 @@ CutRecord cut_step(mesh::TetMesh& m, CutState& st, const SweptSurface& blade, co
   // 5-7. Faces on the cut, their separation, the cut front left pending.
   std::vector<int> face_tets = cand;
   face_tets.insert(face_tets.end(), children.begin(), children.end());
+  // A node snapped onto the cut (a vetoed split may snap one far from this
+  // step's blade) completes faces in tets that are not candidates now.
+  for (int v = 0; v < n0; ++v)
+    if (snapped[size_t(v)]) face_tets.insert(face_tets.end(), adj.begin(v), adj.end(v));
   std::sort(face_tets.begin(), face_tets.end());
   face_tets.erase(std::unique(face_tets.begin(), face_tets.end()), face_tets.end());
   int blocked = 0;

@@ -30,13 +30,21 @@ bool rejoin_small_pieces(const mesh::TetMesh& m, const Adjacency& adj, const Cut
   for (int seed : seeds) {
     if (std::binary_search(seen.begin(), seen.end(), seed)) continue;
     std::vector<int> group = {seed}, frontier = {seed};
-    bool attached = false;
+    bool attached = false, older = false;
     FaceKey best_key{};
     double best_area = -1;
     while (!frontier.empty() && !attached) {
       const int t = frontier.back();
       frontier.pop_back();
-      for (int k = 0; k < 4; ++k) attached = attached || st.cut_stroke[size_t(m.tets(t, k))] < 0;
+      for (int k = 0; k < 4; ++k) {
+        attached = attached || st.cut_stroke[size_t(m.tets(t, k))] < 0;
+        older = older || st.cut_stroke[size_t(m.tets(t, k))] != st.stroke;
+      }
+      // Only nodes of this stroke's cut: one swept sheet encloses no volume,
+      // so the group is a sliver whatever its size (a sharp V corner can
+      // carve one along the whole blade). With an earlier cut it may be a thin
+      // piece cut on purpose: only small groups count as slivers.
+      attached = attached || (older && int(group.size()) > kSmallPiece);
       for (int f = 0; f < 4 && !attached; ++f) {
         const FaceKey key = face_key(tet_of(m, t), f);
         const int u = neighbour(m, adj, t, key);
@@ -49,7 +57,7 @@ bool rejoin_small_pieces(const mesh::TetMesh& m, const Adjacency& adj, const Cut
         } else if (std::find(group.begin(), group.end(), u) == group.end()) {
           group.push_back(u);
           frontier.push_back(u);
-          attached = int(group.size()) > kSmallPiece;
+          attached = older && int(group.size()) > kSmallPiece;
         }
       }
     }
@@ -161,8 +169,16 @@ std::vector<CutFace> find_cut_faces(const mesh::TetMesh& m, const Adjacency& adj
       // At a fold one leg's plane, extended past the corner, can put both
       // tets on one side: there the planes of the legs at the face's nodes
       // are asked too.
+      // So can the triangle picked for the face when it is not on the leg of
+      // its nodes (a snapped node's offset widens the reach past a corner to
+      // another leg, or to the chord a step swept across the corner, and that
+      // one may be the best aligned).
+      bool fold_here = folded;
+      for (int k = 0; k < 3; ++k)
+        fold_here = fold_here || (node_tri[size_t(k)] >= 0 && node_tri[size_t(k)] != near_tri &&
+                                  std::abs(tri_normal(node_tri[size_t(k)]).dot(tri_normal(near_tri))) < 1 - 1e-9);
       bool split_by_cut = opposite(near_tri);
-      for (int k = 0; k < 3 && folded && !split_by_cut; ++k) split_by_cut = opposite(node_tri[size_t(k)]);
+      for (int k = 0; k < 3 && fold_here && !split_by_cut; ++k) split_by_cut = opposite(node_tri[size_t(k)]);
       if (!split_by_cut) continue;
       if (st.locked[size_t(key[0])] || st.locked[size_t(key[1])] || st.locked[size_t(key[2])]) {
         blocked_keys.push_back(key);
