@@ -1,6 +1,7 @@
 // Property test of cutting in a scenario (issue #16): hundreds of seeded blade
-// paths with one and two bends, on still and moving tissue, on a generated bar
-// and on a jittered round cylinder. Independent truth per case: the pieces
+// paths with one and two bends, on still and moving tissue, on a generated bar,
+// a jittered round cylinder and the liver lobe read from its Gmsh file (with a
+// stiffer lesion in the operational part). Independent truth per case: the pieces
 // follow from whether the path crosses the whole section (counted on the cut
 // mesh by shared faces), the mesh invariants from the mesh alone
 // (tests/cut/mesh_checks), and the hybrid displacement from a whole-mesh
@@ -26,7 +27,9 @@ namespace tools = softcut::tools;
 
 namespace {
 
-enum class Body { bar, cylinder };
+enum class Body { bar, cylinder, lobe };
+
+std::string body_name(Body b) { return b == Body::bar ? "bar" : b == Body::cylinder ? "cylinder" : "liver lobe"; }
 
 // One random case: the blade crosses the body along `across` (the bar's y,
 // the cylinder's x) from outside, bending `bends` times along the body's
@@ -44,12 +47,34 @@ struct PathCase {
 // for 0.01 < x < 0.09; the blade edge along z, crossing y. Cylinder: radius
 // 0.02 m, 0.1 m long on z, 4 rings x 10 layers with interior nodes jittered,
 // held at both ends, operational for 0.01 < z < 0.09; the edge along y,
-// crossing x. Moving: 4 mN x (1 + 0.5 sin 2 pi 3 t) on the top of one end of
-// the operational part while the blade passes.
+// crossing x. Liver lobe (scenarios/meshes/liver_lobe.msh, a Gmsh file: a
+// rounded slab 0.12 x 0.08 m, 0.015-0.03 m thick, domed, with a stiffer
+// lesion): held where |x| > 0.05, operational for |x| < 0.04; the edge along
+// z, crossing y. Moving: 4 mN x (1 + 0.5 sin 2 pi 3 t) on the top of one end
+// of the operational part while the blade passes.
 sim::ScenarioSpec path_spec(const PathCase& c) {
   sim::ScenarioSpec s;
-  const bool bar = c.body == Body::bar;
-  if (bar) {
+  const bool bar = c.body != Body::cylinder;  // the bar and the lobe are cut along z, across y
+  if (c.body == Body::lobe) {
+    s.name = "cut_paths_lobe";
+    s.mesh.file = std::string(SOFTCUT_SOURCE_DIR) + "/scenarios/meshes/liver_lobe.msh";
+    sim::MaterialAssignment liver, lesion;
+    liver.name = "liver";
+    liver.young = 5e3;
+    liver.poisson = 0.4;
+    lesion.name = "lesion";
+    lesion.tets = sim::TetSelector::of(sim::TetSelector::Kind::label);
+    lesion.tets.label = 2;
+    lesion.young = 2e4;
+    lesion.poisson = 0.45;
+    s.materials = {liver, lesion};
+    s.operational.kind = sim::TetSelector::Kind::box;
+    s.operational.lo = V(-0.04, -1, -1);
+    s.operational.hi = V(0.04, 1, 1);
+    s.fixed = sim::NodeSelector::combine(sim::NodeSelector::Kind::union_of,
+                                         {sim::NodeSelector::box(V(-1, -1, -1), V(-0.05, 1, 1)),
+                                          sim::NodeSelector::box(V(0.05, -1, -1), V(1, 1, 1))});
+  } else if (bar) {
     s = softcut::test::held_bar_spec("cut_paths_bar", V(0.1, 0.04, 0.04), 5e3, 0.01, 0.09, true);
   } else {
     s.name = "cut_paths_cylinder";
@@ -70,8 +95,9 @@ sim::ScenarioSpec path_spec(const PathCase& c) {
   if (c.moving) {
     sim::LoadSpec wobble;
     wobble.name = "wobble";
-    wobble.nodes = bar ? sim::NodeSelector::box(V(0.021, -1, 0.04), V(0.039, 1, 1))
-                       : sim::NodeSelector::box(V(-1, 0.015, 0.021), V(1, 1, 0.039));
+    wobble.nodes = c.body == Body::bar    ? sim::NodeSelector::box(V(0.021, -1, 0.04), V(0.039, 1, 1))
+                   : c.body == Body::lobe ? sim::NodeSelector::box(V(-0.035, -1, 0.018), V(-0.028, 1, 1))
+                                          : sim::NodeSelector::box(V(-1, 0.015, 0.021), V(1, 1, 0.039));
     wobble.direction = bar ? V(0, 0, -1) : V(0, -1, 0);
     wobble.magnitude = tools::Ramp::sine_wave(0.004, 0.002, 3.0);
     s.loads.push_back(wobble);
@@ -90,7 +116,8 @@ sim::ScenarioSpec path_spec(const PathCase& c) {
   const size_t n = c.along.size();
   for (size_t i = 0; i < n; ++i) {
     times.push_back(0.1 + 0.75 * double(i) / double(n - 1));
-    points.push_back(bar ? V(c.along[i], c.across[i], 0.02) : V(c.across[i], 0, c.along[i]));
+    points.push_back(bar ? V(c.along[i], c.across[i], c.body == Body::lobe ? 0.016 : 0.02)
+                         : V(c.across[i], 0, c.along[i]));
   }
   blade.path = tools::Path::polyline(times, points);
   s.tools.push_back(blade);
@@ -114,7 +141,10 @@ PathCase random_case(std::mt19937& rng, Body body, int k) {
   c.fps = fps_choices[std::uniform_int_distribution<int>(0, 5)(rng)];
   // Crossing coordinate: from just outside the near side, through bend
   // points, to beyond the far side or short of it by more than a cell.
-  const double lo = body == Body::bar ? 0.0 : -0.02, width = 0.04;
+  // The section: across from lo to lo + width; the path's axis coordinate
+  // is drawn for the bar and cylinder and shifted to the lobe's middle.
+  const double lo = body == Body::bar ? 0.0 : body == Body::cylinder ? -0.02 : -0.04;
+  const double width = body == Body::lobe ? 0.08 : 0.04, shift = body == Body::lobe ? -0.05 : 0.0;
   const double end = c.through ? lo + width + 0.005 : lo + uniform(0.45, 0.75) * width;
   c.across.push_back(lo - 0.0005);
   for (int b = 0; b < c.bends; ++b)
@@ -123,9 +153,9 @@ PathCase random_case(std::mt19937& rng, Body body, int k) {
   std::sort(c.across.begin(), c.across.end());
   // Axis coordinate: the first leg at one place, each bend moves it (the
   // path stays well inside the operational part).
-  c.along.push_back(uniform(0.03, 0.07));
+  c.along.push_back(shift + uniform(0.03, 0.07));
   c.along.push_back(c.along.back());
-  for (int b = 1; b <= c.bends; ++b) c.along.push_back(uniform(0.025, 0.075));
+  for (int b = 1; b <= c.bends; ++b) c.along.push_back(shift + uniform(0.025, 0.075));
   c.along.resize(c.across.size());
   return c;
 }
@@ -137,8 +167,8 @@ double volume(const softcut::mesh::TetMesh& m) {
 }
 
 // Under AddressSanitizer (the CI build, scripts/test.sh) the cases run about
-// 50x slower than in a release build: 240 cases would take half an hour of
-// CPU. There every fifth block of eight consecutive cases runs (48 of 240;
+// 50x slower than in a release build: 280 cases would take half an hour of
+// CPU. There every fifth block of eight consecutive cases runs (56 of 280;
 // a block holds every combination of bends, crossing and motion); the
 // release build (scripts/test.sh --quick) runs them all.
 #if defined(__SANITIZE_ADDRESS__)
@@ -153,13 +183,13 @@ constexpr int kBlockStride = 1;
 constexpr int kBlockStride = 1;
 #endif
 
-// Runs the seeded cases of one body (160 on the bar, 80 on the cylinder; the
-// same draws whichever half runs) on still or on moving tissue, and reports
-// how many came out right and, on moving tissue, the CG iterations of the
-// solves around each cut.
+// Runs the seeded cases of one body (160 on the bar, 80 on the cylinder, 40
+// on the lobe; the same draws whichever half runs) on still or on moving
+// tissue, and reports how many came out right and, on moving tissue, the CG
+// iterations of the solves around each cut.
 void run_cases(Body body, bool moving) {
-  const int count = body == Body::bar ? 160 : 80;
-  std::mt19937 rng(body == Body::bar ? 1601 : 1602);
+  const int count = body == Body::bar ? 160 : body == Body::cylinder ? 80 : 40;
+  std::mt19937 rng(body == Body::bar ? 1601 : body == Body::cylinder ? 1602 : 1603);
   int cases = 0, right_cases = 0, crossing = 0;
   std::vector<int> cg_after, cg_before;
   for (int k = 0; k < count; ++k) {
@@ -168,7 +198,7 @@ void run_cases(Body body, bool moving) {
     std::string path;
     for (size_t i = 0; i < c.along.size(); ++i)
       path += "(" + std::to_string(c.along[i]) + ", " + std::to_string(c.across[i]) + ") ";
-    INFO("body ", std::string(body == Body::bar ? "bar" : "cylinder"), " case ", k, ": through ", c.through, " moving ",
+    INFO("body ", body_name(body), " case ", k, ": through ", c.through, " moving ",
          c.moving, " fps ", c.fps, " path (axis, across) ", path);
     const sim::Model m = sim::compile(path_spec(c));
     sim::State s = sim::make_state(m);
@@ -192,7 +222,7 @@ void run_cases(Body body, bool moving) {
     CHECK(mc.faces_over_two == 0);
     CHECK(mc.open_edges == 0);
     CHECK(mc.inverted == 0);
-    if (body == Body::bar) CHECK(mc.unmatched_boundary == 0);  // the cylinder's sides are not a box
+    if (body == Body::bar) CHECK(mc.unmatched_boundary == 0);  // the others' sides are not a box
     double worst_input = 180;
     for (int tet = 0; tet < m.mesh.num_tets(); ++tet)
       worst_input = std::min(worst_input, softcut::cut::min_dihedral_deg(m.mesh, tet));
@@ -235,22 +265,24 @@ void run_cases(Body body, bool moving) {
   auto median = [](const std::vector<int>& v) { return v.empty() ? 0 : v[v.size() / 2]; };
   auto max = [](const std::vector<int>& v) { return v.empty() ? 0 : v.back(); };
   if (moving)  // still tissue solves nothing but the blade's push: 0 iterations
-    MESSAGE(std::string(body == Body::bar ? "bar" : "cylinder"), ", moving: ", right_cases, "/", cases, " right (",
+    MESSAGE(body_name(body), ", moving: ", right_cases, "/", cases, " right (",
             crossing, " crossing); CG iterations of the solve after a cut: median ", median(cg_after), ", max ",
             max(cg_after), " (the frame before: median ", median(cg_before), ", max ", max(cg_before), ") over ",
             cg_after.size(), " cut events");
   else
-    MESSAGE(std::string(body == Body::bar ? "bar" : "cylinder"), ", still: ", right_cases, "/", cases, " right (",
+    MESSAGE(body_name(body), ", still: ", right_cases, "/", cases, " right (",
             crossing, " crossing)");
   CHECK(right_cases == cases);
 }
 
 }  // namespace
 
-// Four entries, so that ctest runs them side by side.
+// Six entries, so that ctest runs them side by side.
 TEST_SUITE("sim/cutting") {
   TEST_CASE("property: random one- and two-bend blade paths on a still bar") { run_cases(Body::bar, false); }
   TEST_CASE("property: random one- and two-bend blade paths on a moving bar") { run_cases(Body::bar, true); }
   TEST_CASE("property: random one- and two-bend blade paths on a still cylinder") { run_cases(Body::cylinder, false); }
   TEST_CASE("property: random one- and two-bend blade paths on a moving cylinder") { run_cases(Body::cylinder, true); }
+  TEST_CASE("property: random one- and two-bend blade paths on a still liver lobe") { run_cases(Body::lobe, false); }
+  TEST_CASE("property: random one- and two-bend blade paths on a moving liver lobe") { run_cases(Body::lobe, true); }
 }
