@@ -272,41 +272,39 @@ end
 function Frame:stop() internal.frame_stop(self._ctx) end
 function Frame:cutting() return internal.frame_cutting(self._ctx) end
 
--- Called by the C++ run loop after every frame with a context handle; runs
--- due expectations, then the on_frame functions. Returns false to stop.
+-- Called by the C++ run loop after every frame with a context handle (after
+-- the engine checked the due expectations); runs the on_frame functions.
+-- Returns false to stop.
 function M.after_frame(s, ctx, frame, time, dt, num_nodes)
   s._running = true
   local f = setmetatable({ frame = frame, time = time, _ctx = ctx, _scenario = s, _num_nodes = num_nodes }, Frame)
-  s._results = s._results or {}
-  for _, e in ipairs(s._expect) do
-    if not e._done and time >= e.at - 0.5 * dt then
-      e._done = true
-      local ok, msg
-      if e.check then
-        ok, msg = e.check(f)
-        ok = ok and true or false
-        if not ok then msg = msg or e.message or "check returned false" end
-      else
-        local u
-        if e.measure == "max" then
-          local comp = e.component
-          u = internal.frame_max_component(ctx, resolve(s, "expect", e.nodes), comp)
-        else
-          local m = internal.frame_mean_displacement(ctx, resolve(s, "expect", e.nodes))
-          if e.component == "magnitude" then u = math.sqrt(m[1] ^ 2 + m[2] ^ 2 + m[3] ^ 2)
-          else u = m[({ x = 1, y = 2, z = 3 })[e.component]] end
-        end
-        ok = (e.min == nil or u >= e.min) and (e.max == nil or u <= e.max)
-        local what = (e.measure == "max" and "max" or "mean") .. " " ..
-          (e.component == "magnitude" and "|u|" or ("u" .. e.component)) .. " of " .. #e.nodes._ids .. " nodes"
-        msg = ("%s at t = %.4g s is %.6g m, %s [%s, %s] m"):format(what, time, u, ok and "within" or "outside",
-          e.min and ("%.6g"):format(e.min) or "-inf", e.max and ("%.6g"):format(e.max) or "inf")
-      end
-      s._results[#s._results + 1] = { name = e.name, where = e.where, ok = ok, message = msg, time = time }
-    end
-  end
   for _, fn in ipairs(s._on_frame) do fn(f) end
   return true
+end
+
+-- The check functions of the expectations, taken when the run starts (the
+-- engine holds its own copy of the expectations: rewriting s._expect later
+-- changes nothing).
+function M.checks_of(s)
+  local c = { scenario = s }
+  for i, e in ipairs(s._expect) do
+    if type(e) == "table" and e.check then c[i] = { fn = e.check, message = e.message } end
+  end
+  return c
+end
+
+-- Called by the C++ run loop when expectation `index` (a check function) is
+-- due, with the table checks_of made: returns ok, message.
+function M.run_check(c, ctx, frame, time, dt, num_nodes, index)
+  local s = c.scenario
+  local f = setmetatable({ frame = frame, time = time, _ctx = ctx, _scenario = s, _num_nodes = num_nodes }, Frame)
+  local e = c[index]
+  if not e then error(("expectation #%d has no check function"):format(index), 0) end
+  local ok, msg = e.fn(f)
+  ok = ok and true or false
+  if not ok then msg = msg or e.message or "check returned false" end
+  if msg ~= nil and type(msg) ~= "string" then msg = tostring(msg) end
+  return ok, msg
 end
 
 return M

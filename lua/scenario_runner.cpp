@@ -122,6 +122,29 @@ sim::ScenarioSpec spec_from_table(lua_State* L, int s, const fs::path& source) {
     spec.loads.push_back(ls);
   });
 
+  // Expectations: bounds are checked by the engine, check functions through
+  // RunHooks::check (after_frame's run_check), by their index in this list.
+  each(L, s, "_expect", [&](int e) {
+    sim::ExpectationSpec es;
+    es.name = get_string(L, e, "name");
+    es.where = get_string(L, e, "where");
+    es.at = get_number(L, e, "at", 0.0);
+    es.bounds = has_field(L, e, "nodes");
+    if (es.bounds) {
+      push_field(L, e, "nodes");
+      es.nodes = to_node_selector(L, -1);
+      lua_pop(L, 1);
+      es.measure = get_string(L, e, "measure") == "max" ? sim::ExpectationSpec::Measure::max
+                                                        : sim::ExpectationSpec::Measure::mean;
+      const std::string c = get_string(L, e, "component");
+      using C = sim::ExpectationSpec::Component;
+      es.component = c == "x" ? C::x : c == "y" ? C::y : c == "z" ? C::z : C::magnitude;
+      if (has_field(L, e, "min")) es.min = get_number(L, e, "min", 0.0);
+      if (has_field(L, e, "max")) es.max = get_number(L, e, "max", 0.0);
+    }
+    spec.expectations.push_back(es);
+  });
+
   each(L, s, "_tools", [&](int t) {
     tools::ToolSpec ts;
     ts.name = get_string(L, t, "name");
@@ -335,6 +358,7 @@ struct FrameCall {
   const sim::Model* model;
   sim::State* state;
   FrameContext* ctx = nullptr;
+  int expectation = -1;  // >= 0: run_check of this expectation (0-based), 2 results
 };
 
 int frame_trampoline(lua_State* L) {
@@ -349,8 +373,13 @@ int frame_trampoline(lua_State* L) {
   lua_pushnumber(L, fc->state->time);
   lua_pushnumber(L, fc->model->dt);
   lua_pushinteger(L, lua_Integer(fc->state->displacement.rows()));  // grows when cutting adds nodes
-  lua_call(L, 6, 1);
-  return 1;
+  if (fc->expectation < 0) {
+    lua_call(L, 6, 1);
+    return 1;
+  }
+  lua_pushinteger(L, fc->expectation + 1);
+  lua_call(L, 7, 2);
+  return 2;
 }
 
 // The output folder from the final spec, made and resolved once: `--out DIR`
@@ -440,6 +469,23 @@ RunOutcome run_watched(const RunRequest& req, const Watchdog& dog) {
   }
   rt.set_write_dir(out.out_dir);
   spec.outputs.dir = out.out_dir;
+  spec.command_line = req.command_line;
+  // The parameters after --set, as softcut.params left them (a list of
+  // {name, text} in the internal table the script cannot reach).
+  rt.push_internal();
+  lua_getfield(L, -1, "params_effective");
+  for (lua_Integer i = 1; lua_istable(L, -1); ++i) {
+    if (lua_rawgeti(L, -1, i) != LUA_TTABLE) {
+      lua_pop(L, 1);
+      break;
+    }
+    lua_rawgeti(L, -1, 1);
+    lua_rawgeti(L, -2, 2);
+    if (lua_type(L, -2) == LUA_TSTRING && lua_type(L, -1) == LUA_TSTRING)
+      spec.params.emplace_back(lua_tostring(L, -2), lua_tostring(L, -1));
+    lua_pop(L, 3);
+  }
+  lua_pop(L, 2);
   spec.outputs.timeout_s = std::max(0.0, req.timeout_s);
   spec.outputs.max_bytes = req.max_output;
   if (req.render_every > 0) spec.outputs.render.enabled = true, spec.outputs.render.every = req.render_every;
@@ -494,8 +540,37 @@ RunOutcome run_watched(const RunRequest& req, const Watchdog& dog) {
   const int s_ref = protected_ref(L);
   rt.run_string("return require('scenario').after_frame", "=softcut/after_frame", 1);
   const int fn_ref = protected_ref(L);
+  rt.run_string("return require('scenario').run_check", "=softcut/run_check", 1);
+  const int check_ref = protected_ref(L);
+  rt.run_string("return require('scenario').checks_of", "=softcut/checks_of", 1);
+  lua_rawgeti(L, LUA_REGISTRYINDEX, s_ref);
+  rt.call(1, 1);
+  const int checks_ref = protected_ref(L);
 
   sim::RunHooks hooks;
+  // A check function's verdict: (ok, message) copied out bounded and
+  // printable (the message is the script's), inside a protected call.
+  hooks.check = [&](int index, const sim::Model& m, sim::State& st) {
+    FrameCall fc{check_ref, checks_ref, &m, &st, nullptr, index};
+    struct Reset {  // a handle the script keeps goes stale after its call
+      FrameCall& fc;
+      ~Reset() {
+        if (fc.ctx) fc.ctx->model = nullptr, fc.ctx->state = nullptr;
+      }
+    } reset{fc};
+    if (!lua_checkstack(L, 3)) fail("expect: out of Lua stack space");
+    lua_pushcfunction(L, frame_trampoline);
+    lua_pushlightuserdata(L, &fc);
+    rt.call(1, 2);
+    std::pair<bool, std::string> verdict{lua_toboolean(L, -2) != 0, ""};
+    if (lua_type(L, -1) == LUA_TSTRING) {
+      size_t len = 0;
+      const char* text = lua_tolstring(L, -1, &len);
+      verdict.second = printable(std::string(text, len), 2000);
+    }
+    lua_pop(L, 2);
+    return verdict;
+  };
   hooks.interrupt = req.interrupt;
   hooks.timed_out = &dog.expired();
   hooks.max_frames = req.max_frames;
@@ -534,37 +609,21 @@ RunOutcome run_watched(const RunRequest& req, const Watchdog& dog) {
   out.warnings.insert(out.warnings.end(), model.warnings.begin(), model.warnings.end());
   out.warnings.insert(out.warnings.end(), state.warnings.begin(), state.warnings.end());
 
-  // Expectation results (evaluated in the glue), then those never reached.
-  // The table lives in the script's reach: what is copied out is bounded
-  // (entries and message length), so a forged one cannot blow up memory or
-  // the terminal.
-  constexpr std::size_t kMaxResults = 10000, kMaxMessage = 2000;
-  lua_rawgeti(L, LUA_REGISTRYINDEX, s_ref);
-  each(L, -1, "_results", [&](int e) {
-    if (out.expectations.size() >= kMaxResults) return;
-    ExpectationResult r;
-    r.name = printable(get_string(L, e, "name"), kMaxMessage);
-    r.where = printable(get_string(L, e, "where"), kMaxMessage);
-    r.reached = true;
-    r.ok = get_bool(L, e, "ok", false);
-    r.message = printable(get_string(L, e, "message"), kMaxMessage);
-    out.expectations.push_back(r);
+  // Expectation outcomes, from the engine (never from a table the script
+  // could forge).
+  // Listed in the order they were checked (time, then declaration), those
+  // not reached last; summary.json keeps the declaration order.
+  std::vector<size_t> order;
+  for (size_t i = 0; i < model.spec.expectations.size() && i < state.expectations.size(); ++i) order.push_back(i);
+  std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) {
+    const sim::ExpectationOutcome &x = state.expectations[a], &y = state.expectations[b];
+    return x.reached != y.reached ? x.reached : x.reached && x.time < y.time;
   });
-  lua_pop(L, 1);
-  if (rt.stopped()) return out;  // the script was stopped: no more of its code runs (none was reached)
-  // Those never reached, read raw from the spec's list: no script code runs
-  // after the run (an interrupt or the deadline that arrived after the last
-  // frame would stop it half way, and a script could have replaced it).
-  lua_rawgeti(L, LUA_REGISTRYINDEX, s_ref);
-  each(L, -1, "_expect", [&](int e) {
-    if (out.expectations.size() >= kMaxResults || get_bool(L, e, "_done", false)) return;
-    ExpectationResult r;
-    r.name = printable(get_string(L, e, "name"), kMaxMessage);
-    r.where = printable(get_string(L, e, "where"), kMaxMessage);
-    r.message = cat("not reached: the run ended at t = ", state.time, " s before at = ", get_number(L, e, "at", 0), " s");
-    out.expectations.push_back(r);
-  });
-  lua_pop(L, 1);
+  for (size_t i : order) {
+    const sim::ExpectationSpec& e = model.spec.expectations[i];
+    const sim::ExpectationOutcome& o = state.expectations[i];
+    out.expectations.push_back(ExpectationResult{e.name, e.where, o.reached, o.ok, o.message});
+  }
   return out;
 }
 

@@ -38,6 +38,7 @@ struct RunRequest {
   std::uint64_t max_output = std::uint64_t(4) << 30;  // bytes the run may write, all files (--max-output; 0: none)
   std::function<void(int frame, int num_frames, double elapsed_s)> progress;
   const std::atomic<bool>* interrupt = nullptr;   // set by SIGINT/SIGTERM
+  std::vector<std::string> command_line;          // for summary.json (the CLI's argv)
 };
 
 struct ExpectationResult {

@@ -52,6 +52,11 @@ function softcut.params(defaults)
     out[k] = convert_override(k, overrides[k], defaults[k])
   end
   internal.params_declared = true
+  -- For summary.json: every parameter as the script sees it, by name.
+  table.sort(names)
+  local effective = {}
+  for i, k in ipairs(names) do effective[i] = { k, tostring(out[k]) } end
+  internal.params_effective = effective
   return out
 end
 

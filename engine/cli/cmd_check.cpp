@@ -157,6 +157,8 @@ int cmd_check(const Args& args) {
   bool record = false;
   lua::RunRequest base;
   base.cache_dir = hybrid::default_cache_dir();
+  base.command_line = {"softcut", "check"};
+  base.command_line.insert(base.command_line.end(), args.begin(), args.end());
   fs::path out_root, junit, json;
   std::vector<std::string> paths, only, exclude;
   int jobs = std::max(1, int(std::thread::hardware_concurrency()));

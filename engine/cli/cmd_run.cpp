@@ -55,6 +55,8 @@ int cmd_run(const Args& args) {
   }
   lua::RunRequest req;
   req.cache_dir = hybrid::default_cache_dir();
+  req.command_line = {"softcut", "run"};
+  req.command_line.insert(req.command_line.end(), args.begin(), args.end());
   bool quiet = false;
   std::vector<std::string> files;
   for (size_t i = 0; i < args.size(); ++i) {

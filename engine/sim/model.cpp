@@ -72,6 +72,11 @@ Model compile(const ScenarioSpec& spec, const RunResources& resources) {
     m.log_nodes = m.surface.nodes;
   else
     m.log_nodes = select_nodes(spec.outputs.log_nodes, ctx, "outputs.log_nodes");
+  for (size_t i = 0; i < spec.expectations.size(); ++i) {
+    const ExpectationSpec& e = spec.expectations[i];
+    m.expectation_nodes.push_back(e.bounds ? select_nodes(e.nodes, ctx, cat("expectation '", e.name, "'"))
+                                           : std::vector<int>{});
+  }
   m.precompute_ms.emplace_back("selectors", t.ms());
 
   for (const auto& l : spec.loads) resolve_load(m, l);  // errors now rather than at frame 0
@@ -149,6 +154,7 @@ State make_state(const Model& m) {
   s.forces = Eigen::MatrixX3d::Zero(n, 3);
   for (const auto& l : m.spec.loads) s.loads.push_back(resolve_load(m, l));
   s.tool_specs = m.spec.tools;
+  s.expectations.resize(m.spec.expectations.size());
   s.tools.resize(s.tool_specs.size());
   for (size_t k = 0; k < s.tools.size(); ++k) s.tools[k].tip = tools::evaluate(s.tool_specs[k].path, 0.0);
   if (m.solver) {

@@ -13,6 +13,7 @@
 #include "mesh/surface.hpp"
 #include "mesh/tet_mesh.hpp"
 #include "sim/cutting.hpp"
+#include "sim/expectations.hpp"
 #include "sim/scenario_spec.hpp"
 #include "sim/solver.hpp"
 #include "tools/tool.hpp"
@@ -28,6 +29,7 @@ struct Model {
   std::vector<fem::Material> tet_material;               // (ntet)
   hybrid::Partition partition;                           // node sets (fixed, 1, I, s, i), Table 2 counts
   std::vector<int> log_nodes;                            // sorted ids written to displacements.csv
+  std::vector<std::vector<int>> expectation_nodes;       // (spec.expectations) node ids of bounds; empty for checks
   std::unique_ptr<const Solver> solver;                  // solver->backend(): what runs and why
   std::vector<std::pair<std::string, double>> precompute_ms;  // Table 3 (+ mesh, selectors)
   std::vector<std::string> warnings;                     // from compile
@@ -118,6 +120,7 @@ struct RunBookkeeping {
   RunStatistics stats;
   std::vector<std::string> warnings;  // runtime, deduplicated by the writer
   std::vector<CutEvent> cut_events;   // every cut so far
+  std::vector<ExpectationOutcome> expectations;  // (spec.expectations) sim/expectations.hpp
 };
 
 // One run: move-only (it owns its cut mesh and solver data); copy_state()

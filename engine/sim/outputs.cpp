@@ -220,6 +220,30 @@ void Recorder::finish(const Model& m, const State& s, const RunResult& run_resul
   if (render_failure) std::rethrow_exception(render_failure);
 }
 
+namespace {
+
+// "expectations": one entry per Scenario:expect, in declaration order.
+std::string expectations_json(const Model& m, const State& s) {
+  auto opt = [](const std::optional<double>& v) { return v ? jnum(*v) : std::string("null"); };
+  std::string j = "  \"expectations\": [";
+  for (size_t i = 0; i < m.spec.expectations.size(); ++i) {
+    const ExpectationSpec& e = m.spec.expectations[i];
+    const ExpectationOutcome o = i < s.expectations.size() ? s.expectations[i] : ExpectationOutcome{};
+    j += std::string(i ? "," : "") + "\n    {\"name\": " + jstr(e.name) + ", \"where\": " + jstr(e.where) +
+         ", \"at_s\": " + jnum(e.at) + ", \"kind\": " + (e.bounds ? "\"bounds\"" : "\"check\"");
+    if (e.bounds)
+      j += ", \"measure\": " + jstr(to_string(e.measure)) + ", \"component\": " + jstr(to_string(e.component)) +
+           ", \"nodes\": " + std::to_string(m.expectation_nodes[i].size());
+    j += ", \"min\": " + opt(e.min) + ", \"max\": " + opt(e.max) + ", \"reached\": " +
+         (o.reached ? "true" : "false") + ", \"time_s\": " + (o.reached ? jnum(o.time) : "null") +
+         ", \"value\": " + opt(o.value) + ", \"pass\": " + (o.reached && o.ok ? "true" : "false") +
+         ", \"message\": " + jstr(o.message) + "}";
+  }
+  return j + (m.spec.expectations.empty() ? "],\n" : "\n  ],\n");
+}
+
+}  // namespace
+
 std::string summary_json(const Model& m, const State& s, const RunResult& r, const Recorder* rec) {
   const ScenarioSpec& sp = m.spec;
   const auto& c = m.partition.counts;
@@ -230,6 +254,12 @@ std::string summary_json(const Model& m, const State& s, const RunResult& r, con
        jstr(std::to_string(EIGEN_WORLD_VERSION) + "." + std::to_string(EIGEN_MAJOR_VERSION) + "." +
             std::to_string(EIGEN_MINOR_VERSION));
   for (const auto& [k, v] : sp.versions) j += ", " + jstr(k) + ": " + jstr(v);
+  j += ", \"build_type\": " + jstr(SOFTCUT_BUILD_TYPE) + "},\n";
+  j += "  \"command_line\": [";
+  for (size_t k = 0; k < sp.command_line.size(); ++k) j += (k ? ", " : "") + jstr(sp.command_line[k]);
+  j += "],\n  \"params\": {";
+  for (size_t k = 0; k < sp.params.size(); ++k)
+    j += (k ? ", " : "") + jstr(sp.params[k].first) + ": " + jstr(sp.params[k].second);
   j += "},\n";
   j += "  \"mesh\": {\"nodes\": " + std::to_string(m.mesh.num_nodes()) + ", \"tets\": " +
        std::to_string(m.mesh.num_tets()) + ", \"surface_faces\": " + std::to_string(m.surface.faces.rows()) +
@@ -320,6 +350,7 @@ std::string summary_json(const Model& m, const State& s, const RunResult& r, con
        ", \"render_ms\": {\"mean\": " + jms(rec && rec->frames_rendered() ? rec->render_frame_thread_ms().sum / rec->frames_rendered() : 0.0) +
        ", \"max\": " + jms(rec ? rec->render_frame_thread_ms().max : 0.0) + "}" + render_work_json(rec) + "},\n";
   j += cutting_json(m, s);
+  j += expectations_json(m, s);
   std::set<std::string> seen;
   std::vector<std::string> warnings;
   for (const auto* list : {&m.warnings, &s.warnings})

@@ -42,6 +42,7 @@ RunResult run(const Model& m, State& s, Recorder& rec, const RunHooks& hooks) {
       step(m, s);
       rec.record(m, s);
       r.frames++;
+      check_due_expectations(m, s, hooks.check);
       const bool go_on = hooks.on_frame ? hooks.on_frame(m, s) : true;
       if (hooks.progress) hooks.progress(s.frame, m.num_frames, wall.seconds());
       if (stop_reason(r.reason)) break;
@@ -54,11 +55,13 @@ RunResult run(const Model& m, State& s, Recorder& rec, const RunHooks& hooks) {
     r.message = e.what();
     r.wall_s = wall.seconds();
     if (stop_reason(r.reason)) {  // the stop reached the script inside on_frame: not an error
+      mark_unreached_expectations(m, s);
       rec.finish(m, s, r);
       return r;
     }
     r.reason = ExitReason::error;
     try {
+      mark_unreached_expectations(m, s);
       rec.finish(m, s, r);
     } catch (...) {
       // The run's own error is the one to report (a render failure, if any, is in the summary).
@@ -66,6 +69,7 @@ RunResult run(const Model& m, State& s, Recorder& rec, const RunHooks& hooks) {
     throw;
   }
   r.wall_s = wall.seconds();
+  mark_unreached_expectations(m, s);
   rec.finish(m, s, r);
   return r;
 }

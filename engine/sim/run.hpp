@@ -5,6 +5,7 @@
 #include <functional>
 #include <string>
 
+#include "sim/expectations.hpp"
 #include "sim/model.hpp"
 
 namespace softcut::sim {
@@ -17,6 +18,9 @@ enum class ExitReason { completed, frame_limit, stopped, interrupted, timeout, e
 const char* to_string(ExitReason r);
 
 struct RunHooks {
+  // After each recorded frame, before on_frame: a check function's verdict
+  // for expectation `index` when it is due (sim/expectations.hpp).
+  ExpectationCheck check;
   // After each recorded frame (the Lua on_frame): may read the state, move
   // tools, change loads; return false (or set s.stop_requested) to stop.
   std::function<bool(const Model&, State&)> on_frame;

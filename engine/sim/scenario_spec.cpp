@@ -58,6 +58,15 @@ void check_spec(const ScenarioSpec& s) {
     if (l.direction_kind == LoadSpec::Direction::world && !(l.direction.norm() > 0 && l.direction.allFinite()))
       fail(w, ": direction must be a nonzero finite vector, got (", l.direction.transpose(), ")");
   }
+  for (const auto& e : s.expectations) {
+    const std::string w = prefixed(e.where, "expectation '" + e.name + "'");
+    if (!(std::isfinite(e.at) && e.at >= 0)) fail(w, ": at must be a finite time >= 0 s, got ", e.at);
+    if (e.bounds && !e.min && !e.max) fail(w, ": give min, max or both (m)");
+    if ((e.min && !std::isfinite(*e.min)) || (e.max && !std::isfinite(*e.max)))
+      fail(w, ": min and max must be finite numbers (m)");
+    if (e.min && e.max && *e.min > *e.max) fail(w, ": min = ", *e.min, " > max = ", *e.max);
+    if (!e.bounds && (e.min || e.max)) fail(w, ": min/max bound the displacement of nodes; a check has none");
+  }
   for (const auto& t : s.tools) {
     if (!names.insert("tool " + t.name).second)
       fail(prefixed(t.where, "tool '" + t.name + "'"), ": another tool has the same name");

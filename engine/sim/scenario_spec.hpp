@@ -14,6 +14,7 @@
 
 #include "fem/material.hpp"
 #include "hybrid/precompute.hpp"
+#include "sim/expectations.hpp"
 #include "sim/selector.hpp"
 #include "tools/ramp.hpp"
 #include "tools/tool.hpp"
@@ -157,6 +158,11 @@ struct ScenarioSpec {
   OutputSpec outputs;
   SolverSpec solver;
   CuttingSpec cutting;
+  std::vector<ExpectationSpec> expectations;     // checked by the run loop (sim/expectations.hpp)
+  // For the summary: the scenario's parameters after --set (name, value as
+  // the script sees it), and the command line that ran it.
+  std::vector<std::pair<std::string, std::string>> params;
+  std::vector<std::string> command_line;
 };
 
 // A scenario's name becomes its output folder renders/<name>/: a plain

@@ -153,6 +153,43 @@ return s
     CHECK(contains(early.output, "0 passed, 0 failed, 1 not reached (frame_limit)"));
   }
 
+  TEST_CASE("summary.json records the expectations' values and verdicts, the parameters and the command line") {
+    const fs::path dir = softcut::test::scratch_dir("cli_run_summary_expect");
+    const fs::path script = dir / "bar.lua";
+    std::ofstream(script) << R"(
+local P = softcut.params{ f = 0.01, tag = "a" }
+local s = softcut.scenario{ name = "bar", duration = 0.4, fps = 10 }
+s:mesh{ generate = "box", options = { max = { 0.1, 0.02, 0.02 }, nx = 5, ny = 2, nz = 2 } }
+s:material{ young = 5e3, poisson = 0.4 }
+s:fix{ nodes = softcut.select.box{ min = { -1, -1, -1 }, max = { 0, 1, 1 } } }
+local tip = softcut.select.box{ min = { 0.1, -1, -1 }, max = { 1, 1, 1 } }
+s:load{ name = "tip", nodes = tip, force = { 0, 0, -P.f } }
+s:expect{ name = "sags", at = 0.2, nodes = tip, component = "z", max = 0 }
+s:expect{ name = "counted", at = 0.1, check = function(f) return false, 42 end }
+s:expect{ name = "late", at = 0.4, check = function(f) return true end }
+return s
+)";
+    const fs::path out = dir / "out";
+    const auto r = run_cli("run " + script.string() + " --out " + out.string() + " --quiet --frames 3 --set f=0.02");
+    CHECK(r.status == 1);  // "counted" fails; frames 0, 1, 2 run
+    const std::string j = slurp(out / "summary.json");
+    CHECK(contains(j, "\"command_line\": [\"softcut\", \"run\", \"" + script.string() + "\", \"--out\""));
+    CHECK(contains(j, "\"--set\", \"f=0.02\"]"));
+    CHECK(contains(j, "\"params\": {\"f\": \"0.02\", \"tag\": \"a\"}"));
+    CHECK(contains(j, "\"build_type\": \""));
+    CHECK(contains(j, "{\"name\": \"sags\", \"where\": \"" + script.string() + ":9\", \"at_s\": 0.2, \"kind\": \"bounds\", "
+                      "\"measure\": \"mean\", \"component\": \"z\", \"nodes\": 9, \"min\": null, \"max\": 0, "
+                      "\"reached\": true, \"time_s\": 0.2, \"value\": -"));
+    CHECK(contains(j, "\"pass\": true, \"message\": \"mean uz of 9 nodes at t = 0.2 s is -"));
+    // A check's message that is not a string is shown as text.
+    CHECK(contains(j, "\"name\": \"counted\", \"where\": \"" + script.string() + ":10\", \"at_s\": 0.1, \"kind\": \"check\", "
+                      "\"min\": null, \"max\": null, \"reached\": true, \"time_s\": 0.1, \"value\": null, "
+                      "\"pass\": false, \"message\": \"42\"}"));
+    CHECK(contains(j, "\"name\": \"late\", \"where\": \"" + script.string() + ":11\", \"at_s\": 0.4, \"kind\": \"check\", "
+                      "\"min\": null, \"max\": null, \"reached\": false, \"time_s\": null, \"value\": null, "
+                      "\"pass\": false, \"message\": \"not reached: the run ended at t = 0.2 s before at = 0.4 s\"}"));
+  }
+
   TEST_CASE("SIGTERM finishes the frame, writes valid outputs marked interrupted") {
     const fs::path dir = softcut::test::scratch_dir("cli_run_sigterm");
     // Long enough that the signal lands mid-run: 100000 frames of a tiny box.
