@@ -125,9 +125,9 @@ sim::ScenarioSpec spec_from_table(lua_State* L, int s, const fs::path& source) {
   // Expectations: bounds are checked by the engine, check functions through
   // RunHooks::check (after_frame's run_check), by their index in this list.
   each(L, s, "_expect", [&](int e) {
-    sim::ExpectationSpec es;
-    es.name = get_string(L, e, "name");
-    es.where = get_string(L, e, "where");
+    sim::ExpectationSpec es;  // name and where are the script's: bounded and printable for the terminal
+    es.name = printable(get_string(L, e, "name"), 2000);
+    es.where = printable(get_string(L, e, "where"), 2000);
     es.at = get_number(L, e, "at", 0.0);
     es.bounds = has_field(L, e, "nodes");
     if (es.bounds) {
@@ -610,8 +610,7 @@ RunOutcome run_watched(const RunRequest& req, const Watchdog& dog) {
   out.warnings.insert(out.warnings.end(), state.warnings.begin(), state.warnings.end());
 
   // Expectation outcomes, from the engine (never from a table the script
-  // could forge).
-  // Listed in the order they were checked (time, then declaration), those
+  // could forge), listed in the order they were checked (time, then declaration), those
   // not reached last; summary.json keeps the declaration order.
   std::vector<size_t> order;
   for (size_t i = 0; i < model.spec.expectations.size() && i < state.expectations.size(); ++i) order.push_back(i);
