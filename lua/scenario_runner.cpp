@@ -382,6 +382,24 @@ int frame_trampoline(lua_State* L) {
   return 2;
 }
 
+// Calls fc's function through frame_trampoline inside Runtime::call's
+// protected call (everything that may allocate, the frame handle and stack
+// growth, happens there, so running out of memory is an error of the run, not
+// a Lua panic) and leaves its `results` values on the stack. The frame handle
+// goes stale on return: one the script keeps cannot reach the State.
+void call_frame(Runtime& rt, lua_State* L, FrameCall& fc, int results, const char* what) {
+  struct Reset {
+    FrameCall& fc;
+    ~Reset() {
+      if (fc.ctx) fc.ctx->model = nullptr, fc.ctx->state = nullptr;
+    }
+  } reset{fc};
+  if (!lua_checkstack(L, 3)) fail(what, ": out of Lua stack space");
+  lua_pushcfunction(L, frame_trampoline);
+  lua_pushlightuserdata(L, &fc);
+  rt.call(1, results);
+}
+
 // The output folder from the final spec, made and resolved once: `--out DIR`
 // as the user gave it, else renders/<name>/ with the name checked (after the
 // script has run: a script may change s.name at any time) and the folder made
@@ -552,16 +570,7 @@ RunOutcome run_watched(const RunRequest& req, const Watchdog& dog) {
   // printable (the message is the script's), inside a protected call.
   hooks.check = [&](int index, const sim::Model& m, sim::State& st) {
     FrameCall fc{check_ref, checks_ref, &m, &st, nullptr, index};
-    struct Reset {  // a handle the script keeps goes stale after its call
-      FrameCall& fc;
-      ~Reset() {
-        if (fc.ctx) fc.ctx->model = nullptr, fc.ctx->state = nullptr;
-      }
-    } reset{fc};
-    if (!lua_checkstack(L, 3)) fail("expect: out of Lua stack space");
-    lua_pushcfunction(L, frame_trampoline);
-    lua_pushlightuserdata(L, &fc);
-    rt.call(1, 2);
+    call_frame(rt, L, fc, 2, "expect");
     std::pair<bool, std::string> verdict{lua_toboolean(L, -2) != 0, ""};
     if (lua_type(L, -1) == LUA_TSTRING) {
       size_t len = 0;
@@ -576,20 +585,8 @@ RunOutcome run_watched(const RunRequest& req, const Watchdog& dog) {
   hooks.max_frames = req.max_frames;
   hooks.progress = req.progress;
   hooks.on_frame = [&](const sim::Model& m, sim::State& st) {
-    // Everything that may allocate (the frame handle, stack growth) happens
-    // inside the protected call, so running out of memory there is an error
-    // of the run, not a Lua panic.
     FrameCall fc{fn_ref, s_ref, &m, &st};
-    struct Reset {  // a handle the script keeps goes stale after its call
-      FrameCall& fc;
-      ~Reset() {
-        if (fc.ctx) fc.ctx->model = nullptr, fc.ctx->state = nullptr;
-      }
-    } reset{fc};
-    if (!lua_checkstack(L, 3)) fail("on_frame: out of Lua stack space");
-    lua_pushcfunction(L, frame_trampoline);
-    lua_pushlightuserdata(L, &fc);
-    rt.call(1, 1);
+    call_frame(rt, L, fc, 1, "on_frame");
     const bool go_on = lua_toboolean(L, -1);
     lua_pop(L, 1);
     return go_on && !st.stop_requested;

@@ -82,23 +82,6 @@ int frame_max_displacement(lua_State* L) {
   });
 }
 
-// frame_max_component(ctx, ids, "magnitude"|"x"|"y"|"z"): the largest
-// magnitude, or the component largest in absolute value (signed).
-int frame_max_component(lua_State* L) {
-  return protect(L, [L] {
-    FrameContext& c = ctx(L);
-    const std::string comp = luaL_checkstring(L, 3);
-    double best = 0;
-    for (int n : ids_of(L, 2, c, "expect")) {
-      const Eigen::RowVector3d u = c.state->displacement.row(n);
-      const double v = comp == "magnitude" ? u.norm() : u(comp == "x" ? 0 : comp == "y" ? 1 : 2);
-      if (std::abs(v) > std::abs(best)) best = v;
-    }
-    lua_pushnumber(L, best);
-    return 1;
-  });
-}
-
 int frame_tool(lua_State* L) {
   return protect(L, [L] {
     FrameContext& c = ctx(L);
@@ -198,7 +181,6 @@ const luaL_Reg kFrameFunctions[] = {
     {"frame_position", frame_position},
     {"frame_mean_displacement", frame_mean_displacement},
     {"frame_max_displacement", frame_max_displacement},
-    {"frame_max_component", frame_max_component},
     {"frame_tool", frame_tool},
     {"frame_cutting", frame_cutting},
     {"frame_move_tool", frame_move_tool},
