@@ -44,7 +44,11 @@ and the engine (loading meshes, evaluating selections); once it runs out, or Ctr
 heap, the meshes the script holds and what its numbers make the engine allocate; meshes have at most
 2,000,000 tetrahedra (`--max-tets N` changes it). What the script writes counts towards the run's
 `--max-output`.
-`require` loads only the embedded library. `--trust` lifts all of it.
+`require "name"` loads the embedded library first (`softcut`, ...), then `name.lua` below the scenario's
+folder (dots are folders: `require "lib.organs"` loads `lib/organs.lua`): text only, through the same
+checked open (no link, no `..`), run once with `(name, file)` inside the same budgets and cached; a
+module that requires itself is an error. Under `softcut check DIR` such modules are skipped (`SKIP`).
+`--trust` lifts all of it (`require` then also searches `package.path`, the scenario's folder first).
 ]]
 
 local function type_text(t)

@@ -3,6 +3,7 @@
 #include <lua.hpp>
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -17,6 +18,7 @@
 #include "bindings.hpp"
 #include "core/checked_file.hpp"
 #include "core/error.hpp"
+#include "core/printable.hpp"
 #include "lua_embedded.hpp"
 #include "runtime_patterns.hpp"
 #include "sandbox_limits.hpp"
@@ -272,6 +274,99 @@ int load_embedded(lua_State* L, const EmbeddedScript& s, const char* chunkname) 
   return status;
 }
 
+// A module name of the scenario's own: dotted words ("common",
+// "lib.organs"), nothing a path could hide in ("..", "/", "~").
+bool is_module_name(std::string_view name) {
+  if (name.empty() || name.size() > 200) return false;
+  bool word_start = true;
+  for (const char c : name) {
+    if (c == '.') {
+      if (word_start) return false;
+      word_start = true;
+    } else if (std::isalnum(static_cast<unsigned char>(c)) || c == '_') {
+      if (word_start && std::isdigit(static_cast<unsigned char>(c))) return false;
+      word_start = false;
+    } else {
+      return false;
+    }
+  }
+  return !word_start;
+}
+
+constexpr std::size_t kMaxModuleBytes = 8u << 20;
+const char kLoadingMark = 0;  // its address marks a module whose chunk is running (a cycle)
+
+// The rest of require(name) after the embedded library: `name.lua` (dots are
+// folders) read below the scenario's folder through the checked open (no
+// link, no "..": is_module_name), loaded as text, run once with (name, file)
+// like Lua's own require and cached; budgets apply as to the script itself.
+// Lua raises errors with longjmp, so every C++ object lives in a scope that
+// has ended before any Lua call or error.
+int user_require(lua_State* L, const char* name) {
+  // Kept in thread-local strings, which no longjmp skips the destructor of.
+  static thread_local std::string failure, file;
+  failure.clear();
+  {
+    const SandboxOptions& opt = options_of(L);
+    std::string rel = name, names;
+    std::replace(rel.begin(), rel.end(), '.', '/');
+    rel += ".lua";
+    for (const EmbeddedScript& s : embedded_scripts()) names += cat(names.empty() ? "" : ", ", s.name);
+    file = (opt.read_dir / rel).string();
+    if (!is_module_name(name)) {
+      failure = cat("require: '", printable(name, 80), "' is not a module name (words of letters, digits and '_' "
+                    "joined by '.': require \"common\" loads common.lua, \"lib.organs\" lib/organs.lua, below "
+                    "the scenario's folder)");
+    } else if (opt.read_dir.empty()) {
+      failure = cat("require: no module '", name, "' (not in the embedded library: ", names, ")");
+    } else {
+      try {
+        int missing = 0;
+        const UniqueFd fd = open_below_if_exists(opt.read_dir, rel, Access::read, "module", &missing);
+        if (!fd) {
+          failure = cat("require: no module '", name, "': not in the embedded library (", names, ") and no ", file,
+                        " below the scenario's folder");
+        } else {
+          const std::string text = read_whole(fd, "module", file, kMaxModuleBytes);
+          const std::string chunk = "@" + file;
+          if (luaL_loadbufferx(L, text.data(), text.size(), chunk.c_str(), "t") != LUA_OK) {  // protected
+            failure = lua_tostring(L, -1);
+            lua_pop(L, 1);
+          }
+        }
+      } catch (const std::exception& e) {
+        failure = cat("require '", name, "': ", e.what());
+      }
+    }
+  }
+  if (!failure.empty()) {
+    luaL_where(L, 1);
+    lua_pushlstring(L, failure.data(), failure.size());
+    lua_concat(L, 2);
+    return lua_error(L);
+  }
+  lua_pushlstring(L, file.data(), file.size());  // the chunk's second argument
+  // Stack: ... loaded chunk file
+  luaL_getsubtable(L, LUA_REGISTRYINDEX, kLoadedKey);
+  lua_pushlightuserdata(L, const_cast<char*>(&kLoadingMark));
+  lua_setfield(L, -2, name);
+  lua_pushvalue(L, -3);     // chunk
+  lua_pushstring(L, name);  // (name, file), as Lua's require passes them
+  lua_pushvalue(L, -4);
+  if (lua_pcall(L, 2, 1, 0) != LUA_OK) {
+    lua_pushnil(L);  // not loaded: a later require tries again
+    lua_setfield(L, -3, name);
+    return lua_error(L);  // the module's own error, unchanged
+  }
+  if (lua_isnil(L, -1)) {
+    lua_pop(L, 1);
+    lua_pushboolean(L, 1);
+  }
+  lua_pushvalue(L, -1);
+  lua_setfield(L, -3, name);
+  return 1;
+}
+
 // require(name) for the embedded library: chunk "=softcut/<name>.lua",
 // called with (name, internal) so library modules reach the C bindings.
 int embedded_require(lua_State* L) {
@@ -280,6 +375,12 @@ int embedded_require(lua_State* L) {
   // (luaL_requiref registers them there), which the sandbox must not hand out.
   luaL_getsubtable(L, LUA_REGISTRYINDEX, kLoadedKey);
   lua_getfield(L, -1, name);
+  if (lua_touserdata(L, -1) == &kLoadingMark) {
+    luaL_where(L, 1);
+    lua_pushfstring(L, "require: module '%s' requires itself, directly or through other modules (a cycle)", name);
+    lua_concat(L, 2);
+    return lua_error(L);
+  }
   if (lua_toboolean(L, -1)) return 1;
   lua_pop(L, 1);
   for (const EmbeddedScript& s : embedded_scripts()) {
@@ -301,17 +402,7 @@ int embedded_require(lua_State* L) {
     lua_setfield(L, -3, name);
     return 1;
   }
-  {
-    // Lua raises errors with longjmp: no C++ object may be alive across
-    // lua_error, so the message is pushed from a scope that has ended.
-    std::string names;
-    for (const EmbeddedScript& s : embedded_scripts()) names += cat(names.empty() ? "" : ", ", s.name);
-    luaL_where(L, 1);
-    lua_pushfstring(L, "require: no module '%s' (the sandbox loads only the embedded library: %s; "
-                       "run with --trust to use package.path)", name, names.c_str());
-    lua_concat(L, 2);
-  }
-  return lua_error(L);
+  return user_require(L, name);
 }
 
 int where_binding(lua_State* L) {
@@ -478,7 +569,17 @@ Runtime::Runtime(const SandboxOptions& opt) : opt_(opt), budget_(new Budget) {
       lua_rawseti(L_, -3, i + 1);
     }
     lua_rawseti(L_, -2, 2);
-    lua_pop(L_, 2);
+    lua_pop(L_, 1);
+    // The scenario's folder first, so `require "common"` finds the same
+    // file trusted or not.
+    if (!opt_.read_dir.empty()) {
+      lua_getfield(L_, -1, "path");
+      const std::string path = cat((opt_.read_dir / "?.lua").string(), ";", lua_tostring(L_, -1));
+      lua_pop(L_, 1);
+      lua_pushlstring(L_, path.data(), path.size());
+      lua_setfield(L_, -2, "path");
+    }
+    lua_pop(L_, 1);
     lua_pop(L_, 1);  // embedded_require
   } else {
     lua_setglobal(L_, "require");

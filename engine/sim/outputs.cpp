@@ -102,7 +102,58 @@ std::string render_work_json(const Recorder* rec) {
          ", \"encode\": " + jms(st.work.encode_ms / n) + ", \"write\": " + jms(st.work.write_ms / n) + "}";
 }
 
+// True for the names softcut gives its own files in an output folder: the
+// fixed ones in `fixed`, `<prefix>NNNNNN<ext>` (6 or more digits), and the
+// temporary files write_file_atomic() makes for either (".<name>.<pid>.<n>.tmp").
+bool softcut_output_name(std::string name, std::initializer_list<std::string_view> fixed, std::string_view prefix,
+                         std::string_view ext) {
+  if (name.size() > 5 && name[0] == '.' && name.ends_with(".tmp")) {
+    name = name.substr(1, name.size() - 5);  // "<name>.<pid>.<n>"
+    for (int k = 0; k < 2; ++k) {
+      const size_t dot = name.find_last_of('.');
+      if (dot == std::string::npos || dot + 1 == name.size() ||
+          name.find_first_not_of("0123456789", dot + 1) != std::string::npos)
+        return false;
+      name.resize(dot);
+    }
+  }
+  for (std::string_view f : fixed)
+    if (name == f) return true;
+  if (prefix.empty() || !name.starts_with(prefix) || !name.ends_with(ext)) return false;
+  const std::string digits = name.substr(prefix.size(), name.size() - prefix.size() - ext.size());
+  return digits.size() >= 6 && digits.find_first_not_of("0123456789") == std::string::npos;
+}
+
+// Unlinks (never follows) the entries of `dir` that softcut names; a
+// subfolder that is a link or not a folder is left alone (the recorder
+// refuses it later). Returns how many were removed.
+int remove_softcut_files(const fs::path& dir, std::initializer_list<std::string_view> fixed, std::string_view prefix,
+                         std::string_view ext) {
+  std::error_code ec;
+  if (!fs::is_directory(fs::symlink_status(dir, ec))) return 0;
+  int removed = 0;
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    const fs::file_status st = it->symlink_status(ec);
+    if (ec || fs::is_directory(st)) continue;
+    if (softcut_output_name(it->path().filename().string(), fixed, prefix, ext) && fs::remove(it->path(), ec))
+      ++removed;
+  }
+  return removed;
+}
+
 }  // namespace
+
+int clear_earlier_outputs(const fs::path& dir) {
+  int n = remove_softcut_files(dir, {"displacements.csv", "displacements.csv.partial", "summary.json", "series.pvd",
+                                     "contact_sheet.png"},
+                               {}, {});
+  for (const auto& [sub, ext] : {std::pair{"frames", ".png"}, std::pair{"vtu", ".vtu"}}) {
+    n += remove_softcut_files(dir / sub, {}, "frame_", ext);
+    std::error_code ec;
+    if (fs::is_directory(fs::symlink_status(dir / sub, ec))) fs::remove(dir / sub, ec);  // only when now empty
+  }
+  return n;
+}
 
 Recorder::Recorder(const Model& m, fs::path dir, OutputBudget* budget)
     : dir_(dir.empty() ? m.spec.outputs.dir : std::move(dir)), budget_(budget) {
@@ -111,6 +162,9 @@ Recorder::Recorder(const Model& m, fs::path dir, OutputBudget* budget)
   fs::create_directories(dir_, ec);
   if (ec || !fs::is_directory(dir_))
     fail("outputs: cannot create the output folder ", dir_.string(), ": ", ec ? ec.message() : "not a folder");
+  // The folder is this run's: what an earlier run wrote there goes first, so
+  // no stale frame, VTU or log is mistaken for this run's. Other files stay.
+  clear_earlier_outputs(dir_);
   if (m.spec.outputs.vtu) make_folder_below(dir_, "vtu", "outputs");
   if (m.spec.outputs.csv) {
     csv_tmp_ = dir_ / "displacements.csv.partial";
@@ -164,9 +218,10 @@ void Recorder::record(const Model& m, const State& s) {
   if (writer_ && rs.enabled && s.frame % rs.every == 0) {
     if (rendered_ == 0) make_folder_below(dir_, "frames", "outputs");
     Timer timer;
+    frame_pngs_.push_back(frame_png_path(dir_, s.frame));
     writer_->submit(extractor_.extract(current_mesh(m, s), deformed_positions(m, s), scene_content(m, s),
                                        render_settings(m, s)),
-                    frame_png_path(dir_, s.frame));
+                    frame_pngs_.back());
     render_ms_.add(timer.ms());
     rendered_++;
   }
@@ -210,8 +265,10 @@ void Recorder::finish(const Model& m, const State& s, const RunResult& run_resul
   }
   if (rendered_ > 0 && m.spec.outputs.render.contact_sheet && r.reason != ExitReason::error) {
     // At most ~24 tiles: a quick look at the whole run.
-    const int stride = std::max(1, (rendered_ + 23) / 24);
-    render::write_contact_sheet(dir_ / "frames", dir_ / "contact_sheet.png", stride);
+    const size_t stride = size_t(std::max(1, (rendered_ + 23) / 24));
+    std::vector<fs::path> picked;
+    for (size_t i = 0; i < frame_pngs_.size(); i += stride) picked.push_back(frame_pngs_[i]);
+    render::write_png(dir_ / "contact_sheet.png", render::contact_sheet(picked));
     std::error_code ec;
     const std::uintmax_t bytes = fs::file_size(dir_ / "contact_sheet.png", ec);
     if (budget_ && !ec) budget_->charge(bytes, "contact_sheet.png");

@@ -25,7 +25,8 @@ namespace softcut::sim {
 
 class Recorder {
  public:
-  // Creates `dir` (default: m.spec.outputs.dir) and opens the temporary CSV.
+  // Creates `dir` (default: m.spec.outputs.dir), clears what an earlier run
+  // left there (clear_earlier_outputs) and opens the temporary CSV.
   // Its subfolders (frames/, vtu/) and every file in it are made without
   // following links: a symlink planted there is refused, never written through.
   // `budget` (optional, outlives the recorder) bounds the bytes written.
@@ -62,12 +63,20 @@ class Recorder {
   std::FILE* csv_ = nullptr;
   OutputBudget* budget_ = nullptr;
   std::vector<std::pair<int, double>> vtu_frames_;  // (frame, time) written
+  std::vector<std::filesystem::path> frame_pngs_;    // this run's frames, in order
   int frames_ = 0, rendered_ = 0;
   StageStat render_ms_;
   render::FrameWriter* writer_ = nullptr;
   render::SceneExtractor extractor_;
   bool finished_ = false;
 };
+
+// Removes from `dir` the files softcut writes there and nothing else:
+// displacements.csv(.partial), summary.json, series.pvd, contact_sheet.png,
+// frames/frame_NNNNNN.png, vtu/frame_NNNNNN.vtu and the temporary files of
+// their atomic writes; frames/ and vtu/ go when left empty. Links are
+// unlinked, never followed. Returns the number of files removed.
+int clear_earlier_outputs(const std::filesystem::path& dir);
 
 // summary.json text (schema in docs/summary-schema.md); `rec` adds the
 // rendering statistics when given.

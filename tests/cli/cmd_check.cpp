@@ -139,12 +139,14 @@ TEST_SUITE("cli/cmd_check") {
 
   // Issue #18: a folder with a passing scenario, one whose expectation fails,
   // one with a corrupt reference and a helper module.
-  TEST_CASE("a corrupt reference fails only its scenario, the others run, the tally prints and no temporary folder is left") {
+  TEST_CASE("a corrupt reference fails only its scenario, the others run, modules are required and skipped, no temporary folder is left") {
     const fs::path dir = softcut::test::scratch_dir("check_corrupt");
     write_bar(dir / "a.lua", "bar_a");
     write_bar(dir / "b.lua", "bar_b", "false");
     write_bar(dir / "c.lua", "bar_c");
     std::ofstream(dir / "common.lua") << "local M = {}\nfunction M.twice(x) return 2 * x end\nreturn M\n";
+    const std::string a = slurp(dir / "a.lua");  // a uses the module beside it
+    std::ofstream(dir / "a.lua") << "assert(require('common').twice(2) == 4)\n" << a;
     REQUIRE(run_cli("check --record " + dir.string()).status == 1);  // b fails, a and c recorded
     REQUIRE(fs::exists(dir / "c.ref.csv"));
     std::string ref = slurp(dir / "c.ref.csv");

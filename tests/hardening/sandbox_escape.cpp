@@ -275,10 +275,12 @@ s:on_frame(function(f) local h = assert(io.open("notes.txt", "w")) h:write("x") 
     CHECK(slurp(f.root / "victim") == "precious");
     CHECK_FALSE(fs::is_symlink(out / "summary.json"));
     fs::create_directory_symlink(f.root, out / "frames");  // a linked frames folder is refused
+    put_file(f.root / "frame_000001.png", "precious");      // and never cleared through
     const auto framed = run_softcut("run " + (f.scen / "s.lua").string() + " --quiet --render-every 1 --size 32x24 --out " +
                                         out.string(), f.work);
     CHECK(framed.status == 1);
     CHECK(contains(framed.output, "symbolic link"));
+    CHECK(slurp(f.root / "frame_000001.png") == "precious");
   }
 
   // 7. Medium: memory far past the budget from documented values.

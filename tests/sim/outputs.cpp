@@ -3,10 +3,12 @@
 #include <doctest/doctest.h>
 
 #include <fstream>
+#include <set>
 #include <sstream>
 
 #include "fixtures.hpp"
 #include "gpu/egl_context.hpp"
+#include "render/contact_sheet.hpp"
 #include "render/frame_writer.hpp"
 #include "render/image.hpp"
 #include "mesh/io/mesh_io.hpp"
@@ -152,6 +154,73 @@ TEST_SUITE("sim/outputs") {
       CHECK(!fs::exists(dir / "contact_sheet.png"));
       CHECK(fs::exists(dir / "frames" / "frame_000001.png"));
     }
+  }
+
+  TEST_CASE("a run owns its output folder: an earlier run's files go, other files and link targets stay") {
+    const fs::path root = softcut::test::scratch_dir("sim_outputs_owned");
+    const fs::path dir = root / "out";
+    softcut::gpu::EglContext ctx;
+    auto run_once = [&](double duration) {
+      auto spec = rendering_cantilever_spec(dir, duration);
+      spec.outputs.vtu = true;
+      const sim::Model m = sim::compile(spec);
+      softcut::render::FrameWriter writer(ctx, softcut::render::FrameWriter::Mode::inline_draw);
+      sim::State s = sim::make_state(m);
+      sim::Recorder rec(m, dir);
+      rec.set_frame_writer(&writer);
+      sim::run(m, s, rec, {});
+      return rec.frames_rendered();
+    };
+    auto names = [](const fs::path& d) {
+      std::set<std::string> out;
+      for (const auto& e : fs::directory_iterator(d)) out.insert(e.path().filename().string());
+      return out;
+    };
+    const int long_frames = run_once(0.9);  // frames 0..9
+    REQUIRE(long_frames > 4);
+    REQUIRE(fs::exists(dir / "frames" / "frame_000009.png"));
+    // What a user or an earlier, killed run left: kept unless softcut names it.
+    const softcut::render::Image odd(7, 3, 0xff00ffffu);
+    softcut::render::write_png(dir / "frames" / "frame_extra.png", odd);  // not a frame name: kept, not on the sheet
+    std::ofstream(dir / "notes.txt") << "mine";
+    std::ofstream(dir / ".summary.json.123.4.tmp") << "stale temporary";
+    std::ofstream(dir / "vtu" / "frame_000123.vtu.bak") << "mine too";
+    std::ofstream(root / "target.txt") << "outside";
+    fs::remove(dir / "series.pvd");
+    fs::create_symlink(root / "target.txt", dir / "series.pvd");  // unlinked, never written through
+
+    const int short_frames = run_once(0.3);  // frames 0..3
+    CHECK(short_frames == 4);
+    std::set<std::string> frames = names(dir / "frames");
+    CHECK(frames == std::set<std::string>{"frame_000000.png", "frame_000001.png", "frame_000002.png",
+                                          "frame_000003.png", "frame_extra.png"});
+    const std::set<std::string> vtus = names(dir / "vtu");
+    CHECK(vtus.size() == 5);
+    CHECK(vtus.count("frame_000123.vtu.bak") == 1);
+    CHECK(vtus.count("frame_000009.vtu") == 0);
+    CHECK(slurp(dir / "notes.txt") == "mine");
+    CHECK(!fs::exists(dir / ".summary.json.123.4.tmp"));
+    CHECK(slurp(root / "target.txt") == "outside");
+    CHECK(!fs::is_symlink(dir / "series.pvd"));
+    const std::string pvd = slurp(dir / "series.pvd");
+    CHECK(pvd.find("frame_000003.vtu") != std::string::npos);
+    CHECK(pvd.find("frame_000004.vtu") == std::string::npos);
+    // The sheet holds this run's four frames only: a 2 x 2 grid (five would be 3 x 2).
+    const softcut::render::Image sheet = softcut::render::read_png(dir / "contact_sheet.png");
+    const softcut::render::ContactSheetOptions o;
+    CHECK(sheet.width == o.gap + 2 * (o.tile_width + o.gap));
+
+    // A third run without rendering or VTU leaves neither folder behind, only the user's files.
+    fs::remove(dir / "frames" / "frame_extra.png");
+    fs::remove(dir / "vtu" / "frame_000123.vtu.bak");
+    {
+      auto spec = softcut::test::cantilever_spec(dir, 0.1);
+      const sim::Model m = sim::compile(spec);
+      sim::State s = sim::make_state(m);
+      sim::Recorder rec(m, dir);
+      sim::run(m, s, rec, {});
+    }
+    CHECK(names(dir) == std::set<std::string>{"displacements.csv", "notes.txt", "summary.json"});
   }
 
   TEST_CASE("summary.json carries the schema fields") {
