@@ -22,6 +22,9 @@ const char* kUsage =
     "  check PATH... [-j N] [--only PAT] [--exclude PAT] [--set key=value ...] [--timeout S]\n"
     "                [--junit FILE] [--json FILE] [--record] [--backend B] [--out DIR] [--trust]\n"
     "                       run scenarios' expectations and compare with their reference logs\n"
+    "  sweep SCENARIO.lua (--grid key=v1,v2,... | --table FILE.csv) [-j N] [--shard I/N] [--out DIR]\n"
+    "                       run a scenario once per parameter combination, on one machine or sharded\n"
+    "  sweep merge DIR      gather a sweep's summaries into DIR/sweep.csv and DIR/sweep.json\n"
     "  mesh info FILE [--json]\n"
     "  mesh convert IN OUT  convert between mesh formats (by extension)\n"
     "  mesh generate KIND [options] OUT\n"
@@ -57,6 +60,7 @@ int main(int argc, char** argv) {
     if (cmd == "bench") return cmd_bench(args);
     if (cmd == "run") return cmd_run(args);
     if (cmd == "check") return cmd_check(args);
+    if (cmd == "sweep") return cmd_sweep(args);
     std::fprintf(stderr, "softcut: unknown command '%s' (see softcut --help)\n", cmd.c_str());
     return 2;
   } catch (const softcut::UsageError& e) {

@@ -1,0 +1,338 @@
+// softcut sweep SCENARIO.lua (--grid key=v1,v2,... | --table FILE.csv) [-j N] [--shard I/N] ...
+// softcut sweep merge DIR
+// Expands parameter combinations into runs with stable ids and folders
+// (sweep_plan.hpp), runs this shard's slice of them, each as its own
+// `softcut run` process (a crash or a blown budget stays with its run, and
+// each summary.json records the exact command that reruns it), `-j` at once;
+// one line per run in id order, then the tally. `merge` gathers the
+// summaries into one table (sweep_merge.hpp). docs/sweeps.md.
+#include <fcntl.h>
+#include <sched.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cctype>
+#include <cerrno>
+#include <cstring>
+#include <map>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <mutex>
+#include <optional>
+#include <thread>
+
+#include "cli/commands.hpp"
+#include "cli/run_support.hpp"
+#include "cli/sweep_merge.hpp"
+#include "cli/sweep_plan.hpp"
+#include "core/atomic_file.hpp"
+#include "core/checked_file.hpp"
+#include "core/error.hpp"
+#include "core/printable.hpp"
+#include "core/threads.hpp"
+#include "scenario_runner.hpp"
+
+extern char** environ;
+
+namespace fs = std::filesystem;
+
+namespace softcut::cli {
+
+namespace {
+
+const char* kSweepUsage =
+    "usage: softcut sweep SCENARIO.lua (--grid key=v1,v2,... [--grid ...] | --table FILE.csv)\n"
+    "                     [--out DIR] [-j N] [--shard I/N | --shards N] [--set key=value ...] [--dry-run]\n"
+    "                     [--frames N] [--backend B] [--render-every N] [--size WxH] [--msaa N]\n"
+    "                     [--max-tets N] [--timeout S] [--max-output BYTES] [--trust] [--no-render] [--no-cache]\n"
+    "       softcut sweep merge DIR [--csv FILE] [--json FILE]\n"
+    "\n"
+    "Runs a scenario once per parameter combination. --grid gives a parameter's values (the\n"
+    "Cartesian product of all grids, the last varying fastest); --table gives one run per CSV row\n"
+    "(a header of parameter names). Each parameter must be declared in the scenario's\n"
+    "softcut.params. Run i is DIR/run_000i/ (its outputs, run.log and summary.json); every shard\n"
+    "writes the same DIR/sweep_plan.json. Each run is a `softcut run` process with the options\n"
+    "below passed on.\n"
+    "  --out DIR     sweep folder (default: renders/<scenario file stem>-sweep)\n"
+    "  -j N          runs at once (default: the cores this process may use)\n"
+    "  --shard I/N   run only runs i with i % N == I (0 <= I < N), so N machines share a sweep;\n"
+    "                without it: SLURM_ARRAY_TASK_ID - SLURM_ARRAY_TASK_MIN of SLURM_ARRAY_TASK_COUNT\n"
+    "                (a Slurm array job), or JOB_COMPLETION_INDEX of --shards N (a Kubernetes\n"
+    "                indexed Job), else every run\n"
+    "  --set key=value  a fixed parameter for every run\n"
+    "  --dry-run     print this shard's runs and their parameters, run nothing\n"
+    "  merge DIR     gather every run's summary.json into DIR/sweep.csv and DIR/sweep.json (or\n"
+    "                --csv FILE, --json FILE); fails naming the runs that have no summary\n"
+    "Prints one line per run (PASS/FAIL, id, parameters) and closes with 'N passed, N failed'.\n"
+    "Exit status: 0 all passed, 1 a run failed (or, for merge, a run failed or is missing),\n"
+    "2 usage error, 130 interrupted.\n";
+
+// CPUs this process may run on (Slurm and containers restrict the affinity).
+int usable_cores() {
+  cpu_set_t set;
+  if (sched_getaffinity(0, sizeof set, &set) == 0) return std::max(1, CPU_COUNT(&set));
+  return std::max(1, int(std::thread::hardware_concurrency()));
+}
+
+std::string params_text(const SweepRun& r) {
+  std::string s;
+  for (const auto& [k, v] : r.params) s += (s.empty() ? "" : " ") + k + "=" + v;
+  return printable(s, 200);
+}
+
+// Runs `argv` with stdout and stderr into `log` (made new, never through a
+// link) and stdin from /dev/null; returns the wait status.
+int spawn_and_wait(const std::vector<std::string>& argv, const fs::path& log, const std::vector<std::string>& env) {
+  posix_spawn_file_actions_t fa;
+  posix_spawn_file_actions_init(&fa);
+  posix_spawn_file_actions_addopen(&fa, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
+  posix_spawn_file_actions_addopen(&fa, STDOUT_FILENO, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_NOFOLLOW, 0644);
+  posix_spawn_file_actions_adddup2(&fa, STDOUT_FILENO, STDERR_FILENO);
+  std::vector<char*> cargv, cenv;
+  for (const auto& a : argv) cargv.push_back(const_cast<char*>(a.c_str()));
+  for (const auto& e : env) cenv.push_back(const_cast<char*>(e.c_str()));
+  cargv.push_back(nullptr), cenv.push_back(nullptr);
+  pid_t pid = -1;
+  const int err = posix_spawn(&pid, "/proc/self/exe", &fa, nullptr, cargv.data(), cenv.data());
+  posix_spawn_file_actions_destroy(&fa);
+  if (err != 0) fail("softcut sweep: cannot start `softcut run` (", std::strerror(err), ")");
+  int status = 0;
+  while (::waitpid(pid, &status, 0) < 0)
+    if (errno != EINTR) fail("softcut sweep: waiting for a run failed (", std::strerror(errno), ")");
+  return status;
+}
+
+// Why a run failed, from its exit status and log: the error or failed
+// expectation the child printed, else the status.
+std::string failure_of(int status, const fs::path& log) {
+  std::ifstream in(log);
+  std::string line, expect;
+  while (std::getline(in, line)) {
+    if (line.rfind("softcut: error: ", 0) == 0) return line.substr(16);
+    if (expect.empty() && line.find(": expect '") != std::string::npos) expect = line;
+  }
+  if (!expect.empty()) return expect;
+  if (WIFSIGNALED(status)) return cat("killed by signal ", WTERMSIG(status), " (see ", log.string(), ")");
+  return cat("exit status ", WEXITSTATUS(status), " (see ", log.string(), ")");
+}
+
+int cmd_merge(const Args& args) {
+  fs::path dir, csv, json;
+  for (size_t i = 0; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    auto value = [&](const char* what) -> const std::string& {
+      if (i + 1 >= args.size()) usage_fail("softcut sweep merge: ", a, " needs ", what);
+      return args[++i];
+    };
+    if (a == "--csv") csv = value("a file");
+    else if (a == "--json") json = value("a file");
+    else if (a.rfind("-", 0) == 0) usage_fail("softcut sweep merge: unknown option '", a, "' (see softcut sweep --help)");
+    else if (dir.empty()) dir = a;
+    else usage_fail("softcut sweep merge: give one sweep folder (got '", a, "' too)");
+  }
+  if (dir.empty()) usage_fail("softcut sweep merge: give the sweep folder (see softcut sweep --help)");
+  if (!fs::exists(dir / "sweep_plan.json"))
+    fail("softcut sweep merge: ", (dir / "sweep_plan.json").string(), " does not exist (not a sweep folder, or no "
+         "shard has started yet)");
+  const SweepMerge m = merge_sweep(dir);
+  if (!m.missing.empty()) {
+    std::string ids;
+    for (size_t i = 0; i < m.missing.size() && i < 20; ++i) ids += (i ? ", " : "") + m.missing[i];
+    if (m.missing.size() > 20) ids += cat(", ... (", m.missing.size() - 20, " more)");
+    fail("softcut sweep merge: ", m.missing.size(), " of ", m.runs, " runs have no summary.json: ", ids,
+         " (not run yet, or their process died; rerun their shard with the same options)");
+  }
+  if (csv.empty()) csv = dir / "sweep.csv";
+  if (json.empty()) json = dir / "sweep.json";
+  write_file_atomic(csv, m.csv);
+  write_file_atomic(json, m.json);
+  std::printf("merged %d runs: %d passed, %d failed -> %s, %s\n", m.runs, m.passed, m.failed, csv.c_str(),
+              json.c_str());
+  return m.failed ? 1 : 0;
+}
+
+}  // namespace
+
+int cmd_sweep(const Args& args) {
+  if (args.empty() || args[0] == "--help" || args[0] == "-h") {
+    std::fputs(kSweepUsage, args.empty() ? stderr : stdout);
+    return args.empty() ? 2 : 0;
+  }
+  if (args[0] == "merge") return cmd_merge(Args(args.begin() + 1, args.end()));
+
+  std::vector<std::string> grids, files, run_options;
+  std::map<std::string, std::string> fixed;
+  fs::path table, out;
+  std::optional<std::string> shard_arg;
+  std::optional<int> shards;
+  int jobs = usable_cores();
+  bool dry_run = false;
+  for (size_t i = 0; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    auto value = [&](const char* what) -> const std::string& {
+      if (i + 1 >= args.size()) usage_fail("softcut sweep: ", a, " needs ", what, " (see softcut sweep --help)");
+      return args[++i];
+    };
+    // Options for each `softcut run`, checked here so a typo fails once, not per run.
+    const std::string opt = a;
+    auto pass_on = [&](const std::string& v) { run_options.insert(run_options.end(), {opt, v}); };
+    if (a == "--grid") grids.push_back(value("key=v1,v2,..."));
+    else if (a == "--table") table = value("a CSV file");
+    else if (a == "--out") out = value("a folder");
+    else if (a == "--shard") shard_arg = value("I/N");
+    else if (a == "--shards") shards = std::max(1, parse_count(value("a number"), "--shards"));
+    else if (a == "-j" || a == "--jobs" || (a.size() > 2 && a.rfind("-j", 0) == 0 && std::isdigit(static_cast<unsigned char>(a[2])))) {
+      jobs = parse_count(a.size() > 2 && a[1] == 'j' ? a.substr(2) : value("a number"), "-j");
+      if (jobs < 1) usage_fail("softcut sweep: -j needs at least 1");
+    } else if (a == "--set") {
+      const std::string& kv = value("key=value");
+      add_override(fixed, kv);
+      pass_on(kv);
+    } else if (a == "--dry-run") dry_run = true;
+    else if (a == "--frames" || a == "--render-every" || a == "--msaa" || a == "--max-tets") {
+      const std::string& v = value("a number");
+      parse_count(v, a.c_str());
+      pass_on(v);
+    } else if (a == "--backend") {
+      const std::string& v = value("a backend");
+      parse_backend(v);
+      pass_on(v);
+    } else if (a == "--size") {
+      const std::string& v = value("WxH");
+      parse_size(v, "--size");
+      pass_on(v);
+    } else if (a == "--timeout") {
+      const std::string& v = value("seconds");
+      parse_seconds(v, "--timeout");
+      pass_on(v);
+    } else if (a == "--max-output") {
+      const std::string& v = value("bytes");
+      parse_bytes(v, "--max-output");
+      pass_on(v);
+    }
+    else if (a == "--trust" || a == "--no-render" || a == "--no-cache") run_options.push_back(a);
+    else if (a.rfind("-", 0) == 0) usage_fail("softcut sweep: unknown option '", a, "' (see softcut sweep --help)");
+    else files.push_back(a);
+  }
+  if (files.size() != 1) usage_fail("softcut sweep: give exactly one scenario file (got ", files.size(), ")");
+  if (grids.empty() == table.empty()) usage_fail("softcut sweep: give the runs as --grid key=v1,v2,... or as --table FILE.csv (one of them)");
+  if (!fs::is_regular_file(files[0])) usage_fail("softcut sweep: ", files[0], ": no such scenario file");
+
+  SweepPlan plan;
+  plan.scenario = fs::absolute(files[0]).lexically_normal().string();
+  plan.run_options = run_options;
+  plan.runs = grids.empty() ? read_table(table, plan.keys) : expand_grid(grids, plan.keys);
+  for (const auto& k : plan.keys)
+    if (fixed.count(k)) usage_fail("softcut sweep: '", k, "' is both swept and fixed with --set");
+  number_runs(plan.runs);
+  const Shard shard = choose_shard(shard_arg, shards, [](const char* n) { return std::getenv(n); });
+  const std::vector<std::size_t> mine = shard_runs(plan.runs.size(), shard);
+  if (out.empty()) out = fs::path("renders") / (fs::path(files[0]).stem().string() + "-sweep");
+
+  // The scenario takes the swept keys (declared in softcut.params, values it
+  // accepts): checked on the first run before any process starts.
+  {
+    lua::RunRequest req;
+    req.scenario = files[0];
+    req.overrides = fixed;
+    req.trusted = std::find(run_options.begin(), run_options.end(), "--trust") != run_options.end();
+    for (const auto& [k, v] : plan.runs.front().params) req.overrides[k] = v;
+    lua::load_scenario_spec(req);
+  }
+  const std::string plan_text = plan_json(plan);
+  if (dry_run) {
+    std::printf("%zu runs; %s runs %zu of them -> %s\n", plan.runs.size(),
+                shard.source.empty() ? "this process" : shard.source.c_str(), mine.size(), out.c_str());
+    for (std::size_t i : mine) std::printf("%s  %s\n", plan.runs[i].id.c_str(), params_text(plan.runs[i]).c_str());
+    return 0;
+  }
+  std::error_code ec;
+  fs::create_directories(out, ec);
+  if (ec || !fs::is_directory(out)) fail("softcut sweep: cannot create the sweep folder ", out.string(), ": ", ec ? ec.message() : "not a folder");
+  const fs::path plan_file = out / "sweep_plan.json";
+  if (fs::exists(fs::symlink_status(plan_file, ec))) {
+    if (read_regular_file(plan_file, "the sweep plan", std::size_t(256) << 20) != plan_text)
+      fail("softcut sweep: ", out.string(), " holds another sweep (its sweep_plan.json differs from this one: other "
+           "parameters, options or scenario); give another --out or remove the folder");
+  } else {
+    write_file_atomic(plan_file, plan_text);  // every shard writes the same bytes
+  }
+
+  // Each child gets an even share of the cores unless the user chose.
+  std::vector<std::string> env;
+  for (char** e = environ; *e; ++e) env.emplace_back(*e);
+  const int at_once = std::max(1, std::min<int>(jobs, int(mine.size())));
+  if (!std::getenv("SOFTCUT_THREADS"))
+    env.push_back(cat("SOFTCUT_THREADS=", std::max(1, thread_policy().threads / at_once)));
+  std::printf("sweep %s: %zu runs%s; %zu here, %d at once -> %s\n", files[0].c_str(), plan.runs.size(),
+              shard.source.empty() ? "" : cat(" (", shard.source, ")").c_str(), mine.size(), at_once, out.c_str());
+  std::fflush(stdout);
+
+  const SignalGuard signals;
+  struct Outcome {
+    bool done = false, pass = false, ran = false;
+    std::string reason;
+    double seconds = 0;
+  };
+  std::vector<Outcome> outcomes(mine.size());
+  std::atomic<size_t> next{0};
+  std::mutex mutex;
+  size_t printed = 0;
+  int passed = 0, failed = 0;
+  auto print_ready = [&] {  // under `mutex`
+    for (; printed < mine.size() && outcomes[printed].done; ++printed) {
+      const Outcome& o = outcomes[printed];
+      const SweepRun& r = plan.runs[mine[printed]];
+      if (o.pass) {
+        ++passed;
+        std::printf("PASS  %s  %s  (%.2f s)\n", r.id.c_str(), params_text(r).c_str(), o.seconds);
+      } else {
+        ++failed;
+        std::printf("FAIL  %s  %s: %s\n", r.id.c_str(), params_text(r).c_str(), printable(o.reason, 400).c_str());
+      }
+    }
+    std::fflush(stdout);
+  };
+  auto worker = [&] {
+    for (size_t k; (k = next++) < mine.size();) {
+      const SweepRun& r = plan.runs[mine[k]];
+      Outcome o;
+      const auto t0 = std::chrono::steady_clock::now();
+      if (SignalGuard::flag().load()) {
+        o.reason = "interrupted before it ran";
+      } else {
+        try {
+          const fs::path dir = make_folder_below(out, r.id, "softcut sweep");
+          std::vector<std::string> argv = {"softcut", "run", plan.scenario, "--out", dir.string(), "--quiet"};
+          for (const auto& [key, v] : r.params) argv.insert(argv.end(), {"--set", key + "=" + v});
+          argv.insert(argv.end(), run_options.begin(), run_options.end());
+          const int status = spawn_and_wait(argv, dir / "run.log", env);
+          o.ran = true;
+          o.pass = WIFEXITED(status) && WEXITSTATUS(status) == 0;
+          if (!o.pass) o.reason = failure_of(status, dir / "run.log");
+        } catch (const std::exception& e) {
+          o.reason = e.what();
+        }
+      }
+      o.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      o.done = true;
+      std::lock_guard<std::mutex> lock(mutex);
+      outcomes[k] = std::move(o);
+      print_ready();
+    }
+  };
+  std::vector<std::thread> threads;
+  for (int t = 1; t < at_once; ++t) threads.emplace_back(worker);
+  worker();
+  for (auto& t : threads) t.join();
+  std::printf("%d passed, %d failed\n", passed, failed);
+  if (SignalGuard::flag().load()) return 130;
+  return failed ? 1 : 0;
+}
+
+}  // namespace softcut::cli

@@ -1,0 +1,251 @@
+#include "cli/sweep_plan.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cstdlib>
+#include <nlohmann/json.hpp>
+#include <set>
+
+#include "core/checked_file.hpp"
+#include "core/error.hpp"
+#include "core/printable.hpp"
+
+namespace fs = std::filesystem;
+
+namespace softcut::cli {
+
+namespace {
+
+// A parameter name as softcut.params declares them: a Lua identifier.
+bool is_key(const std::string& k) {
+  if (k.empty() || k.size() > 100 || std::isdigit(static_cast<unsigned char>(k[0]))) return false;
+  for (const char c : k)
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_') return false;
+  return true;
+}
+
+std::vector<std::string> split(const std::string& s, char sep) {
+  std::vector<std::string> out(1);
+  for (const char c : s) {
+    if (c == sep) out.emplace_back();
+    else out.back().push_back(c);
+  }
+  return out;
+}
+
+// One CSV record starting at `pos` (RFC 4180: quoted fields, "" inside quotes,
+// CRLF or LF line ends; a quoted field may span lines). `line` counts lines.
+std::vector<std::string> csv_record(const std::string& text, size_t& pos, int& line, const std::string& file) {
+  std::vector<std::string> fields(1);
+  const int first_line = line;
+  bool quoted = false, was_quoted = false;
+  for (; pos < text.size(); ++pos) {
+    const char c = text[pos];
+    if (quoted) {
+      if (c == '"' && pos + 1 < text.size() && text[pos + 1] == '"') fields.back() += '"', ++pos;
+      else if (c == '"') quoted = false;
+      else {
+        if (c == '\n') ++line;
+        fields.back() += c;
+      }
+    } else if (c == '"' && fields.back().empty() && !was_quoted) {
+      quoted = was_quoted = true;
+    } else if (c == ',') {
+      fields.emplace_back(), was_quoted = false;
+    } else if (c == '\n' || c == '\r') {
+      if (c == '\r' && pos + 1 < text.size() && text[pos + 1] == '\n') ++pos;
+      ++pos, ++line;
+      return fields;
+    } else if (was_quoted) {
+      fail(file, ":", line, ": text after a closing quote (write \"\" for a quote inside a quoted field)");
+    } else {
+      fields.back() += c;
+    }
+  }
+  if (quoted) fail(file, ":", first_line, ": a quoted field is never closed");
+  ++line;
+  return fields;
+}
+
+void check_runs(std::size_t n, const std::string& what) {
+  if (n > kMaxSweepRuns)
+    usage_fail(what, " expands to more than ", kMaxSweepRuns, " runs; split the study into several sweeps");
+}
+
+}  // namespace
+
+std::vector<SweepRun> expand_grid(const std::vector<std::string>& grids, std::vector<std::string>& keys) {
+  std::vector<std::vector<std::string>> values;
+  std::size_t total = 1;
+  for (const std::string& g : grids) {
+    const size_t eq = g.find('=');
+    const std::string key = g.substr(0, eq);
+    if (eq == std::string::npos || !is_key(key))
+      usage_fail("softcut sweep: --grid '", printable(g, 80), "' must be key=v1,v2,... with key a parameter name");
+    for (const auto& k : keys)
+      if (k == key) usage_fail("softcut sweep: the parameter '", key, "' is swept twice (--grid/--set)");
+    std::vector<std::string> vs = split(g.substr(eq + 1), ',');
+    for (const auto& v : vs)
+      if (v.empty()) usage_fail("softcut sweep: --grid '", printable(g, 80), "' has an empty value");
+    keys.push_back(key);
+    total *= vs.size();
+    check_runs(total, "the grid");
+    values.push_back(std::move(vs));
+  }
+  std::vector<SweepRun> runs(grids.empty() ? 0 : total);
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    std::size_t rest = i;
+    runs[i].params.resize(values.size());
+    for (std::size_t k = values.size(); k-- > 0;) {  // the last key varies fastest
+      runs[i].params[k] = {keys[k], values[k][rest % values[k].size()]};
+      rest /= values[k].size();
+    }
+  }
+  return runs;
+}
+
+std::vector<SweepRun> read_table(const fs::path& csv, std::vector<std::string>& keys) {
+  const std::string file = csv.string();
+  const std::string text = read_regular_file(csv, "the sweep table", std::size_t(64) << 20);
+  size_t pos = 0;
+  int line = 1;
+  std::vector<SweepRun> runs;
+  bool header = true;
+  while (pos < text.size()) {
+    const int at = line;
+    if (text[pos] == '#' || text[pos] == '\n' || text[pos] == '\r') {  // comment or blank line
+      const size_t nl = text.find('\n', pos);
+      pos = nl == std::string::npos ? text.size() : nl + 1;
+      ++line;
+      continue;
+    }
+    std::vector<std::string> fields = csv_record(text, pos, line, file);
+    if (header) {
+      for (const auto& k : fields) {
+        if (!is_key(k)) fail(file, ":", at, ": '", printable(k, 80), "' is not a parameter name (the first line "
+                             "names the parameters: key1,key2,...)");
+        for (const auto& seen : keys)
+          if (seen == k) fail(file, ":", at, ": the parameter '", k, "' is named twice");
+        keys.push_back(k);
+      }
+      header = false;
+      continue;
+    }
+    if (fields.size() != keys.size())
+      fail(file, ":", at, ": ", fields.size(), " values for ", keys.size(), " parameters (", keys.size() == 1 ? "" : "quote values holding commas; ", "every row gives one value per column)");
+    SweepRun r;
+    for (size_t k = 0; k < keys.size(); ++k) {
+      if (fields[k].empty()) fail(file, ":", at, ": the value of '", keys[k], "' is empty");
+      r.params.emplace_back(keys[k], fields[k]);
+    }
+    runs.push_back(std::move(r));
+    if (runs.size() > kMaxSweepRuns) fail(file, ":", at, ": more than ", kMaxSweepRuns, " runs; split the table");
+  }
+  if (header) fail(file, ": empty table (the first line names the parameters, each further line is one run)");
+  if (runs.empty()) fail(file, ": the table has no runs (one line per run after the header)");
+  return runs;
+}
+
+void number_runs(std::vector<SweepRun>& runs) {
+  const int width = std::max<int>(4, int(std::to_string(runs.empty() ? 0 : runs.size() - 1).size()));
+  for (size_t i = 0; i < runs.size(); ++i) {
+    std::string n = std::to_string(i);
+    runs[i].id = "run_" + std::string(size_t(width) - std::min(n.size(), size_t(width)), '0') + n;
+  }
+}
+
+std::string plan_json(const SweepPlan& plan) {
+  nlohmann::json j;
+  j["schema"] = "softcut-sweep-plan/1";
+  j["scenario"] = plan.scenario;
+  j["run_options"] = plan.run_options;
+  j["keys"] = plan.keys;
+  j["runs"] = nlohmann::json::array();
+  for (const SweepRun& r : plan.runs) {
+    nlohmann::json p = nlohmann::json::object();
+    for (const auto& [k, v] : r.params) p[k] = v;
+    j["runs"].push_back({{"id", r.id}, {"params", p}});
+  }
+  return j.dump(1, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
+}
+
+SweepPlan read_plan(const fs::path& file) {
+  const std::string text = read_regular_file(file, "the sweep plan", std::size_t(256) << 20);
+  SweepPlan plan;
+  try {
+    const nlohmann::json j = nlohmann::json::parse(text);
+    if (j.at("schema") != "softcut-sweep-plan/1") fail("unknown schema ", j.at("schema").dump());
+    plan.scenario = j.at("scenario").get<std::string>();
+    plan.run_options = j.at("run_options").get<std::vector<std::string>>();
+    plan.keys = j.at("keys").get<std::vector<std::string>>();
+    for (const auto& r : j.at("runs")) {
+      SweepRun run;
+      run.id = r.at("id").get<std::string>();
+      if (run.id.rfind("run_", 0) != 0 || run.id.find_first_not_of("0123456789", 4) != std::string::npos)
+        fail("bad run id ", printable(run.id, 40));
+      for (const auto& k : plan.keys) run.params.emplace_back(k, r.at("params").at(k).get<std::string>());
+      plan.runs.push_back(std::move(run));
+    }
+  } catch (const nlohmann::json::exception& e) {
+    fail(file.string(), ": not a sweep plan written by softcut sweep (", e.what(), ")");
+  } catch (const Error& e) {
+    fail(file.string(), ": ", e.what());
+  }
+  return plan;
+}
+
+Shard choose_shard(const std::optional<std::string>& shard_arg, std::optional<int> shards,
+                   const std::function<const char*(const char*)>& getenv) {
+  auto number = [](const std::string& text, const std::string& what) {
+    char* end = nullptr;
+    errno = 0;
+    const long v = std::strtol(text.c_str(), &end, 10);
+    if (text.empty() || *end || errno || v < 0 || v > 1000000)
+      usage_fail("softcut sweep: ", what, " = '", printable(text, 40), "' is not a whole number from 0 to 1000000");
+    return int(v);
+  };
+  Shard s;
+  if (shard_arg) {
+    const size_t slash = shard_arg->find('/');
+    if (slash == std::string::npos) usage_fail("softcut sweep: --shard takes I/N (e.g. 0/3: the first of 3 slices)");
+    s.index = number(shard_arg->substr(0, slash), "--shard's I");
+    s.count = number(shard_arg->substr(slash + 1), "--shard's N");
+    if (shards && *shards != s.count) usage_fail("softcut sweep: --shard ", *shard_arg, " and --shards ", *shards, " disagree");
+    s.source = "--shard " + *shard_arg;
+  } else if (const char* id = getenv("SLURM_ARRAY_TASK_ID")) {
+    const char* count = getenv("SLURM_ARRAY_TASK_COUNT");
+    const char* min = getenv("SLURM_ARRAY_TASK_MIN");
+    if (!count) usage_fail("softcut sweep: SLURM_ARRAY_TASK_ID is set but SLURM_ARRAY_TASK_COUNT is not");
+    const int task = number(id, "SLURM_ARRAY_TASK_ID"), lo = min ? number(min, "SLURM_ARRAY_TASK_MIN") : 0;
+    s.count = number(count, "SLURM_ARRAY_TASK_COUNT");
+    s.index = task - lo;
+    if (shards && *shards != s.count)
+      usage_fail("softcut sweep: --shards ", *shards, " but the Slurm array has ", s.count, " tasks");
+    // Task ids must be min, min + 1, ...: an array with a step or a list
+    // (--array=0-7:2) gives an index out of range below, and says so.
+    s.source = cat("SLURM_ARRAY_TASK_ID=", task, " (min ", lo, ", count ", s.count, ")");
+  } else if (const char* k8s = getenv("JOB_COMPLETION_INDEX")) {
+    if (!shards)
+      usage_fail("softcut sweep: JOB_COMPLETION_INDEX is set: give the Job's completions as --shards N");
+    s.index = number(k8s, "JOB_COMPLETION_INDEX");
+    s.count = *shards;
+    s.source = cat("JOB_COMPLETION_INDEX=", s.index, " of --shards ", s.count);
+  } else if (shards) {
+    usage_fail("softcut sweep: --shards ", *shards, " needs the index: --shard I/", *shards,
+               ", or SLURM_ARRAY_TASK_ID / JOB_COMPLETION_INDEX in the environment");
+  }
+  if (s.count < 1) usage_fail("softcut sweep: ", s.source, ": the number of shards must be at least 1");
+  if (s.index < 0 || s.index >= s.count)
+    usage_fail("softcut sweep: ", s.source, ": the shard index must be from 0 to ", s.count - 1,
+               " (Slurm: submit with --array=0-", s.count - 1, ", no step)");
+  return s;
+}
+
+std::vector<std::size_t> shard_runs(std::size_t num_runs, const Shard& shard) {
+  std::vector<std::size_t> out;
+  for (std::size_t i = std::size_t(shard.index); i < num_runs; i += std::size_t(shard.count)) out.push_back(i);
+  return out;
+}
+
+}  // namespace softcut::cli

@@ -1,0 +1,116 @@
+// softcut sweep / sweep merge through the CLI (issue #18 item 5).
+#include <doctest/doctest.h>
+
+#include <fstream>
+
+#include "cli_test_support.hpp"
+
+namespace fs = std::filesystem;
+using softcut::test::contains;
+using softcut::test::run_cli;
+using softcut::test::slurp;
+
+namespace {
+
+// A small cantilever with two parameters and one bounds expectation (its
+// value goes into the table) that fails for the largest force.
+fs::path write_scenario(const fs::path& dir) {
+  std::ofstream(dir / "bar.lua")
+      << "local P = softcut.params{ f = 0.01, young = 5e3 }\n"
+         "local s = softcut.scenario{ name = 'bar', duration = 0.2, fps = 10 }\n"
+         "s:mesh{ generate = 'box', options = { max = { 0.1, 0.02, 0.02 }, nx = 5, ny = 2, nz = 2 } }\n"
+         "s:material{ young = P.young, poisson = 0.4 }\n"
+         "local tip = softcut.select.box{ min = { 0.1, -1, -1 }, max = { 1, 1, 1 } }\n"
+         "s:fix{ nodes = softcut.select.box{ min = { -1, -1, -1 }, max = { 0, 1, 1 } } }\n"
+         "s:load{ name = 'tip', nodes = tip, force = { 0, 0, -P.f } }\n"
+         "s:expect{ name = 'sag', at = 0.2, nodes = tip, component = 'z', min = -1 }\n"
+         "return s\n";
+  return dir / "bar.lua";
+}
+
+const char* kGrid = "--grid f=0.001,0.01,0.1,1 --grid young=5e3,1e4";  // 8 runs; f = 1 N at 5 kPa sags 1.6 m (linear), past 1 m
+
+}  // namespace
+
+TEST_SUITE("cli/cmd_sweep") {
+  TEST_CASE("8 runs in 3 shards merge to the same table as one local run - a missing shard fails the merge") {
+    const fs::path dir = softcut::test::scratch_dir("sweep_shards");
+    const fs::path scen = write_scenario(dir);
+    const std::string env = "SOFTCUT_THREADS=1";
+    const auto local = run_cli("sweep " + scen.string() + " " + kGrid + " -j 2 --out " + (dir / "local").string(),
+                               dir, env);
+    CHECK(local.status == 1);  // one run fails its expectation
+    CHECK(contains(local.output, "8 runs; 8 here, 2 at once"));
+    CHECK(contains(local.output, "PASS  run_0000  f=0.001 young=5e3"));
+    CHECK(contains(local.output, "FAIL  run_0006  f=1 young=5e3: " + scen.string() + ":8: expect 'sag' failed"));
+    CHECK(contains(local.output, "7 passed, 1 failed"));
+    const auto merged_local = run_cli("sweep merge " + (dir / "local").string(), dir);
+    CHECK(merged_local.status == 1);
+    CHECK(contains(merged_local.output, "merged 8 runs: 7 passed, 1 failed"));
+    const std::string table = slurp(dir / "local" / "sweep.csv");
+    CHECK(table.rfind("id,f,young,pass,exit_reason,frames,last_time_s,cut_events,detached_pieces,expect.sag\n"
+                      "run_0000,0.001,5e3,true,completed,3,0.2,0,0,-", 0) == 0);
+    CHECK(contains(table, "\nrun_0006,1,5e3,false,completed,3,0.2,0,0,-"));
+
+    // Shards 0 and 2 of 3 only: the merge names the missing runs (1, 4, 7).
+    const fs::path sharded = dir / "sharded";
+    for (const char* s : {"0/3", "2/3"}) {
+      const auto r = run_cli("sweep " + scen.string() + " " + kGrid + " --shard " + s + " --out " + sharded.string(),
+                             dir, env);
+      CHECK(contains(r.output, std::string("(--shard ") + s + ")"));
+    }
+    const auto partial = run_cli("sweep merge " + sharded.string(), dir);
+    CHECK(partial.status == 1);
+    CHECK(contains(partial.output, "3 of 8 runs have no summary.json: run_0001, run_0004, run_0007"));
+    CHECK(!fs::exists(sharded / "sweep.csv"));
+    // Shard 1 through Slurm's variables; then the tables are the same bytes.
+    const auto slurm = run_cli("sweep " + scen.string() + " " + kGrid + " --out " + sharded.string(), dir,
+                               env + " SLURM_ARRAY_TASK_ID=11 SLURM_ARRAY_TASK_MIN=10 SLURM_ARRAY_TASK_COUNT=3");
+    CHECK(contains(slurm.output, "3 here"));
+    CHECK(contains(slurm.output, "PASS  run_0001"));
+    CHECK(run_cli("sweep merge " + sharded.string(), dir).status == 1);
+    CHECK(slurp(sharded / "sweep.csv") == table);
+    CHECK(slurp(sharded / "sweep.json") == slurp(dir / "local" / "sweep.json"));
+    // Each run's summary records the command that reruns it alone.
+    CHECK(contains(slurp(sharded / "run_0003" / "summary.json"), "\"--set\", \"f=0.01\", \"--set\", \"young=1e4\""));
+  }
+
+  TEST_CASE("a folder holding another sweep, unknown parameters and bad options are refused before any run") {
+    const fs::path dir = softcut::test::scratch_dir("sweep_refused");
+    const fs::path scen = write_scenario(dir);
+    const std::string out = " --out " + (dir / "s").string();
+    REQUIRE(run_cli("sweep " + scen.string() + " --grid f=0.01,0.02" + out, dir).status == 0);
+    const auto other = run_cli("sweep " + scen.string() + " --grid f=0.01,0.03" + out, dir);
+    CHECK(other.status == 1);
+    CHECK(contains(other.output, "holds another sweep"));
+    const auto unknown = run_cli("sweep " + scen.string() + " --grid stiffness=1,2 --out " + (dir / "u").string(), dir);
+    CHECK(unknown.status != 0);
+    CHECK(contains(unknown.output, "stiffness"));
+    CHECK(!fs::exists(dir / "u"));
+    CHECK(run_cli("sweep " + scen.string() + " --grid f=1 --table t.csv", dir).status == 2);
+    CHECK(run_cli("sweep " + scen.string() + " --grid f=1 --frames x", dir).status == 2);
+    CHECK(run_cli("sweep " + scen.string() + " --grid f=1 --shard 3/3", dir).status == 2);
+    CHECK(run_cli("sweep " + scen.string() + " --grid f=1 --set f=2", dir).status == 2);
+    CHECK(run_cli("sweep " + scen.string() + " --grid f=1 --bogus", dir).status == 2);
+    CHECK(run_cli("sweep merge " + (dir / "nowhere").string(), dir).status == 1);
+    const auto help = run_cli("sweep --help", dir);
+    CHECK(help.status == 0);
+    CHECK(contains(help.output, "SLURM_ARRAY_TASK_ID"));
+  }
+
+  TEST_CASE("--table runs one row each, --dry-run lists this shard's runs and runs nothing") {
+    const fs::path dir = softcut::test::scratch_dir("sweep_table_cli");
+    const fs::path scen = write_scenario(dir);
+    std::ofstream(dir / "p.csv") << "young,f\n5e3,0.01\n1e4,0.02\n2e4,0.04\n";
+    const auto dry = run_cli("sweep " + scen.string() + " --table p.csv --dry-run --shard 1/2 --out d", dir);
+    CHECK(dry.status == 0);
+    CHECK(contains(dry.output, "3 runs; --shard 1/2 runs 1 of them"));
+    CHECK(contains(dry.output, "run_0001  young=1e4 f=0.02"));
+    CHECK(!fs::exists(dir / "d"));
+    CHECK(run_cli("sweep " + scen.string() + " --table p.csv -j 1 --frames 2 --out t", dir).status == 0);
+    CHECK(run_cli("sweep merge t", dir).status == 0);
+    const std::string csv = slurp(dir / "t" / "sweep.csv");
+    CHECK(contains(csv, "id,young,f,pass,"));
+    CHECK(contains(csv, "\nrun_0002,2e4,0.04,true,frame_limit,2,"));
+  }
+}

@@ -1,0 +1,160 @@
+#include "cli/sweep_plan.hpp"
+
+#include <doctest/doctest.h>
+
+#include <fstream>
+#include <map>
+#include <set>
+
+#include "core/error.hpp"
+#include "test_support.hpp"
+
+namespace fs = std::filesystem;
+using namespace softcut::cli;
+
+namespace {
+
+std::string params_of(const SweepRun& r) {
+  std::string s;
+  for (const auto& [k, v] : r.params) s += k + "=" + v + " ";
+  return s;
+}
+
+std::string error_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const softcut::Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+// getenv over a fixed map (the scheduler's variables in a test).
+std::function<const char*(const char*)> env(std::map<std::string, std::string> vars) {
+  auto held = std::make_shared<std::map<std::string, std::string>>(std::move(vars));
+  return [held](const char* n) -> const char* {
+    const auto it = held->find(n);
+    return it == held->end() ? nullptr : it->second.c_str();
+  };
+}
+
+}  // namespace
+
+TEST_SUITE("cli/sweep_plan") {
+  TEST_CASE("a grid expands to its Cartesian product, the last key fastest, with stable zero-padded ids") {
+    std::vector<std::string> keys;
+    std::vector<SweepRun> runs = expand_grid({"a=1,2", "b=x,y,z"}, keys);
+    number_runs(runs);
+    CHECK(keys == std::vector<std::string>{"a", "b"});
+    REQUIRE(runs.size() == 6);
+    CHECK(runs[0].id == "run_0000");
+    CHECK(runs[5].id == "run_0005");
+    CHECK(params_of(runs[0]) == "a=1 b=x ");
+    CHECK(params_of(runs[1]) == "a=1 b=y ");
+    CHECK(params_of(runs[3]) == "a=2 b=x ");
+    CHECK(params_of(runs[5]) == "a=2 b=z ");
+    std::vector<SweepRun> many(12345);
+    number_runs(many);
+    CHECK(many[7].id == "run_00007");  // wider when there are more than 10000
+    CHECK(many.back().id == "run_12344");
+  }
+
+  TEST_CASE("bad grids are usage errors naming the argument, and a billion runs are refused before any is listed") {
+    std::vector<std::string> keys;
+    for (const char* bad : {"novalue", "=1,2", "a b=1", "1a=2", "a=1,,2", "a="}) {
+      CAPTURE(bad);
+      keys.clear();
+      CHECK_THROWS_AS(expand_grid({bad}, keys), softcut::UsageError);
+    }
+    keys.clear();
+    CHECK(error_of([&] { expand_grid({"a=1", "a=2"}, keys); }).find("'a' is swept twice") != std::string::npos);
+    const std::string thousand = [] {
+      std::string s;
+      for (int i = 0; i < 1000; ++i) s += (i ? "," : "") + std::to_string(i);
+      return s;
+    }();
+    keys.clear();
+    CHECK(error_of([&] { expand_grid({"a=" + thousand, "b=" + thousand, "c=" + thousand}, keys); })
+              .find("more than 100000 runs") != std::string::npos);
+  }
+
+  TEST_CASE("a table gives one run per row, with RFC 4180 quotes, and names file:line for bad rows") {
+    const fs::path dir = softcut::test::scratch_dir("sweep_table");
+    std::ofstream(dir / "t.csv") << "# a comment\nforce,label\n0.1,plain\n\n0.2,\"with, comma and \"\"quote\"\"\"\r\n"
+                                    "0.3,\"two\nlines\"\n";
+    std::vector<std::string> keys;
+    const std::vector<SweepRun> runs = read_table(dir / "t.csv", keys);
+    CHECK(keys == std::vector<std::string>{"force", "label"});
+    REQUIRE(runs.size() == 3);
+    CHECK(runs[1].params[1].second == "with, comma and \"quote\"");
+    CHECK(runs[2].params[1].second == "two\nlines");
+    auto table_error = [&](const std::string& text) {
+      std::ofstream(dir / "bad.csv") << text;
+      std::vector<std::string> k;
+      return error_of([&] { read_table(dir / "bad.csv", k); });
+    };
+    CHECK(table_error("a,b\n1,2\n3\n").find("bad.csv:3: 1 values for 2 parameters") != std::string::npos);
+    CHECK(table_error("a,b c\n1,2\n").find("bad.csv:1: 'b c' is not a parameter name") != std::string::npos);
+    CHECK(table_error("a,a\n1,2\n").find("bad.csv:1: the parameter 'a' is named twice") != std::string::npos);
+    CHECK(table_error("a\n\"open\n").find("bad.csv:2: a quoted field is never closed") != std::string::npos);
+    CHECK(table_error("a\n\"x\"y\n").find("bad.csv:2: text after a closing quote") != std::string::npos);
+    CHECK(table_error("a,b\n1,\n").find("bad.csv:2: the value of 'b' is empty") != std::string::npos);
+    CHECK(table_error("a\n").find("has no runs") != std::string::npos);
+    CHECK(table_error("").find("empty table") != std::string::npos);
+  }
+
+  TEST_CASE("the plan round-trips through sweep_plan.json, byte-identical for equal plans") {
+    const fs::path dir = softcut::test::scratch_dir("sweep_plan_json");
+    SweepPlan p;
+    p.scenario = "/abs/s.lua";
+    p.run_options = {"--frames", "3"};
+    p.runs = expand_grid({"b=1,2", "a=\"q\""}, p.keys);
+    number_runs(p.runs);
+    std::ofstream(dir / "sweep_plan.json") << plan_json(p);
+    const SweepPlan q = read_plan(dir / "sweep_plan.json");
+    CHECK(plan_json(q) == plan_json(p));
+    CHECK(q.keys == std::vector<std::string>{"b", "a"});  // column order kept
+    CHECK(q.runs[1].params[1].second == "\"q\"");
+    std::ofstream(dir / "bad.json") << "{\"schema\": \"softcut-sweep-plan/1\", \"runs\": 3}";
+    CHECK(error_of([&] { read_plan(dir / "bad.json"); }).find("bad.json: not a sweep plan") != std::string::npos);
+  }
+
+  TEST_CASE("shards: --shard I/N, Slurm's array variables, Kubernetes' index; every run in exactly one shard") {
+    const auto none = env({});
+    CHECK(choose_shard(std::nullopt, std::nullopt, none).count == 1);
+    const Shard a = choose_shard(std::string("2/3"), std::nullopt, none);
+    CHECK((a.index == 2 && a.count == 3));
+    const Shard slurm = choose_shard(std::nullopt, std::nullopt,
+                                     env({{"SLURM_ARRAY_TASK_ID", "5"}, {"SLURM_ARRAY_TASK_MIN", "4"},
+                                          {"SLURM_ARRAY_TASK_COUNT", "3"}}));
+    CHECK((slurm.index == 1 && slurm.count == 3));
+    CHECK(slurm.source.find("SLURM_ARRAY_TASK_ID=5") != std::string::npos);
+    // --shard wins over the environment.
+    CHECK(choose_shard(std::string("0/2"), std::nullopt, env({{"SLURM_ARRAY_TASK_ID", "1"}})).index == 0);
+    const Shard k8s = choose_shard(std::nullopt, 4, env({{"JOB_COMPLETION_INDEX", "3"}}));
+    CHECK((k8s.index == 3 && k8s.count == 4));
+    for (const auto& [arg, shards, vars] :
+         std::vector<std::tuple<std::optional<std::string>, std::optional<int>, std::map<std::string, std::string>>>{
+             {std::string("3/3"), std::nullopt, {}},
+             {std::string("1"), std::nullopt, {}},
+             {std::string("-1/3"), std::nullopt, {}},
+             {std::string("0/0"), std::nullopt, {}},
+             {std::string("a/b"), std::nullopt, {}},
+             {std::string("0/2"), 3, {}},
+             {std::nullopt, 2, {}},
+             {std::nullopt, std::nullopt, {{"JOB_COMPLETION_INDEX", "0"}}},
+             {std::nullopt, std::nullopt, {{"SLURM_ARRAY_TASK_ID", "0"}}},
+             {std::nullopt, std::nullopt, {{"SLURM_ARRAY_TASK_ID", "6"}, {"SLURM_ARRAY_TASK_COUNT", "4"}}},  // --array=0-6:2
+         }) {
+      CAPTURE(arg.value_or("-"));
+      CHECK_THROWS_AS(choose_shard(arg, shards, env(vars)), softcut::UsageError);
+    }
+    for (int n = 1; n <= 5; ++n) {
+      std::multiset<std::size_t> seen;
+      for (int i = 0; i < n; ++i)
+        for (std::size_t r : shard_runs(11, Shard{i, n, ""})) seen.insert(r);
+      CHECK(seen.size() == 11);
+      for (std::size_t r = 0; r < 11; ++r) CHECK(seen.count(r) == 1);
+    }
+  }
+}
