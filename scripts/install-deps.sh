@@ -1,7 +1,16 @@
 #!/usr/bin/env bash
 # Installs softcut's build and test dependencies from Debian 12 packages.
-# Used by the README's first command and by .ci/run. Safe to run twice.
+# Used by the README's first command and, with --test, by scripts/test.sh
+# (.ci/run). Safe to run twice.
+#   --test  also what only the test suite needs: a one-node Slurm cluster for
+#           the sweep test (installed with its services kept from starting)
 set -euo pipefail
+test_pkgs=()
+case "${1:-}" in
+  --test) test_pkgs=(slurmctld slurmd slurm-client) ;;  # pulls in munge; tests/cli/sweep_slurm.sh
+  "") ;;
+  *) echo "install-deps: unknown option $1 (--test or nothing)" >&2; exit 2 ;;
+esac
 pkgs=(
   build-essential cmake ninja-build pkg-config ccache
   libeigen3-dev libsuitesparse-dev liblua5.4-dev lua5.4
@@ -12,6 +21,7 @@ pkgs=(
   libxml2-utils  # xmllint: the tests validate softcut check --junit against tests/data/junit.xsd
   clang-14 libclang-rt-14-dev llvm-14  # the test suite's sanitizer + libFuzzer build (scripts/test.sh), symbolized traces
 )
+pkgs+=("${test_pkgs[@]}")
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
@@ -24,4 +34,14 @@ SUDO=""
 [ "$(id -u)" -eq 0 ] || SUDO="sudo"
 echo "install-deps: installing ${missing[*]}"
 $SUDO apt-get update -qq
+# The Slurm and munge daemons must not start as system services: the sweep
+# test starts its own, under a temporary folder. policy-rc.d (101: "action
+# forbidden") keeps the packages' scripts from starting them, when none is set.
+policy=""
+if [ ${#test_pkgs[@]} -gt 0 ] && [ ! -e /usr/sbin/policy-rc.d ]; then
+  policy=/usr/sbin/policy-rc.d
+  printf '#!/bin/sh\nexit 101\n' | $SUDO tee "$policy" >/dev/null
+  $SUDO chmod +x "$policy"
+  trap '$SUDO rm -f "$policy"' EXIT
+fi
 DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"

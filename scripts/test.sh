@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The whole test suite, as CI runs it (.ci/run calls this on a clean checkout):
-#   1. scripts/install-deps.sh (the build dependencies plus clang 14 and its
-#      sanitizer and libFuzzer runtimes);
+#   1. scripts/install-deps.sh --test (the build dependencies plus clang 14 and
+#      its sanitizer and libFuzzer runtimes, and Slurm for the sweep test);
 #   2. one build with clang 14, AddressSanitizer + UndefinedBehaviorSanitizer
 #      and libFuzzer instrumentation (CMake preset `fuzz`, folder build-fuzz/):
 #      the library, the CLI, every test and every fuzz target;
@@ -24,7 +24,7 @@ case "${1:-}" in
   *) echo "test.sh: unknown option $1 (see --help)" >&2; exit 2 ;;
 esac
 jobs=$(nproc)
-./scripts/install-deps.sh
+./scripts/install-deps.sh --test
 
 if [ "$quick" = 1 ]; then
   ./scripts/build.sh

@@ -119,7 +119,7 @@ TEST_SUITE("cli/sweep_plan") {
     CHECK(error_of([&] { read_plan(dir / "bad.json"); }).find("bad.json: not a sweep plan") != std::string::npos);
   }
 
-  TEST_CASE("shards: --shard I/N, Slurm's array variables, Kubernetes' index; every run in exactly one shard") {
+  TEST_CASE("shards: --shard I/N, Slurm's array variables, Kubernetes' index - every run in exactly one shard") {
     const auto none = env({});
     CHECK(choose_shard(std::nullopt, std::nullopt, none).count == 1);
     const Shard a = choose_shard(std::string("2/3"), std::nullopt, none);

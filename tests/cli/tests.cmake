@@ -9,3 +9,9 @@ add_test(NAME "cli: softcut check scenarios" COMMAND softcut check ${PROJECT_SOU
 # reference log recorded with the CPU solver, through cuts (issue: GPU CG).
 add_test(NAME "cli: softcut check --backend gpu through_cut"
          COMMAND softcut check --backend gpu ${PROJECT_SOURCE_DIR}/scenarios/through_cut.lua)
+# softcut sweep as a Slurm array job on a private one-node cluster (root and
+# Debian's slurmctld/slurmd/slurm-client needed: skipped, saying why, without).
+add_test(NAME "cli: softcut sweep on a one-node Slurm cluster"
+         COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/cli/sweep_slurm.sh $<TARGET_FILE:softcut> ${PROJECT_SOURCE_DIR})
+set_tests_properties("cli: softcut sweep on a one-node Slurm cluster" PROPERTIES
+                     SKIP_RETURN_CODE 77 TIMEOUT 300 ENVIRONMENT "SOFTCUT_CACHE_DIR=${CMAKE_BINARY_DIR}/test-cache")
