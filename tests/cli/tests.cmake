@@ -4,7 +4,13 @@
 if(TARGET test_cli)
   add_dependencies(test_cli softcut)
 endif()
-add_test(NAME "cli: softcut check scenarios" COMMAND softcut check ${PROJECT_SOURCE_DIR}/scenarios)
+# One test per shipped scenario, through the helper projects using softcut call.
+include(${PROJECT_SOURCE_DIR}/scripts/SoftcutScenarioTests.cmake)
+softcut_add_scenario_tests(${PROJECT_SOURCE_DIR}/scenarios PREFIX "scenario: " TIMEOUT 900)
+add_test(NAME "cli: softcut_add_scenario_tests() in a project that uses softcut"
+         COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/cli/scenario_tests_helper.sh $<TARGET_FILE:softcut> ${PROJECT_SOURCE_DIR})
+set_tests_properties("cli: softcut_add_scenario_tests() in a project that uses softcut" PROPERTIES
+                     ENVIRONMENT "SOFTCUT_CACHE_DIR=${CMAKE_BINARY_DIR}/test-cache")
 # The operational CG in compute shaders (llvmpipe here) must reproduce the
 # reference log recorded with the CPU solver, through cuts (issue: GPU CG).
 add_test(NAME "cli: softcut check --backend gpu through_cut"
