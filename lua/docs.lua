@@ -44,10 +44,11 @@ and the engine (loading meshes, evaluating selections); once it runs out, or Ctr
 heap, the meshes the script holds and what its numbers make the engine allocate; meshes have at most
 2,000,000 tetrahedra (`--max-tets N` changes it). What the script writes counts towards the run's
 `--max-output`.
-`require "name"` loads the embedded library first (`softcut`, ...), then `name.lua` below the scenario's
+`require "name"` loads the embedded library first (`softcut`, `scenario`, `check`, `api`, `docs`: a module of yours
+needs another name), then `name.lua` below the scenario's
 folder (dots are folders: `require "lib.organs"` loads `lib/organs.lua`): text only, through the same
-checked open (no link, no `..`), run once with `(name, file)` inside the same budgets and cached; a
-module that requires itself is an error. Under `softcut check DIR` such modules are skipped (`SKIP`).
+checked open (no link, no `..`), its reading and parsing charged like `load`'s, run once with `(name, file)`
+inside the same budgets and cached; a module that requires itself is an error. Under `softcut check DIR` such modules are skipped (`SKIP`).
 `--trust` lifts all of it (`require` then also searches `package.path`, the scenario's folder first).
 ]]
 

@@ -304,8 +304,8 @@ const char kLoadingMark = 0;  // its address marks a module whose chunk is runni
 // has ended before any Lua call or error.
 int user_require(lua_State* L, const char* name) {
   // Kept in thread-local strings, which no longjmp skips the destructor of.
-  static thread_local std::string failure, file;
-  failure.clear();
+  static thread_local std::string failure, file, text;
+  failure.clear(), text.clear();
   {
     const SandboxOptions& opt = options_of(L);
     std::string rel = name, names;
@@ -327,12 +327,8 @@ int user_require(lua_State* L, const char* name) {
           failure = cat("require: no module '", name, "': not in the embedded library (", names, ") and no ", file,
                         " below the scenario's folder");
         } else {
-          const std::string text = read_whole(fd, "module", file, kMaxModuleBytes);
-          const std::string chunk = "@" + file;
-          if (luaL_loadbufferx(L, text.data(), text.size(), chunk.c_str(), "t") != LUA_OK) {  // protected
-            failure = lua_tostring(L, -1);
-            lua_pop(L, 1);
-          }
+          text = read_whole(fd, "module", file, kMaxModuleBytes);
+          if (!text.empty() && text[0] == '#') text.insert(0, "--");  // a shebang line stays a comment, as Lua does
         }
       } catch (const std::exception& e) {
         failure = cat("require '", name, "': ", e.what());
@@ -345,6 +341,14 @@ int user_require(lua_State* L, const char* name) {
     lua_concat(L, 2);
     return lua_error(L);
   }
+  // Parsing is the script's work, as load()'s is: about an instruction a byte
+  // (a module that fails or returns false is read again by the next require).
+  charge_or_raise(L, double(text.size()), "require");
+  lua_pushliteral(L, "@");
+  lua_pushlstring(L, file.data(), file.size());
+  lua_concat(L, 2);  // the chunk name
+  if (luaL_loadbufferx(L, text.data(), text.size(), lua_tostring(L, -1), "t") != LUA_OK) return lua_error(L);
+  lua_remove(L, -2);  // the chunk name
   lua_pushlstring(L, file.data(), file.size());  // the chunk's second argument
   // Stack: ... loaded chunk file
   luaL_getsubtable(L, LUA_REGISTRYINDEX, kLoadedKey);

@@ -7,6 +7,7 @@
 // one line per run in id order, then the tally. `merge` gathers the
 // summaries into one table (sweep_merge.hpp). docs/sweeps.md.
 #include <fcntl.h>
+#include <signal.h>
 #include <sched.h>
 #include <spawn.h>
 #include <sys/wait.h>
@@ -23,6 +24,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <mutex>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <thread>
 
@@ -36,6 +38,7 @@
 #include "core/printable.hpp"
 #include "core/threads.hpp"
 #include "scenario_runner.hpp"
+#include "sim/outputs.hpp"
 
 extern char** environ;
 
@@ -69,8 +72,9 @@ const char* kSweepUsage =
     "  merge DIR     gather every run's summary.json into DIR/sweep.csv and DIR/sweep.json (or\n"
     "                --csv FILE, --json FILE); fails naming the runs that have no summary\n"
     "Prints one line per run (PASS/FAIL, id, parameters) and closes with 'N passed, N failed'.\n"
-    "Exit status: 0 all passed, 1 a run failed (or, for merge, a run failed or is missing),\n"
-    "2 usage error, 130 interrupted.\n";
+    "Exit status: 0 all passed; 1 a run failed, or the sweep could not start (a bad table, a\n"
+    "parameter the scenario does not declare, a folder holding another sweep), or for merge a run\n"
+    "failed or is missing; 2 usage error (bad option or grid); 130 interrupted.\n";
 
 // CPUs this process may run on (Slurm and containers restrict the affinity).
 int usable_cores() {
@@ -85,26 +89,40 @@ std::string params_text(const SweepRun& r) {
   return printable(s, 200);
 }
 
-// Runs `argv` with stdout and stderr into `log` (made new, never through a
-// link) and stdin from /dev/null; returns the wait status.
+// Runs `argv` with stdout and stderr into `log` (made new: an earlier one,
+// a link or a hard link is unlinked first, never written through) and stdin
+// from /dev/null, in its own process group, so a Ctrl-C reaches the sweep
+// alone, which passes a stop on once (SignalGuard) to each run. Returns the
+// wait status.
 int spawn_and_wait(const std::vector<std::string>& argv, const fs::path& log, const std::vector<std::string>& env) {
+  ::unlink(log.c_str());
   posix_spawn_file_actions_t fa;
   posix_spawn_file_actions_init(&fa);
   posix_spawn_file_actions_addopen(&fa, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
-  posix_spawn_file_actions_addopen(&fa, STDOUT_FILENO, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_NOFOLLOW, 0644);
+  posix_spawn_file_actions_addopen(&fa, STDOUT_FILENO, log.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW, 0644);
   posix_spawn_file_actions_adddup2(&fa, STDOUT_FILENO, STDERR_FILENO);
+  posix_spawnattr_t attr;
+  posix_spawnattr_init(&attr);
+  posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETPGROUP);
+  posix_spawnattr_setpgroup(&attr, 0);
   std::vector<char*> cargv, cenv;
   for (const auto& a : argv) cargv.push_back(const_cast<char*>(a.c_str()));
   for (const auto& e : env) cenv.push_back(const_cast<char*>(e.c_str()));
   cargv.push_back(nullptr), cenv.push_back(nullptr);
   pid_t pid = -1;
-  const int err = posix_spawn(&pid, "/proc/self/exe", &fa, nullptr, cargv.data(), cenv.data());
+  const int err = posix_spawn(&pid, "/proc/self/exe", &fa, &attr, cargv.data(), cenv.data());
   posix_spawn_file_actions_destroy(&fa);
+  posix_spawnattr_destroy(&attr);
   if (err != 0) fail("softcut sweep: cannot start `softcut run` (", std::strerror(err), ")");
   int status = 0;
-  while (::waitpid(pid, &status, 0) < 0)
-    if (errno != EINTR) fail("softcut sweep: waiting for a run failed (", std::strerror(errno), ")");
-  return status;
+  bool stopped = false;
+  for (;;) {
+    const pid_t w = ::waitpid(pid, &status, WNOHANG);
+    if (w == pid) return status;
+    if (w < 0 && errno != EINTR) fail("softcut sweep: waiting for a run failed (", std::strerror(errno), ")");
+    if (!stopped && SignalGuard::flag().load()) stopped = ::kill(pid, SIGINT) == 0;  // finish the frame, write, exit
+    ::usleep(20000);
+  }
 }
 
 // Why a run failed, from its exit status and log: the error or failed
@@ -118,7 +136,22 @@ std::string failure_of(int status, const fs::path& log) {
   }
   if (!expect.empty()) return expect;
   if (WIFSIGNALED(status)) return cat("killed by signal ", WTERMSIG(status), " (see ", log.string(), ")");
+  if (WEXITSTATUS(status) == 130) return "interrupted (stopped after its frame, outputs written)";
   return cat("exit status ", WEXITSTATUS(status), " (see ", log.string(), ")");
+}
+
+// A run that ended before its outputs started (a script error in the main
+// chunk, a value the scenario refuses, a crash) wrote no summary: the sweep
+// writes one saying so, so the merge tabulates it as failed instead of missing.
+void write_failure_summary(const fs::path& dir, const std::vector<std::string>& argv, const std::string& reason) {
+  nlohmann::ordered_json j;
+  j["schema"] = "softcut-summary/1";
+  j["written_by"] = "softcut sweep: the run wrote no summary (see run.log)";
+  j["command_line"] = argv;
+  j["run"] = {{"frames", 0}, {"last_frame", -1}, {"last_time_s", nullptr}, {"exit_reason", "error"},
+              {"message", reason}};
+  j["expectations"] = nlohmann::json::array();
+  write_file_atomic(dir / "summary.json", j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
 }
 
 int cmd_merge(const Args& args) {
@@ -172,6 +205,7 @@ int cmd_sweep(const Args& args) {
   std::optional<int> shards;
   int jobs = usable_cores();
   bool dry_run = false;
+  int max_tets = -1;  // --max-tets, also for the check before the runs
   for (size_t i = 0; i < args.size(); ++i) {
     const std::string& a = args[i];
     auto value = [&](const char* what) -> const std::string& {
@@ -196,7 +230,8 @@ int cmd_sweep(const Args& args) {
     } else if (a == "--dry-run") dry_run = true;
     else if (a == "--frames" || a == "--render-every" || a == "--msaa" || a == "--max-tets") {
       const std::string& v = value("a number");
-      parse_count(v, a.c_str());
+      const int n = parse_count(v, opt.c_str());
+      if (opt == "--max-tets") max_tets = n;
       pass_on(v);
     } else if (a == "--backend") {
       const std::string& v = value("a backend");
@@ -241,6 +276,7 @@ int cmd_sweep(const Args& args) {
     req.scenario = files[0];
     req.overrides = fixed;
     req.trusted = std::find(run_options.begin(), run_options.end(), "--trust") != run_options.end();
+    if (max_tets >= 0) req.max_tets = max_tets;
     for (const auto& [k, v] : plan.runs.front().params) req.overrides[k] = v;
     lua::load_scenario_spec(req);
   }
@@ -311,10 +347,14 @@ int cmd_sweep(const Args& args) {
           std::vector<std::string> argv = {"softcut", "run", plan.scenario, "--out", dir.string(), "--quiet"};
           for (const auto& [key, v] : r.params) argv.insert(argv.end(), {"--set", key + "=" + v});
           argv.insert(argv.end(), run_options.begin(), run_options.end());
+          // An earlier run's summary must not stand for this one (a run that
+          // fails before its outputs start would leave it in place).
+          sim::clear_earlier_outputs(dir);
           const int status = spawn_and_wait(argv, dir / "run.log", env);
           o.ran = true;
           o.pass = WIFEXITED(status) && WEXITSTATUS(status) == 0;
           if (!o.pass) o.reason = failure_of(status, dir / "run.log");
+          if (!fs::exists(dir / "summary.json")) write_failure_summary(dir, argv, o.reason);
         } catch (const std::exception& e) {
           o.reason = e.what();
         }

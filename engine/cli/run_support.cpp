@@ -1,5 +1,7 @@
 #include "cli/run_support.hpp"
 
+#include <time.h>
+
 #include <csignal>
 #include <cstdio>
 
@@ -117,13 +119,21 @@ void Progress::done() {
 
 namespace {
 struct sigaction g_old_int, g_old_term;
+std::atomic<long long> g_first_signal_ns{0};
 // First signal: finish the frame and stop cleanly. Second: the default action
-// (e.g. a script stuck in Lua under --trust).
+// (e.g. a script stuck in Lua under --trust), unless it comes within a second
+// of the first: the same stop delivered twice (a scheduler signals every
+// process of a job, and `softcut sweep` passes the stop on to its runs too).
 extern "C" void on_signal(int sig) {
+  timespec ts{};
+  clock_gettime(CLOCK_MONOTONIC, &ts);  // async-signal-safe
+  const long long now = ts.tv_sec * 1000000000LL + ts.tv_nsec;
   if (SignalGuard::flag().exchange(true)) {
+    if (now - g_first_signal_ns.load() < 1000000000LL) return;
     std::signal(sig, SIG_DFL);
     std::raise(sig);
   }
+  g_first_signal_ns.store(now);
 }
 }  // namespace
 

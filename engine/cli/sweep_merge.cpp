@@ -85,9 +85,13 @@ SweepMerge merge_sweep(const fs::path& dir) {
       const std::string n = e.at("name").get<std::string>();
       if (std::find(expect_names.begin(), expect_names.end(), n) == expect_names.end()) expect_names.push_back(n);
     }
+  // A key named like a fixed column ("frames") gets the column "param.frames".
+  const std::vector<std::string> fixed = {"id", "pass", "exit_reason", "frames", "last_time_s", "cut_events",
+                                          "detached_pieces"};
   std::vector<std::string> header = {"id"};
-  header.insert(header.end(), plan.keys.begin(), plan.keys.end());
-  for (const char* c : {"pass", "exit_reason", "frames", "last_time_s", "cut_events", "detached_pieces"}) header.push_back(c);
+  for (const auto& k : plan.keys)
+    header.push_back(std::find(fixed.begin(), fixed.end(), k) == fixed.end() ? k : "param." + k);
+  header.insert(header.end(), fixed.begin() + 1, fixed.end());
   for (const auto& n : expect_names) header.push_back("expect." + n);
   auto line = [](const std::vector<std::string>& cells) {
     std::string l;

@@ -108,7 +108,10 @@ std::vector<SweepRun> expand_grid(const std::vector<std::string>& grids, std::ve
 std::vector<SweepRun> read_table(const fs::path& csv, std::vector<std::string>& keys) {
   const std::string file = csv.string();
   const std::string text = read_regular_file(csv, "the sweep table", std::size_t(64) << 20);
-  size_t pos = 0;
+  if (text.find('\0') != std::string::npos)
+    fail(file, ":", 1 + std::count(text.begin(), text.begin() + std::ptrdiff_t(text.find('\0')), '\n'),
+         ": a NUL byte (not a text table; a program's argument cannot hold one)");
+  size_t pos = text.rfind("\xEF\xBB\xBF", 0) == 0 ? 3 : 0;  // a UTF-8 byte order mark (spreadsheet exports)
   int line = 1;
   std::vector<SweepRun> runs;
   bool header = true;
@@ -222,8 +225,15 @@ Shard choose_shard(const std::optional<std::string>& shard_arg, std::optional<in
     s.index = task - lo;
     if (shards && *shards != s.count)
       usage_fail("softcut sweep: --shards ", *shards, " but the Slurm array has ", s.count, " tasks");
-    // Task ids must be min, min + 1, ...: an array with a step or a list
-    // (--array=0-7:2) gives an index out of range below, and says so.
+    // Task ids must be min, min + 1, ..., max: a step or a list (--array=0-14:2,
+    // --array=1,5,9) would leave shards no task runs.
+    const char* max = getenv("SLURM_ARRAY_TASK_MAX");
+    const char* step = getenv("SLURM_ARRAY_TASK_STEP");
+    if ((step && number(step, "SLURM_ARRAY_TASK_STEP") != 1) ||
+        (max && number(max, "SLURM_ARRAY_TASK_MAX") - lo + 1 != number(count, "SLURM_ARRAY_TASK_COUNT")))
+      usage_fail("softcut sweep: the Slurm array's task ids are not consecutive (SLURM_ARRAY_TASK_MIN=", lo,
+                 ", MAX=", max ? max : "?", ", STEP=", step ? step : "?", ", COUNT=", count,
+                 "): some shards would never run; submit with --array=0-N (no step, no list)");
     s.source = cat("SLURM_ARRAY_TASK_ID=", task, " (min ", lo, ", count ", s.count, ")");
   } else if (const char* k8s = getenv("JOB_COMPLETION_INDEX")) {
     if (!shards)

@@ -28,6 +28,12 @@ fs::path write_scenario(const fs::path& dir) {
   return dir / "bar.lua";
 }
 
+// A file the sweep must not truncate, hard-linked as run_0001's run.log.
+void put_hard_link(const fs::path& dir) {
+  std::ofstream(dir / "precious.txt") << "keep";
+  fs::create_hard_link(dir / "precious.txt", dir / "s" / "run_0001" / "run.log");
+}
+
 const char* kGrid = "--grid f=0.001,0.01,0.1,1 --grid young=5e3,1e4";  // 8 runs; f = 1 N at 5 kPa sags 1.6 m (linear), past 1 m
 
 }  // namespace
@@ -96,6 +102,43 @@ TEST_SUITE("cli/cmd_sweep") {
     const auto help = run_cli("sweep --help", dir);
     CHECK(help.status == 0);
     CHECK(contains(help.output, "SLURM_ARRAY_TASK_ID"));
+  }
+
+  TEST_CASE("a run that fails before its outputs start is a failed row, never an earlier run's pass") {
+    const fs::path dir = softcut::test::scratch_dir("sweep_stale");
+    const fs::path scen = write_scenario(dir);
+    const std::string sweep = "sweep " + scen.string() + " --grid f=0.01,0.02 --out s";
+    REQUIRE(run_cli(sweep, dir).status == 0);
+    REQUIRE(run_cli("sweep merge s", dir).status == 0);
+    // The scenario now refuses f = 0.02 in its main chunk: no outputs, no summary of its own.
+    const std::string text = slurp(scen);
+    std::ofstream(scen) << text.substr(0, text.find("local s ="))
+                        << "if P.f == 0.02 then error('f = 0.02 is refused') end\n" << text.substr(text.find("local s ="));
+    fs::remove(dir / "s" / "run_0001" / "run.log");
+    put_hard_link(dir);
+    const auto again = run_cli(sweep, dir);
+    CHECK(again.status == 1);
+    CHECK(contains(again.output, "FAIL  run_0001  f=0.02: " + scen.string() + ":2: f = 0.02 is refused"));
+    CHECK(slurp(dir / "precious.txt") == "keep");  // run.log was a hard link to it: unlinked, not truncated
+    const auto merged = run_cli("sweep merge s", dir);
+    CHECK(merged.status == 1);
+    CHECK(contains(merged.output, "merged 2 runs: 1 passed, 1 failed"));
+    CHECK(contains(slurp(dir / "s" / "sweep.csv"), "\nrun_0001,0.02,false,error,0,,"));
+  }
+
+  TEST_CASE("tables: a byte order mark is skipped, a NUL refused, keys named like columns get param. columns") {
+    const fs::path dir = softcut::test::scratch_dir("sweep_bom");
+    const fs::path scen = dir / "cols.lua";
+    const std::string bar = slurp(write_scenario(dir));
+    std::ofstream(scen) << "local P = softcut.params{ frames = 1, f = 0.01, young = 5e3 }" << bar.substr(bar.find('\n'));
+    std::ofstream(dir / "p.csv") << "\xEF\xBB\xBF" << "frames,f\n1,0.01\n";
+    CHECK(run_cli("sweep " + scen.string() + " --table p.csv --out t", dir).status == 0);
+    CHECK(run_cli("sweep merge t", dir).status == 0);
+    CHECK(slurp(dir / "t" / "sweep.csv").rfind("id,param.frames,f,pass,exit_reason,frames,", 0) == 0);
+    std::ofstream(dir / "nul.csv") << "f\n0.01\n0.0" << '\0' << "2\n";
+    const auto nul = run_cli("sweep " + scen.string() + " --table nul.csv --out n", dir);
+    CHECK(nul.status == 1);
+    CHECK(contains(nul.output, "nul.csv:3: a NUL byte"));
   }
 
   TEST_CASE("--table runs one row each, --dry-run lists this shard's runs and runs nothing") {

@@ -133,7 +133,7 @@ TEST_SUITE("cli/sweep_plan") {
     CHECK(choose_shard(std::string("0/2"), std::nullopt, env({{"SLURM_ARRAY_TASK_ID", "1"}})).index == 0);
     const Shard k8s = choose_shard(std::nullopt, 4, env({{"JOB_COMPLETION_INDEX", "3"}}));
     CHECK((k8s.index == 3 && k8s.count == 4));
-    for (const auto& [arg, shards, vars] :
+    for (const auto& c :
          std::vector<std::tuple<std::optional<std::string>, std::optional<int>, std::map<std::string, std::string>>>{
              {std::string("3/3"), std::nullopt, {}},
              {std::string("1"), std::nullopt, {}},
@@ -145,9 +145,16 @@ TEST_SUITE("cli/sweep_plan") {
              {std::nullopt, std::nullopt, {{"JOB_COMPLETION_INDEX", "0"}}},
              {std::nullopt, std::nullopt, {{"SLURM_ARRAY_TASK_ID", "0"}}},
              {std::nullopt, std::nullopt, {{"SLURM_ARRAY_TASK_ID", "6"}, {"SLURM_ARRAY_TASK_COUNT", "4"}}},  // --array=0-6:2
+             {std::nullopt, std::nullopt,  // --array=0-14:2, task 4: in range, but shards 1, 3, 5, 7 would never run
+              {{"SLURM_ARRAY_TASK_ID", "4"}, {"SLURM_ARRAY_TASK_MIN", "0"}, {"SLURM_ARRAY_TASK_MAX", "14"},
+               {"SLURM_ARRAY_TASK_STEP", "2"}, {"SLURM_ARRAY_TASK_COUNT", "8"}}},
+             {std::nullopt, std::nullopt,  // --array=1,5,9, task 1
+              {{"SLURM_ARRAY_TASK_ID", "1"}, {"SLURM_ARRAY_TASK_MIN", "1"}, {"SLURM_ARRAY_TASK_MAX", "9"},
+               {"SLURM_ARRAY_TASK_COUNT", "3"}}},
          }) {
+      const std::optional<std::string>& arg = std::get<0>(c);  // (clang 14 captures no structured binding)
       CAPTURE(arg.value_or("-"));
-      CHECK_THROWS_AS(choose_shard(arg, shards, env(vars)), softcut::UsageError);
+      CHECK_THROWS_AS(choose_shard(arg, std::get<1>(c), env(std::get<2>(c))), softcut::UsageError);
     }
     for (int n = 1; n <= 5; ++n) {
       std::multiset<std::size_t> seen;

@@ -135,6 +135,10 @@ TEST_SUITE("lua/runtime") {
     softcut::lua::SandboxOptions tight = opt;
     tight.instruction_budget = 2'000'000;
     CHECK(contains(lua_error("pcall(require, 'spin')\nlocal x = 1", tight), "instruction budget of 2000000"));
+    // Reading and parsing count too: a big module that returns false is read again by every require.
+    put(dir / "scn" / "big.lua", "#!/usr/bin/env lua\n" + std::string(100000, '-') + "\nreturn false\n");
+    CHECK(lua_error("assert(require('big') == false)", tight) == "");  // a shebang line is a comment
+    CHECK(contains(lua_error("for i = 1, 1000 do require('big') end", tight), "instruction budget of 2000000"));
     // Trusted runs find the same file first, through package.path.
     softcut::lua::SandboxOptions trusted = opt;
     trusted.trusted = true;
