@@ -296,13 +296,25 @@ bool is_module_name(std::string_view name) {
 constexpr std::size_t kMaxModuleBytes = 8u << 20;
 const char kLoadingMark = 0;  // its address marks a module whose chunk is running (a cycle)
 
+// The module's value on top of the stack: nil becomes true (as in Lua's
+// require), kept in the cache table at `loaded` under `name`, and returned.
+int keep_loaded(lua_State* L, int loaded, const char* name) {
+  if (lua_isnil(L, -1)) {
+    lua_pop(L, 1);
+    lua_pushboolean(L, 1);
+  }
+  lua_pushvalue(L, -1);
+  lua_setfield(L, loaded, name);
+  return 1;
+}
+
 // The rest of require(name) after the embedded library: `name.lua` (dots are
 // folders) read below the scenario's folder through the checked open (no
 // link, no "..": is_module_name), loaded as text, run once with (name, file)
 // like Lua's own require and cached; budgets apply as to the script itself.
 // Lua raises errors with longjmp, so every C++ object lives in a scope that
 // has ended before any Lua call or error.
-int user_require(lua_State* L, const char* name) {
+int user_require(lua_State* L, const char* name, int loaded) {
   // Kept in thread-local strings, which no longjmp skips the destructor of.
   static thread_local std::string failure, file, text;
   failure.clear(), text.clear();
@@ -350,25 +362,17 @@ int user_require(lua_State* L, const char* name) {
   if (luaL_loadbufferx(L, text.data(), text.size(), lua_tostring(L, -1), "t") != LUA_OK) return lua_error(L);
   lua_remove(L, -2);  // the chunk name
   lua_pushlstring(L, file.data(), file.size());  // the chunk's second argument
-  // Stack: ... loaded chunk file
-  luaL_getsubtable(L, LUA_REGISTRYINDEX, kLoadedKey);
+  // Stack: ... chunk file
   lua_pushlightuserdata(L, const_cast<char*>(&kLoadingMark));
-  lua_setfield(L, -2, name);
-  lua_pushvalue(L, -3);     // chunk
+  lua_setfield(L, loaded, name);
   lua_pushstring(L, name);  // (name, file), as Lua's require passes them
-  lua_pushvalue(L, -4);
+  lua_insert(L, -2);
   if (lua_pcall(L, 2, 1, 0) != LUA_OK) {
     lua_pushnil(L);  // not loaded: a later require tries again
-    lua_setfield(L, -3, name);
+    lua_setfield(L, loaded, name);
     return lua_error(L);  // the module's own error, unchanged
   }
-  if (lua_isnil(L, -1)) {
-    lua_pop(L, 1);
-    lua_pushboolean(L, 1);
-  }
-  lua_pushvalue(L, -1);
-  lua_setfield(L, -3, name);
-  return 1;
+  return keep_loaded(L, loaded, name);
 }
 
 // require(name) for the embedded library: chunk "=softcut/<name>.lua",
@@ -378,7 +382,8 @@ int embedded_require(lua_State* L) {
   // Own cache, not package.loaded: that one holds the full os / io libraries
   // (luaL_requiref registers them there), which the sandbox must not hand out.
   luaL_getsubtable(L, LUA_REGISTRYINDEX, kLoadedKey);
-  lua_getfield(L, -1, name);
+  const int loaded = lua_gettop(L);
+  lua_getfield(L, loaded, name);
   if (lua_touserdata(L, -1) == &kLoadingMark) {
     luaL_where(L, 1);
     lua_pushfstring(L, "require: module '%s' requires itself, directly or through other modules (a cycle)", name);
@@ -398,15 +403,9 @@ int embedded_require(lua_State* L) {
     lua_pushstring(L, name);
     lua_getfield(L, LUA_REGISTRYINDEX, kInternalKey);
     lua_call(L, 2, 1);
-    if (lua_isnil(L, -1)) {
-      lua_pop(L, 1);
-      lua_pushboolean(L, 1);
-    }
-    lua_pushvalue(L, -1);
-    lua_setfield(L, -3, name);
-    return 1;
+    return keep_loaded(L, loaded, name);
   }
-  return user_require(L, name);
+  return user_require(L, name, loaded);
 }
 
 int where_binding(lua_State* L) {

@@ -7,7 +7,6 @@
 
 #include <algorithm>
 #include <atomic>
-#include <cctype>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -174,11 +173,8 @@ int cmd_check(const Args& args) {
     else if (a == "--backend") base.backend = parse_backend(value("a value"));
     else if (a == "--max-tets") base.max_tets = parse_count(value("a number"), "--max-tets");
     else if (a == "--out") out_root = value("a folder");
-    else if (a == "-j" || a == "--jobs" ||
-             (a.size() > 2 && a.rfind("-j", 0) == 0 && std::isdigit(static_cast<unsigned char>(a[2])))) {
-      jobs = parse_count(a.size() > 2 && a[1] == 'j' ? a.substr(2) : value("a number"), "-j");
-      if (jobs < 1) usage_fail("softcut check: -j needs at least 1");
-    } else if (a == "--only") only.push_back(value("a name or glob"));
+    else if (parse_jobs(args, i, "softcut check", &jobs)) continue;
+    else if (a == "--only") only.push_back(value("a name or glob"));
     else if (a == "--exclude") exclude.push_back(value("a name or glob"));
     else if (a == "--timeout") base.timeout_s = parse_seconds(value("seconds"), "--timeout");
     else if (a == "--set") add_override(base.overrides, value("key=value"));

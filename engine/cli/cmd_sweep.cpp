@@ -15,7 +15,6 @@
 
 #include <algorithm>
 #include <atomic>
-#include <cctype>
 #include <cerrno>
 #include <cstring>
 #include <map>
@@ -220,10 +219,8 @@ int cmd_sweep(const Args& args) {
     else if (a == "--out") out = value("a folder");
     else if (a == "--shard") shard_arg = value("I/N");
     else if (a == "--shards") shards = std::max(1, parse_count(value("a number"), "--shards"));
-    else if (a == "-j" || a == "--jobs" || (a.size() > 2 && a.rfind("-j", 0) == 0 && std::isdigit(static_cast<unsigned char>(a[2])))) {
-      jobs = parse_count(a.size() > 2 && a[1] == 'j' ? a.substr(2) : value("a number"), "-j");
-      if (jobs < 1) usage_fail("softcut sweep: -j needs at least 1");
-    } else if (a == "--set") {
+    else if (parse_jobs(args, i, "softcut sweep", &jobs)) continue;
+    else if (a == "--set") {
       const std::string& kv = value("key=value");
       add_override(fixed, kv);
       pass_on(kv);

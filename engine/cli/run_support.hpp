@@ -6,6 +6,7 @@
 #include <map>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "sim/scenario_spec.hpp"
 
@@ -18,6 +19,10 @@ void add_override(std::map<std::string, std::string>& overrides, const std::stri
 sim::Backend parse_backend(const std::string& text);
 // A non-negative integer option value; throws naming the option.
 int parse_count(const std::string& text, const char* option);
+// "-j N", "--jobs N" or "-jN" at args[i] (check and sweep): returns true with
+// *jobs set (at least 1) and i moved past a separate value; false for any
+// other argument. Throws naming `command` ("softcut check").
+bool parse_jobs(const std::vector<std::string>& args, std::size_t& i, const char* command, int* jobs);
 // Seconds (>= 0; 0: no limit); throws naming the option.
 double parse_seconds(const std::string& text, const char* option);
 // Bytes with an optional K/M/G suffix (0: no limit); throws naming the option.
