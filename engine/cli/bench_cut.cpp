@@ -50,7 +50,10 @@ struct SizeResult {
   double before_ms = 0;  // first frame on the uncut system, from zero
   Stat cut_ms, rebuild_ms, warm_it, warm_ms, cold_it, cold_ms;
   Stat selective_ms, operational_ms, nonoperational_ms;  // warm frame stages
-  Stat default_ms;  // the frame with the default backend (CHOLMOD, refactored after the cut)
+  Stat default_ms;   // the frame with the default backend (CHOLMOD: kept factor + low-rank correction)
+  Stat refactor_ms;  // the same backend refactoring after every cut (what it did before)
+  Stat correction_rank;  // DOFs changed since the default backend's kept factor
+  long default_factors = 0, default_background = 0;  // factors the default backend made; of those, on the second thread
   double mono_assemble_ms = 0, mono_factor_ms = 0, mono_solve_ms = 0;
   double rel_err = 0;  // hybrid (warm CG and default backend, after the last cut) vs monolithic
 };
@@ -111,9 +114,14 @@ SizeResult run_size(int cells, int target, int steps) {
 
   hybrid::State warm = hybrid::make_state(model), cold = hybrid::make_state(model);
   // The default backend (`auto`): CHOLMOD on the operational system, its
-  // factor redone when a cut changes the system.
-  hybrid::State direct = hybrid::make_state(model, std::make_unique<hybrid::CholmodSolver>());
+  // factor kept through cuts by a low-rank correction; and the same backend
+  // refactoring after every cut, for comparison.
+  auto direct_solver = std::make_unique<hybrid::CholmodSolver>();
+  const hybrid::CholmodSolver& direct_cholmod = *direct_solver;
+  hybrid::State direct = hybrid::make_state(model, std::move(direct_solver));
+  hybrid::State refactor = hybrid::make_state(model, std::make_unique<hybrid::CholmodSolver>(true, false));
   hybrid::update(model, direct, loads);
+  hybrid::update(model, refactor, loads);
   {
     const hybrid::FrameReport& f = hybrid::update(model, warm, loads);
     r.before_it = f.solve.iterations, r.before_ms = f.total_ms;
@@ -192,15 +200,22 @@ SizeResult run_size(int cells, int target, int steps) {
     const hybrid::FrameReport& c = hybrid::update(model, cold, loads);
     r.cold_it.add(c.solve.iterations), r.cold_ms.add(c.total_ms);
 
-    hybrid::set_operational_system(direct, sys);
-    direct.u.setZero();
-    if (direct.forces.rows() < nn) {
-      const Eigen::Index had = direct.forces.rows();
-      direct.forces.conservativeResize(nn, 3);
-      direct.forces.bottomRows(nn - had).setZero();
+    for (hybrid::State* st : {&direct, &refactor}) {
+      hybrid::set_operational_system(*st, sys);
+      st->u.setZero();
+      if (st->forces.rows() < nn) {
+        const Eigen::Index had = st->forces.rows();
+        st->forces.conservativeResize(nn, 3);
+        st->forces.bottomRows(nn - had).setZero();
+      }
     }
-    r.default_ms.add(hybrid::update(model, direct, loads).total_ms);
+    const hybrid::FrameReport& d = hybrid::update(model, direct, loads);
+    r.default_ms.add(d.total_ms);
+    r.correction_rank.add(d.solve.correction_rank);
+    r.refactor_ms.add(hybrid::update(model, refactor, loads).total_ms);
   }
+  r.default_factors = direct_cholmod.refactors();
+  r.default_background = direct_cholmod.adopted();
   if (r.warm_it.n == 0) fail("bench cut: the blade changed no tet of the ", target, "-tet region");
   r.tets_after = m.num_tets(), r.nodes_after = m.num_nodes();
   r.op_tets_after = int(std::count(op_tet.begin(), op_tet.end(), 1));
@@ -233,7 +248,8 @@ SizeResult run_size(int cells, int target, int steps) {
   double err = 0;
   for (int v = 0; v < m.num_nodes(); ++v)
     if (v >= model.num_nodes || part.node_set[size_t(v)] != hybrid::NodeSet::interior)
-      err = std::max({err, (warm.u.row(v) - u_mono.row(v)).norm(), (direct.u.row(v) - u_mono.row(v)).norm()});
+      err = std::max({err, (warm.u.row(v) - u_mono.row(v)).norm(), (direct.u.row(v) - u_mono.row(v)).norm(),
+                      (refactor.u.row(v) - u_mono.row(v)).norm()});
   r.rel_err = err / std::max(1e-300, u_mono.rowwise().norm().maxCoeff());
   if (!(r.rel_err <= 1e-8))
     fail("bench cut: the hybrid frame after the last cut differs from the monolithic solve by ", r.rel_err,
@@ -255,7 +271,10 @@ std::string json_of(const SizeResult& r) {
              ", \"selective_ms\": ", st(r.selective_ms), ", \"operational_ms\": ", st(r.operational_ms),
              ", \"nonoperational_ms\": ", st(r.nonoperational_ms), "}",
              ", \"cold\": {\"cg_iterations\": ", st(r.cold_it), ", \"frame_ms\": ", st(r.cold_ms), "}",
-             ", \"default_backend\": {\"backend\": \"direct\", \"frame_ms\": ", st(r.default_ms), "}",
+             ", \"default_backend\": {\"backend\": \"direct\", \"frame_ms\": ", st(r.default_ms),
+             ", \"correction_rank\": ", st(r.correction_rank), ", \"factors\": ", r.default_factors,
+             ", \"factors_on_second_thread\": ", r.default_background, "}",
+             ", \"refactor_each_cut\": {\"frame_ms\": ", st(r.refactor_ms), "}",
              ", \"monolithic\": {\"assemble_ms\": ", r.mono_assemble_ms, ", \"factor_ms\": ", r.mono_factor_ms,
              ", \"solve_ms\": ", r.mono_solve_ms, "}, \"relative_error\": ", r.rel_err, "}");
 }
@@ -289,24 +308,29 @@ int bench_cut(const Args& args) {
               "Collision detection is not part of this benchmark. warm: CG from the mapped field; cold: the\n"
               "same frame from zero. Monolithic: the cut mesh assembled + CHOLMOD factor + solve (minimum of\n"
               "3 runs); ratio = monolithic / (rebuild + warm frame), the cut itself being common to both.\n"
-              "default: the frame with the default backend (CHOLMOD on the operational system, refactored after\n"
-              "the cut); default ratio = monolithic / (rebuild + default frame).\n\n",
+              "default: the frame with the default backend (CHOLMOD on the operational system; after a cut its\n"
+              "kept factor solves the cut system through a low-rank correction of rank k, refactored on a second\n"
+              "thread once the corrections have cost most of a factorization); default ratio = monolithic /\n"
+              "(rebuild + default frame). refactor: the same backend refactoring after every cut.\n\n",
               cells, r0.tets, r0.nodes, steps);
   std::printf("| op tets | op nodes | I nodes | storage | steps split / snap only / total | cut ms | rebuild ms | selective ms | "
               "operational ms | nonop ms | before: CG it / ms | warm: CG it | warm frame ms | cold: CG it | "
-              "cold frame ms | mono assemble + factor + solve ms | ratio | default frame ms | default ratio | rel. err |\n"
-              "|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+              "cold frame ms | mono assemble + factor + solve ms | ratio | default frame ms | k mean / max | factors (2nd thread) | default ratio | refactor frame ms | refactor ratio | rel. err |\n"
+              "|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   for (const SizeResult& r : rows) {
     const double mono = r.mono_assemble_ms + r.mono_factor_ms + r.mono_solve_ms;
     std::printf("| %d | %d | %d | %s | %d / %d / %d | %.2f / %.2f | %.2f / %.2f | %.2f | %.2f | %.2f | %d / %.1f | "
-                "%.1f / %.0f | %.1f / %.1f | %.1f / %.0f | %.1f / %.1f | %.0f + %.0f + %.1f | %.2f | %.2f / %.2f | %.2f | %.1e |\n",
+                "%.1f / %.0f | %.1f / %.1f | %.1f / %.0f | %.1f / %.1f | %.0f + %.0f + %.1f | %.2f | %.2f / %.2f | %.0f / %.0f | "
+                "%ld (%ld) | %.2f | %.2f / %.2f | %.2f | %.1e |\n",
                 r.op_tets, r.op_nodes, r.interface_nodes, r.storage.c_str(), r.steps_changed - r.steps_snap_only, r.steps_snap_only, r.steps,
                 r.cut_ms.mean(), r.cut_ms.max, r.rebuild_ms.mean(), r.rebuild_ms.max, r.selective_ms.mean(),
                 r.operational_ms.mean(), r.nonoperational_ms.mean(), r.before_it, r.before_ms, r.warm_it.mean(),
                 r.warm_it.max, r.warm_ms.mean(), r.warm_ms.max, r.cold_it.mean(), r.cold_it.max, r.cold_ms.mean(),
                 r.cold_ms.max, r.mono_assemble_ms, r.mono_factor_ms, r.mono_solve_ms,
                 mono / (r.rebuild_ms.mean() + r.warm_ms.mean()), r.default_ms.mean(), r.default_ms.max,
-                mono / (r.rebuild_ms.mean() + r.default_ms.mean()), r.rel_err);
+                r.correction_rank.mean(), r.correction_rank.max, r.default_factors, r.default_background,
+                mono / (r.rebuild_ms.mean() + r.default_ms.mean()), r.refactor_ms.mean(), r.refactor_ms.max,
+                mono / (r.rebuild_ms.mean() + r.refactor_ms.mean()), r.rel_err);
   }
   if (!json_path.empty()) {
     std::string json = cat("{\"benchmark\": \"cut\", \"quick\": ", quick ? "true" : "false", ", \"sizes\": [");

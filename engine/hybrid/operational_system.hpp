@@ -36,6 +36,8 @@
 
 namespace softcut::hybrid {
 
+class FactorCorrection;
+
 struct OperationalSystem {
   std::vector<int> nodes;       // (num_operational + num_interface) mesh node id of each unknown node
   std::vector<int> node_index;  // (nnode of the operational mesh) position in `nodes`, -1 if none
@@ -78,8 +80,9 @@ OperationalSystem build_operational_system(const mesh::TetMesh& m, const std::ve
                                            std::shared_ptr<const Eigen::MatrixXd> K_prime);
 
 struct SolveReport {
-  int iterations = 0;            // CG iterations (0 for direct solves)
+  int iterations = 0;            // CG iterations (0 for direct solves); refinement steps of a corrected solve
   double relative_residual = 0;  // ||b - A x|| / ||b||
+  int correction_rank = 0;       // CHOLMOD: DOFs changed since the kept factor (0: the factor is this system's)
 };
 
 // Pluggable solver for the operational system (CPU CG, CHOLMOD, GPU CG).
@@ -121,22 +124,47 @@ class CgSolver : public OperationalSolver {
   long generation_ = -1;
 };
 
-// CHOLMOD factor of K + K' (refactored when the system changes); systems of
-// up to kDenseMax unknowns are solved with a dense LL' factor instead (fixed
-// costs dominate CHOLMOD's solve below a few hundred unknowns). Either
-// solve's residual is checked.
+// CHOLMOD factor of K + K', kept between frames; systems of up to kDenseMax
+// unknowns are solved with a dense LL' factor instead (fixed costs dominate
+// CHOLMOD's solve below a few hundred unknowns). When a cut changes the
+// system, the kept factor solves the new one through a low-rank correction
+// (factor_correction.hpp) as long as the corrections since the factor cost
+// fewer flops than a refactor and stay small enough to keep frames cheap.
+// Once they have cost three quarters of a refactor, the current system is refactored on
+// a second thread, and that factor is taken when the budget runs out (waiting
+// for it if it is not done): the points where the factor changes depend on
+// flop counts only, so a run's results never depend on timing. Every solve's
+// residual is checked; a corrected solve above 1e-12 is refined (at most
+// twice) and else refactored.
 class CholmodSolver : public OperationalSolver {
  public:
   // allow_dense = false: always CHOLMOD's solve (tests compare the two).
-  explicit CholmodSolver(bool allow_dense = true) : allow_dense_(allow_dense) {}
+  // allow_correction = false: refactor after every change (benches compare).
+  // correction_budget: corrections against one factor may cost this many
+  // times its factorization's flops (tests raise it to correct small systems).
+  explicit CholmodSolver(bool allow_dense = true, bool allow_correction = true, double correction_budget = 1.0);
+  ~CholmodSolver() override;
   std::string name() const override { return "cholmod"; }
   SolveReport solve(const OperationalSystem& sys, const Eigen::VectorXd& b, Eigen::VectorXd& x) override;
   bool uses_dense() const { return bool(dense_); }  // for the current system
+  long refactors() const { return refactors_; }      // factors made (the first included)
+  long adopted() const { return adopted_; }          // of those, made on the second thread
 
  private:
   static constexpr int kDenseMax = 500;  // unknowns: up to here a dense LL' is used
-  bool allow_dense_ = true;
+  struct Refactor;  // a factor being made on a second thread
+  void refactor(const OperationalSystem& sys);
+  bool correct(const OperationalSystem& sys);
+  void adopt_pending();
+  bool allow_dense_ = true, allow_correction_ = true;
+  double correction_budget_ = 1.0;
   solve::Cholesky factor_;
+  OperationalSystem base_;         // the system factor_ belongs to (K' shared)
+  std::unique_ptr<FactorCorrection> correction_;  // solves a changed system with factor_
+  bool corrected_ = false;         // the current system goes through correction_
+  double correction_flops_ = 0;    // spent on corrections against factor_
+  std::unique_ptr<Refactor> pending_;
+  long refactors_ = 0, adopted_ = 0;
   std::unique_ptr<Eigen::LLT<Eigen::MatrixXd>> dense_;  // systems of up to kDenseMax unknowns
   solve::SolveWorkspace ws_;  // CHOLMOD's solve buffers, kept between frames
   Eigen::VectorXd r_;  // residual scratch

@@ -37,6 +37,7 @@ void Cholesky::factor(const Eigen::SparseMatrix<double>& A, const std::string& w
   llt_.reset();  // a failed factor() leaves the object unfactored, not holding a stale factor
   rows_ = 0;
   lnz_ = 0;
+  flops_ = 0;
   auto llt = std::make_shared<Llt>();
   llt->cholmod().print = 0;  // CHOLMOD must not print; failures become softcut::Error
   // Eigen's default (final_asis) keeps CHOLMOD's simplicial LDL' for small
@@ -58,6 +59,7 @@ void Cholesky::factor(const Eigen::SparseMatrix<double>& A, const std::string& w
     fail(what, ": the stiffness matrix is singular or not positive definite; every connected part of "
                "the body needs fixed nodes");
   lnz_ = llt->cholmod().lnz;
+  flops_ = llt->cholmod().fl;
   llt_ = std::move(llt);
   rows_ = int(A.rows());
 }
@@ -106,6 +108,48 @@ void Cholesky::solve_into(const Eigen::VectorXd& b, Eigen::VectorXd& x, SolveWor
   if (!cholmod_solve2(CHOLMOD_A, llt_->raw(), &B, nullptr, &ws.X, nullptr, &ws.Y, &ws.E, &ws.common()))
     fail("Cholesky::solve: CHOLMOD failed (status ", ws.common().status, "; out of memory?)");
   x = Eigen::Map<const Eigen::VectorXd>(static_cast<const double*>(ws.X->x), b.size());
+}
+
+namespace {
+
+cholmod_dense dense_view(const double* data, Eigen::Index rows, Eigen::Index cols) {
+  cholmod_dense d{};
+  d.nrow = size_t(rows);
+  d.ncol = size_t(cols);
+  d.nzmax = d.nrow * d.ncol;
+  d.d = d.nrow;
+  d.x = const_cast<double*>(data);  // read only (CHOLMOD's API is not const)
+  d.xtype = CHOLMOD_REAL;
+  d.dtype = CHOLMOD_DOUBLE;
+  return d;
+}
+
+}  // namespace
+
+void Cholesky::forward_into(const Eigen::MatrixXd& B, Eigen::MatrixXd& Y, SolveWorkspace& ws) const {
+  if (!llt_) fail("Cholesky::forward called before factor()");
+  if (B.rows() != rows_) fail("Cholesky::forward: right-hand sides with ", B.rows(), " rows for a ", rows_, "-row factor");
+  const int* perm = static_cast<const int*>(llt_->raw()->Perm);
+  Y.resize(B.rows(), B.cols());
+  if (B.cols() == 0) return;
+  for (Eigen::Index k = 0; k < B.rows(); ++k) Y.row(k) = B.row(perm ? perm[k] : k);
+  cholmod_dense in = dense_view(Y.data(), Y.rows(), Y.cols());
+  cholmod_dense* out = cholmod_solve(CHOLMOD_L, llt_->raw(), &in, &ws.common());
+  if (!out) fail("Cholesky::forward: CHOLMOD failed (status ", ws.common().status, "; out of memory?)");
+  Y = Eigen::Map<const Eigen::MatrixXd>(static_cast<const double*>(out->x), B.rows(), B.cols());
+  cholmod_free_dense(&out, &ws.common());
+}
+
+void Cholesky::backward_into(const Eigen::VectorXd& y, Eigen::VectorXd& x, SolveWorkspace& ws) const {
+  if (!llt_) fail("Cholesky::backward called before factor()");
+  if (y.size() != rows_) fail("Cholesky::backward: a vector of size ", y.size(), " for a ", rows_, "-row factor");
+  cholmod_dense in = dense_view(y.data(), y.size(), 1);
+  if (!cholmod_solve2(CHOLMOD_Lt, llt_->raw(), &in, nullptr, &ws.X, nullptr, &ws.Y, &ws.E, &ws.common()))
+    fail("Cholesky::backward: CHOLMOD failed (status ", ws.common().status, "; out of memory?)");
+  const double* t = static_cast<const double*>(ws.X->x);
+  const int* perm = static_cast<const int*>(llt_->raw()->Perm);
+  x.resize(y.size());
+  for (Eigen::Index k = 0; k < y.size(); ++k) x[perm ? perm[k] : k] = t[k];
 }
 
 Eigen::MatrixXd Cholesky::solve(const Eigen::SparseMatrix<double>& B) const {
@@ -170,6 +214,7 @@ void Cholesky::load(BinaryReader& r) {
   llt_.reset();
   rows_ = 0;
   lnz_ = 0;
+  flops_ = 0;
   FactorHeader h;
   r.pod(h);
   const std::string& what = r.what();

@@ -58,8 +58,20 @@ class Cholesky {
   // (the per-frame solve of small systems, where allocation is a large share).
   void solve_into(const Eigen::VectorXd& b, Eigen::VectorXd& x, SolveWorkspace& ws) const;
 
+  // The two triangular halves of a solve, for low-rank corrections
+  // (hybrid/factor_correction.hpp). CHOLMOD factors A = P' L L' P with a
+  // fill-reducing permutation P:
+  //   forward:  Y = L^-1 P B   (one column per right-hand side)
+  //   backward: x = P' L'^-1 y
+  // so A^-1 b = backward(forward(b)) and (A^-1)(i, j) = forward(e_i) . forward(e_j).
+  void forward_into(const Eigen::MatrixXd& B, Eigen::MatrixXd& Y, SolveWorkspace& ws) const;
+  void backward_into(const Eigen::VectorXd& y, Eigen::VectorXd& x, SolveWorkspace& ws) const;
+
   // Nonzeros of the factor L (CHOLMOD's count after the symbolic analysis).
   double factor_nonzeros() const { return lnz_; }
+  // Floating-point operations of the numeric factorization (CHOLMOD's count
+  // after the symbolic analysis; 0 for a loaded factor): a refactor's cost.
+  double factor_flops() const { return flops_; }
 
   // The numeric factor as bytes (the precompute cache), and back: load()
   // rebuilds CHOLMOD's factor from them, checks it with cholmod_check_factor,
@@ -76,6 +88,7 @@ class Cholesky {
   std::shared_ptr<Llt> llt_;
   int rows_ = 0;
   double lnz_ = 0;
+  double flops_ = 0;
 };
 
 }  // namespace softcut::solve

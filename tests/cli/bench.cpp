@@ -394,7 +394,14 @@ TEST_SUITE("cli/bench") {
       CHECK(positive(s["monolithic"]["factor_ms"]));
       CHECK(positive(s["precompute_ms"]));
       CHECK(s["cut_ms"]["max"].number() >= s["cut_ms"]["mean"].number());
+      CHECK(positive(s["default_backend"]["frame_ms"]["mean"]));
+      CHECK(positive(s["refactor_each_cut"]["frame_ms"]["mean"]));
+      CHECK(s["default_backend"]["factors"].number() >= 1);
+      CHECK(s["default_backend"]["factors_on_second_thread"].number() < s["default_backend"]["factors"].number());
     }
+    // The larger region's system is past the dense path: its cuts go through
+    // the kept factor's correction (the residual and the error above check it).
+    CHECK(positive(j["sizes"][1]["default_backend"]["correction_rank"]["mean"]));
     CHECK(j["sizes"][1]["operational_tets"].number() > j["sizes"][0]["operational_tets"].number());
   }
 

@@ -1,0 +1,216 @@
+#include "hybrid/factor_correction.hpp"
+
+#include <algorithm>
+
+namespace softcut::hybrid {
+
+namespace {
+
+// Node row `pos` of a system's block CSR: the node ids of its blocks, in order.
+struct BlockRow {
+  const OperationalSystem& sys;
+  int pos;
+  int begin() const { return sys.block_row_start[size_t(pos)]; }
+  int end() const { return sys.block_row_start[size_t(pos) + 1]; }
+  int node(int k) const { return sys.nodes[size_t(sys.block_col[size_t(k)])]; }
+  const Eigen::Matrix3d& block(int k) const { return sys.blocks[size_t(k)]; }
+};
+
+// Rows equal bit for bit: same neighbour nodes in the same order, same blocks.
+bool same_row(const BlockRow& a, const BlockRow& b) {
+  if (a.end() - a.begin() != b.end() - b.begin()) return false;
+  for (int i = a.begin(), j = b.begin(); i < a.end(); ++i, ++j)
+    if (a.node(i) != b.node(j) || a.block(i) != b.block(j)) return false;
+  return true;
+}
+
+int position(const OperationalSystem& sys, int node) {
+  return node >= 0 && size_t(node) < sys.node_index.size() ? sys.node_index[size_t(node)] : -1;
+}
+
+Eigen::Matrix3d diagonal_block(const OperationalSystem& sys, int pos) {
+  const BlockRow r{sys, pos};
+  for (int k = r.begin(); k < r.end(); ++k)
+    if (sys.block_col[size_t(k)] == pos) return r.block(k);
+  return Eigen::Matrix3d::Zero();
+}
+
+}  // namespace
+
+void FactorCorrection::clear() {
+  base_dofs_ = 0;
+  W_.resize(0, 0);
+  gram_.resize(0, 0);
+  col_of_dof_.clear();
+  changed_.clear();
+  ext_of_next_.clear();
+  added_ = 0;
+}
+
+bool FactorCorrection::prepare(const OperationalSystem& base, const solve::Cholesky& F, const OperationalSystem& next,
+                               int max_dofs, double max_flops, solve::SolveWorkspace& ws, double* flops) {
+  if (flops) *flops = 0;
+  const int nb = int(base.nodes.size()), nn = int(next.nodes.size());
+  if (F.rows() != base.size() || base.num_interface != next.num_interface || base.K_prime != next.K_prime ||
+      int(base.block_row_start.size()) != nb + 1 || int(next.block_row_start.size()) != nn + 1 ||
+      !std::equal(base.nodes.begin() + base.num_operational, base.nodes.end(),
+                  next.nodes.begin() + next.num_operational))
+    return false;
+  if (base_dofs_ != base.size() || int(col_of_dof_.size()) != base.size()) {
+    clear();
+    base_dofs_ = base.size();
+    col_of_dof_.assign(size_t(base_dofs_), -1);
+    W_.resize(base_dofs_, 0);
+  }
+  const int n = base_dofs_;
+
+  // Extended nodes: the base's positions, then next's appended nodes.
+  std::vector<int> ext_node(static_cast<size_t>(nn));
+  int ext_nodes = nb;
+  for (int q = 0; q < nn; ++q) {
+    const int p = position(base, next.nodes[size_t(q)]);
+    ext_node[size_t(q)] = p >= 0 ? p : ext_nodes++;
+  }
+  const int na = ext_nodes - nb;
+  // Changed base nodes: dropped ones and rows that differ (an appended
+  // node's neighbours among them).
+  std::vector<int> next_of_ext(static_cast<size_t>(ext_nodes), -1);
+  for (int q = 0; q < nn; ++q) next_of_ext[size_t(ext_node[size_t(q)])] = q;
+  std::vector<int> k_of_node(static_cast<size_t>(nb), -1), k_nodes;
+  for (int p = 0; p < nb; ++p) {
+    const int q = next_of_ext[size_t(p)];
+    if (q < 0 || !same_row(BlockRow{base, p}, BlockRow{next, q})) {
+      k_of_node[size_t(p)] = int(k_nodes.size());
+      k_nodes.push_back(p);
+    }
+  }
+  const int k = 3 * int(k_nodes.size());
+  if (k > max_dofs) return false;
+
+  // Cost of what is still missing, before computing any of it.
+  std::vector<int> missing;
+  for (int p : k_nodes)
+    for (int a = 0; a < 3; ++a)
+      if (col_of_dof_[size_t(3 * p + a)] < 0) missing.push_back(3 * p + a);
+  const double c = double(missing.size()), cols_after = double(W_.cols()) + c;
+  const double cost = c * (2 * F.factor_nonzeros() + 2.0 * n * cols_after) + 14.0 / 3 * double(k) * k * k;
+  if (cost > max_flops) return false;
+
+  // Appended nodes: N_aa (sparse, factored) and their coupling to the
+  // changed rows, N_oa (a row of N that reaches an appended node changed).
+  std::vector<Eigen::Triplet<double>> aa, ka;
+  for (int e = nb; e < ext_nodes; ++e) {
+    const BlockRow r{next, next_of_ext[size_t(e)]};
+    for (int b = r.begin(); b < r.end(); ++b) {
+      const int f = ext_node[size_t(next.block_col[size_t(b)])];
+      const int i = 3 * (e - nb);
+      for (int u = 0; u < 3; ++u)
+        for (int v = 0; v < 3; ++v) {
+          if (f >= nb) aa.emplace_back(i + u, 3 * (f - nb) + v, r.block(b)(u, v));
+          else if (k_of_node[size_t(f)] >= 0) ka.emplace_back(3 * k_of_node[size_t(f)] + v, i + u, r.block(b)(u, v));
+        }
+    }
+  }
+  SparseMatrix Naa(3 * na, 3 * na);
+  Naa.setFromTriplets(aa.begin(), aa.end());
+  coupling_.resize(k, 3 * na);
+  coupling_.setFromTriplets(ka.begin(), ka.end());
+  added_ = 3 * na;
+  if (na > 0) {
+    added_llt_.compute(Naa);
+    if (added_llt_.info() != Eigen::Success) return false;  // not SPD: a refactor says why
+    added_response_ = added_llt_.solve(Eigen::MatrixXd(coupling_.transpose()));
+  } else {
+    added_response_.resize(0, k);
+  }
+
+  // New columns of W and of its Gram matrix.
+  if (!missing.empty()) {
+    Eigen::MatrixXd E = Eigen::MatrixXd::Zero(n, Eigen::Index(missing.size()));
+    for (size_t j = 0; j < missing.size(); ++j) E(missing[j], Eigen::Index(j)) = 1;
+    Eigen::MatrixXd Wn;
+    F.forward_into(E, Wn, ws);
+    const Eigen::Index old = W_.cols(), add = Wn.cols();
+    W_.conservativeResize(Eigen::NoChange, old + add);
+    W_.rightCols(add) = Wn;
+    gram_.conservativeResize(old + add, old + add);
+    gram_.rightCols(add).noalias() = W_.transpose() * Wn;
+    gram_.bottomLeftCorner(add, old) = gram_.topRightCorner(old, add).transpose();
+    for (size_t j = 0; j < missing.size(); ++j) col_of_dof_[size_t(missing[j])] = int(old + Eigen::Index(j));
+  }
+
+  // Delta = (N_oo - M) - N_oa N_aa^-1 N_ao on the changed DOFs; a dropped
+  // node's row of N_oo is M's diagonal block.
+  delta_ = Eigen::MatrixXd::Zero(k, k);
+  for (int i = 0; i < int(k_nodes.size()); ++i) {
+    const int p = k_nodes[size_t(i)], q = next_of_ext[size_t(p)];
+    auto add_row = [&](const BlockRow& r, auto base_pos, double sign) {
+      for (int b = r.begin(); b < r.end(); ++b) {
+        const int f = base_pos(r.sys.block_col[size_t(b)]);
+        const int j = f >= 0 && f < nb ? k_of_node[size_t(f)] : -1;
+        if (j >= 0) delta_.block<3, 3>(3 * i, 3 * j) += sign * r.block(b);
+      }
+    };
+    if (q >= 0) add_row(BlockRow{next, q}, [&](int pos) { return ext_node[size_t(pos)]; }, 1.0);
+    else delta_.block<3, 3>(3 * i, 3 * i) += diagonal_block(base, p);
+    add_row(BlockRow{base, p}, [](int pos) { return pos; }, -1.0);
+  }
+  if (na > 0) delta_.noalias() -= coupling_ * added_response_;
+
+  changed_.clear();
+  for (int p : k_nodes)
+    for (int a = 0; a < 3; ++a) changed_.push_back(3 * p + a);
+  Eigen::MatrixXd G(k, k);
+  for (int i = 0; i < k; ++i)
+    for (int j = 0; j < k; ++j) G(i, j) = gram_(col_of_dof_[size_t(changed_[size_t(i)])], col_of_dof_[size_t(changed_[size_t(j)])]);
+  Eigen::MatrixXd C = Eigen::MatrixXd::Identity(k, k);
+  C.noalias() += G * delta_;
+  if (k > 0) capacitance_.compute(C);
+  ext_of_next_.resize(size_t(next.size()));
+  for (int q = 0; q < nn; ++q) {
+    const int e = ext_node[size_t(q)];
+    for (int a = 0; a < 3; ++a) ext_of_next_[size_t(3 * q + a)] = 3 * e + a;  // appended: n + 3 (e - nb) + a
+  }
+  if (flops) *flops = cost;
+  return true;
+}
+
+void FactorCorrection::solve(const solve::Cholesky& F, const Eigen::VectorXd& b, Eigen::VectorXd& x,
+                             solve::SolveWorkspace& ws) {
+  const int n = base_dofs_, k = rank();
+  b_.setZero(n, 1);
+  ba_.setZero(added_);
+  for (size_t i = 0; i < ext_of_next_.size(); ++i) {
+    const int e = ext_of_next_[i];
+    if (e < n) b_(e, 0) = b[Eigen::Index(i)];
+    else ba_[e - n] = b[Eigen::Index(i)];
+  }
+  // Appended nodes eliminated: c = b_o - N_oa N_aa^-1 b_a.
+  if (added_ > 0) {
+    xa_ = added_llt_.solve(ba_);
+    q_.noalias() = coupling_ * xa_;
+    for (int j = 0; j < k; ++j) b_(changed_[size_t(j)], 0) -= q_[j];
+  }
+  F.forward_into(b_, y_, ws);
+  t_.noalias() = W_.transpose() * y_.col(0);
+  g_.resize(k);
+  for (int j = 0; j < k; ++j) g_[j] = t_[col_of_dof_[size_t(changed_[size_t(j)])]];
+  if (k > 0) q_.noalias() = delta_ * capacitance_.solve(g_);
+  else q_.resize(0);
+  t_.setZero(W_.cols());
+  for (int j = 0; j < k; ++j) t_[col_of_dof_[size_t(changed_[size_t(j)])]] = q_[j];
+  y_.col(0).noalias() -= W_ * t_;
+  F.backward_into(y_.col(0), xb_, ws);
+  // x_a = N_aa^-1 (b_a - N_ao x_o) = xa - (N_aa^-1 N_ao) x_o.
+  if (added_ > 0) {
+    for (int j = 0; j < k; ++j) g_[j] = xb_[changed_[size_t(j)]];
+    xa_.noalias() -= added_response_ * g_;
+  }
+  x.resize(Eigen::Index(ext_of_next_.size()));
+  for (size_t i = 0; i < ext_of_next_.size(); ++i) {
+    const int e = ext_of_next_[i];
+    x[Eigen::Index(i)] = e < n ? xb_[e] : xa_[e - n];
+  }
+}
+
+}  // namespace softcut::hybrid
