@@ -465,6 +465,11 @@ RunOutcome run_scenario(const RunRequest& req) {
 namespace {
 
 RunOutcome run_watched(const RunRequest& req, const Watchdog& dog) {
+  // The run owns --out from its start: a script that fails before the
+  // outputs are written must not leave the last run's summary there, where
+  // it would read as this run's.
+  std::error_code ec;
+  if (!req.out_dir.empty() && fs::is_directory(req.out_dir, ec)) sim::clear_earlier_outputs(req.out_dir);
   OutputBudget output(req.max_output);
   Runtime rt(sandbox_of(req, &output, &dog));
   lua_State* L = rt.state();

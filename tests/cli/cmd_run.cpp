@@ -130,6 +130,21 @@ TEST_SUITE("cli/cmd_run") {
     CHECK(contains(run_cli("run " + (dir / "t.lua").string() + " --trust").output, "t.lua:2: reached"));
   }
 
+  TEST_CASE("a run that fails before its outputs exist leaves no earlier run's outputs in --out") {
+    const fs::path dir = softcut::test::scratch_dir("cli_run_stale"), out = dir / "out";
+    const std::string leg = softcut::test::source("scenarios/upper_leg.lua");
+    REQUIRE(run_cli("run " + leg + " --out " + out.string() + " --quiet --frames 2").status == 0);
+    REQUIRE(fs::exists(out / "summary.json"));
+    std::ofstream(out / "notes.txt") << "mine\n";
+    std::ofstream(dir / "broken.lua") << "error('broken before any output')\n";
+    const auto r = run_cli("run " + (dir / "broken.lua").string() + " --out " + out.string() + " --quiet");
+    CHECK(r.status == 1);
+    CHECK(contains(r.output, "broken.lua:1: broken before any output"));
+    CHECK_FALSE(fs::exists(out / "summary.json"));  // not the last run's pass
+    CHECK_FALSE(fs::exists(out / "displacements.csv"));
+    CHECK(slurp(out / "notes.txt") == "mine\n");  // only softcut's own names are cleared
+  }
+
   TEST_CASE("a failed expectation exits 1 after writing the outputs, a met one exits 0") {
     const fs::path dir = softcut::test::scratch_dir("cli_run_expect");
     for (const bool met : {true, false}) {
