@@ -4,7 +4,7 @@
 #include <memory>
 
 #include "gpu/compute_cg.hpp"
-#include "hybrid/operational_system.hpp"
+#include "hybrid/operational_solvers.hpp"
 
 namespace softcut::gpu {
 

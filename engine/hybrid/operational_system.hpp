@@ -21,7 +21,6 @@
 //   So the interface DOFs are the LAST 3*num_interface DOFs, contiguous,
 //   starting at interface_offset() = 3*num_operational, and K' row/column j is
 //   system DOF interface_offset() + j.
-#include <Eigen/Cholesky>
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 #include <memory>
@@ -31,12 +30,8 @@
 #include "fem/material.hpp"
 #include "hybrid/node_blocks.hpp"
 #include "mesh/tet_mesh.hpp"
-#include "solve/cg.hpp"
-#include "solve/cholesky.hpp"
 
 namespace softcut::hybrid {
-
-class FactorCorrection;
 
 struct OperationalSystem {
   std::vector<int> nodes;       // (num_operational + num_interface) mesh node id of each unknown node
@@ -78,97 +73,5 @@ OperationalSystem build_operational_system(const mesh::TetMesh& m, const std::ve
                                            const std::vector<char>& node_fixed,
                                            const std::vector<char>& node_nonoperational,
                                            std::shared_ptr<const Eigen::MatrixXd> K_prime);
-
-struct SolveReport {
-  int iterations = 0;            // CG iterations (0 for direct solves); refinement steps of a corrected solve
-  double relative_residual = 0;  // ||b - A x|| / ||b||
-  int correction_rank = 0;       // CHOLMOD: DOFs changed since the kept factor (0: the factor is this system's)
-};
-
-// Pluggable solver for the operational system (CPU CG, CHOLMOD, GPU CG).
-// solve() gets the previous solution in x (warm start) and leaves the new one.
-// Implementations cache per-system data keyed by OperationalSystem::generation.
-class OperationalSolver {
- public:
-  virtual ~OperationalSolver() = default;
-  virtual std::string name() const = 0;
-  virtual SolveReport solve(const OperationalSystem& sys, const Eigen::VectorXd& b, Eigen::VectorXd& x) = 0;
-};
-
-// Preconditioned CG, warm-started. Preconditioners:
-//   block_jacobi     3x3 node blocks of K + K' (what a GPU kernel applies)
-//   interface_block  3x3 node blocks on set 1, and the whole interface block
-//                    K1II + K' (dense, Cholesky once per system) on I: fewer
-//                    iterations (ligament: 125 -> 68), but each costs two dense
-//                    triangular solves, so on the CPU it is not faster.
-// The slow part is physical: K' carries the soft global modes of the whole
-// body into the operational system (Jacobi-scaled condition ~2e3 for the
-// ligament), which no local preconditioner removes.
-// Throws when CG does not reach the tolerance.
-enum class CgPreconditioner { block_jacobi, interface_block };
-
-class CgSolver : public OperationalSolver {
- public:
-  explicit CgSolver(solve::CgOptions opt = {}, CgPreconditioner pre = CgPreconditioner::block_jacobi)
-      : opt_(opt), pre_(pre) {}
-  std::string name() const override { return "cg"; }
-  SolveReport solve(const OperationalSystem& sys, const Eigen::VectorXd& b, Eigen::VectorXd& x) override;
-  solve::CgOptions& options() { return opt_; }
-
- private:
-  void prepare(const OperationalSystem& sys);
-  solve::CgOptions opt_;
-  CgPreconditioner pre_;
-  solve::BlockJacobi precond_;     // whole system (block_jacobi) or set 1 only (interface_block)
-  Eigen::LLT<Eigen::MatrixXd> interface_llt_;  // (3|I| x 3|I|) K1II + K'
-  long generation_ = -1;
-};
-
-// CHOLMOD factor of K + K', kept between frames; systems of up to kDenseMax
-// unknowns are solved with a dense LL' factor instead (fixed costs dominate
-// CHOLMOD's solve below a few hundred unknowns). When a cut changes the
-// system, the kept factor solves the new one through a low-rank correction
-// (factor_correction.hpp) as long as the corrections since the factor cost
-// fewer flops than a refactor and stay small enough to keep frames cheap.
-// Once they have cost three quarters of a refactor, the current system is refactored on
-// a second thread, and that factor is taken when the budget runs out (waiting
-// for it if it is not done): the points where the factor changes depend on
-// flop counts only, so a run's results never depend on timing. Every solve's
-// residual is checked; a corrected solve above 1e-12 is refined (at most
-// twice) and else refactored.
-class CholmodSolver : public OperationalSolver {
- public:
-  // allow_dense = false: always CHOLMOD's solve (tests compare the two).
-  // allow_correction = false: refactor after every change (benches compare).
-  // correction_budget: corrections against one factor may cost this many
-  // times its factorization's flops (tests raise it to correct small systems).
-  explicit CholmodSolver(bool allow_dense = true, bool allow_correction = true, double correction_budget = 1.0);
-  ~CholmodSolver() override;
-  std::string name() const override { return "cholmod"; }
-  SolveReport solve(const OperationalSystem& sys, const Eigen::VectorXd& b, Eigen::VectorXd& x) override;
-  bool uses_dense() const { return bool(dense_); }  // for the current system
-  long refactors() const { return refactors_; }      // factors made (the first included)
-  long adopted() const { return adopted_; }          // of those, made on the second thread
-
- private:
-  static constexpr int kDenseMax = 500;  // unknowns: up to here a dense LL' is used
-  struct Refactor;  // a factor being made on a second thread
-  void refactor(const OperationalSystem& sys);
-  bool correct(const OperationalSystem& sys);
-  void adopt_pending();
-  bool allow_dense_ = true, allow_correction_ = true;
-  double correction_budget_ = 1.0;
-  solve::Cholesky factor_;
-  OperationalSystem base_;         // the system factor_ belongs to (K' shared)
-  std::unique_ptr<FactorCorrection> correction_;  // solves a changed system with factor_
-  bool corrected_ = false;         // the current system goes through correction_
-  double correction_flops_ = 0;    // spent on corrections against factor_
-  std::unique_ptr<Refactor> pending_;
-  long refactors_ = 0, adopted_ = 0;
-  std::unique_ptr<Eigen::LLT<Eigen::MatrixXd>> dense_;  // systems of up to kDenseMax unknowns
-  solve::SolveWorkspace ws_;  // CHOLMOD's solve buffers, kept between frames
-  Eigen::VectorXd r_;  // residual scratch
-  long generation_ = -1;
-};
 
 }  // namespace softcut::hybrid

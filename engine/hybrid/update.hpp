@@ -21,7 +21,7 @@
 #include "hybrid/columns.hpp"
 #include "hybrid/loads.hpp"
 #include "hybrid/nonoperational_product.hpp"
-#include "hybrid/operational_system.hpp"
+#include "hybrid/operational_solvers.hpp"
 #include "hybrid/precompute.hpp"
 
 namespace softcut::hybrid {

@@ -8,6 +8,7 @@
 
 #include "core/error.hpp"
 #include "fixtures.hpp"
+#include "hybrid/operational_solvers.hpp"
 #include "hybrid/precompute.hpp"
 
 using namespace softcut;
