@@ -27,7 +27,17 @@ render::SceneContent scene_content(const Model& m, const State& s) {
       const Eigen::Vector3d up = spec.direction.squaredNorm() > 0 ? Eigen::Vector3d(-spec.direction.normalized())
                                                                   : Eigen::Vector3d(rs.up.normalized());
       const double h = std::max(0.25 * spec.blade_length, 2 * spec.radius);
-      b.spine = spec.blade_back.squaredNorm() > 0 ? ts.blade_c : Eigen::Vector3d(ts.blade_b + h * up);
+      // The back of the blade: `up` made normal to the edge. An edge along
+      // `up` (a stab) has no such direction: the blade then stands on any
+      // normal to its edge (it is drawn from both sides), not on a line.
+      const Eigen::Vector3d edge = ts.blade_b - ts.blade_a;
+      Eigen::Vector3d back = up;
+      if (edge.squaredNorm() > 0) {
+        const Eigen::Vector3d e = edge.normalized();
+        back = up - up.dot(e) * e;
+        back = back.norm() > 0.1 ? Eigen::Vector3d(back.normalized()) : Eigen::Vector3d(e.unitOrthogonal());
+      }
+      b.spine = spec.blade_back.squaredNorm() > 0 ? ts.blade_c : Eigen::Vector3d(ts.blade_b + h * back);
       b.handle_end = b.spine + 0.5 * (ts.blade_b - ts.blade_a) + 2.5 * h * up;
       b.handle_radius = 0.12 * h;
       c.tools.push_back(b);

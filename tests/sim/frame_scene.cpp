@@ -3,6 +3,7 @@
 #include <doctest/doctest.h>
 
 #include "fixtures.hpp"
+#include "render/tool_geometry.hpp"
 #include "sim/step.hpp"
 #include "test_support.hpp"
 
@@ -64,5 +65,33 @@ TEST_SUITE("sim/frame_scene") {
     sim::step(m, s);  // t = 0.2
     CHECK(s.time > 0.15);
     CHECK(sim::scene_content(m, s).tools.empty());
+  }
+
+  TEST_CASE("a scalpel whose edge points along up (a stab) is drawn as a blade, not refused as a line") {
+    auto spec = softcut::test::cantilever_spec(softcut::test::scratch_dir("sim_frame_scene_stab"), 0.2);
+    tools::ToolSpec blade;
+    blade.name = "stab";
+    blade.kind = tools::ToolSpec::Kind::scalpel;
+    blade.path = tools::Path::fixed_at(V(0.1, 0.01, 0.5));
+    blade.force = tools::Ramp::constant_value(0.001);
+    for (const V& axis : {V(0, 0, 1), V(0, 0, -2), V(0.01, 0, 1), V(0, 1, 0)}) {
+      CAPTURE(axis.transpose());
+      blade.blade_axis = axis;
+      spec.tools = {blade};
+      spec.outputs.render.up = V(0, 0, 1);
+      const sim::Model m = sim::compile(spec);
+      sim::State s = sim::make_state(m);
+      sim::step(m, s);
+      const softcut::render::SceneContent c = sim::scene_content(m, s);
+      REQUIRE(c.tools.size() == 1);
+      const auto& b = std::get<softcut::render::ScalpelShape>(c.tools[0]);
+      const V e = b.edge_b - b.edge_a, back = b.spine - b.edge_b;
+      CHECK(e.norm() == doctest::Approx(blade.blade_length));
+      CHECK(std::abs(back.normalized().dot(e.normalized())) <= 1e-12);  // the blade stands normal to its edge
+      softcut::render::Triangles tris;
+      CHECK(softcut::render::add_tool(tris, c.tools[0], 8, {1, 1, 1, 1}) > 0);  // drawn, not refused
+      // A sideways edge keeps its back toward up, as before.
+      if (axis.z() == 0) CHECK(back.normalized().dot(V(0, 0, 1)) == doctest::Approx(1.0));
+    }
   }
 }
