@@ -58,7 +58,7 @@ local Frame = {}
 ---@field contact_sheet? boolean also write contact_sheet.png, a grid of up to ~24 frames
 ---@field msaa? integer multisampling samples (0: off)
 ---@field wireframe? boolean draw tet edges
----@field show_interface? boolean draw the interface nodes
+---@field show_interface? boolean draw the interface nodes (the border of the operational region)
 ---@field show_forces? boolean draw manipulated nodes and their force lines
 ---@field background? number[] RGB in [0, 1]
 

@@ -51,7 +51,7 @@ api.structs = {
       F("contact_sheet", "boolean", "also write contact_sheet.png, a grid of up to ~24 frames", { default = true }),
       F("msaa", "integer", "multisampling samples (0: off)", { ge = 0, le = 16, default = 4 }),
       F("wireframe", "boolean", "draw tet edges", { default = false }),
-      F("show_interface", "boolean", "draw the interface nodes", { default = true }),
+      F("show_interface", "boolean", "draw the interface nodes (the border of the operational region)", { default = false }),
       F("show_forces", "boolean", "draw manipulated nodes and their force lines", { default = true }),
       F("background", "vec3", "RGB in [0, 1]", { default = { 0.2, 0.22, 0.26 } }) } },
 }

@@ -15,11 +15,11 @@ render::SceneContent scene_content(const Model& m, const State& s) {
   for (size_t k = 0; k < s.tools.size() && k < s.tool_specs.size(); ++k) {
     const tools::ToolSpec& spec = s.tool_specs[k];
     const tools::ToolState& ts = s.tools[k];
-    if (!spec.enabled) continue;
+    // Drawn only while it acts: not before active_from, not after active_until.
+    if (!spec.enabled || s.time < spec.active_from || s.time > spec.active_until) continue;
     if (rs.show_forces)
       for (int n : ts.nodes) c.manipulated.push_back({n, ts.tip});
     if (spec.kind == tools::ToolSpec::Kind::scalpel) {
-      if (s.time > spec.active_until) continue;  // the incision is over: the blade has left
       // Blade behind its edge: against the pressing direction when one is
       // given (the blade then lies in the cut plane), else toward `up`.
       render::ScalpelShape b;
@@ -44,7 +44,10 @@ render::SceneContent scene_content(const Model& m, const State& s) {
     } else if (spec.kind == tools::ToolSpec::Kind::probe) {
       render::ProbeShape p;
       p.tip = ts.tip;
-      p.axis = rs.up.normalized();
+      // The shaft comes from where the probe pushes from: against its force
+      // direction when one is given, else from `up`.
+      p.axis = spec.direction.squaredNorm() > 0 ? Eigen::Vector3d(-spec.direction.normalized())
+                                                : Eigen::Vector3d(rs.up.normalized());
       p.radius = spec.radius;
       p.length = 20 * spec.radius;
       c.tools.push_back(p);

@@ -92,7 +92,7 @@ struct RenderSettings {
   double fov_deg = 30.0;                                   // vertical
   Eigen::Vector3d background = Eigen::Vector3d(0.20, 0.22, 0.26);  // RGB in [0, 1]
   bool wireframe = false;
-  bool show_interface = true;  // interface nodes as points
+  bool show_interface = false;  // interface nodes as points (a debugging view)
   bool show_forces = true;     // manipulated nodes and their force lines
   int msaa_samples = 4;
   int every = 1;               // render every n-th frame

@@ -33,7 +33,15 @@ TEST_SUITE("sim/frame_scene") {
     sim::step(m, s);
     const softcut::render::SceneContent c = sim::scene_content(m, s);
     CHECK(c.operational == m.partition.operational_tet);
-    CHECK(c.interface_nodes == m.partition.interface);
+    CHECK(c.interface_nodes.empty());  // a debugging view, off unless asked for
+    {
+      auto shown = spec;
+      shown.outputs.render.show_interface = true;
+      const sim::Model m2 = sim::compile(shown);
+      sim::State s2 = sim::make_state(m2);
+      sim::step(m2, s2);
+      CHECK(sim::scene_content(m2, s2).interface_nodes == m2.partition.interface);
+    }
     CHECK(c.tools.size() == 2);
     CHECK(c.manipulated.size() == s.tools[0].nodes.size() + s.tools[1].nodes.size());
     REQUIRE(!c.manipulated.empty());
@@ -65,6 +73,31 @@ TEST_SUITE("sim/frame_scene") {
     sim::step(m, s);  // t = 0.2
     CHECK(s.time > 0.15);
     CHECK(sim::scene_content(m, s).tools.empty());
+  }
+
+  TEST_CASE("a probe is drawn only while it acts - its shaft against its force direction") {
+    auto spec = softcut::test::cantilever_spec(softcut::test::scratch_dir("sim_frame_scene_probe"), 0.4);
+    tools::ToolSpec probe;
+    probe.name = "probe";
+    probe.path = tools::Path::fixed_at(V(0.1, 0.01, 0.5));
+    probe.force = tools::Ramp::constant_value(0.001);
+    probe.direction = V(1, 0, -1);
+    probe.active_from = 0.15;
+    probe.active_until = 0.25;
+    spec.tools = {probe};
+    const sim::Model m = sim::compile(spec);
+    sim::State s = sim::make_state(m);
+    const size_t expect[] = {0, 0, 1, 0};  // t = 0, 0.1, 0.2, 0.3
+    for (size_t k = 0; k < 4; ++k) {
+      sim::step(m, s);
+      CAPTURE(s.time);
+      const auto c = sim::scene_content(m, s);
+      REQUIRE(c.tools.size() == expect[k]);
+      if (expect[k]) {
+        const V axis = std::get<softcut::render::ProbeShape>(c.tools[0]).axis;
+        CHECK((axis - V(-1, 0, 1).normalized()).norm() <= 1e-15);
+      }
+    }
   }
 
   TEST_CASE("a scalpel whose edge points along up (a stab) is drawn as a blade, not refused as a line") {
