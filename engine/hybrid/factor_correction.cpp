@@ -2,6 +2,10 @@
 
 #include <algorithm>
 
+#include <Eigen/Cholesky>
+
+#include "core/error.hpp"
+
 namespace softcut::hybrid {
 
 namespace {
@@ -39,6 +43,7 @@ Eigen::Matrix3d diagonal_block(const OperationalSystem& sys, int pos) {
 
 void FactorCorrection::clear() {
   base_dofs_ = 0;
+  base_generation_ = -1;
   W_.resize(0, 0);
   gram_.resize(0, 0);
   col_of_dof_.clear();
@@ -56,8 +61,11 @@ bool FactorCorrection::prepare(const OperationalSystem& base, const solve::Chole
       !std::equal(base.nodes.begin() + base.num_operational, base.nodes.end(),
                   next.nodes.begin() + next.num_operational))
     return false;
-  if (base_dofs_ != base.size() || int(col_of_dof_.size()) != base.size()) {
+  changed_.clear();  // nothing prepared until this one succeeds
+  ext_of_next_.clear();
+  if (base_generation_ != base.generation || base_dofs_ != base.size()) {
     clear();
+    base_generation_ = base.generation;
     base_dofs_ = base.size();
     col_of_dof_.assign(size_t(base_dofs_), -1);
     W_.resize(base_dofs_, 0);
@@ -163,9 +171,23 @@ bool FactorCorrection::prepare(const OperationalSystem& base, const solve::Chole
   Eigen::MatrixXd G(k, k);
   for (int i = 0; i < k; ++i)
     for (int j = 0; j < k; ++j) G(i, j) = gram_(col_of_dof_[size_t(changed_[size_t(i)])], col_of_dof_[size_t(changed_[size_t(j)])]);
-  Eigen::MatrixXd C = Eigen::MatrixXd::Identity(k, k);
-  C.noalias() += G * delta_;
-  if (k > 0) capacitance_.compute(C);
+  // R = M + E Delta E' is positive definite exactly when
+  // S = G + G Delta G = G^1/2 (I + G^1/2 Delta G^1/2) G^1/2 is (G = W'W is):
+  // the check a refactor's Cholesky would make. A nearly singular R (a part
+  // hanging by a node) is left to the refactor, which names it.
+  if (k > 0) {
+    Eigen::MatrixXd GD = G * delta_;
+    Eigen::MatrixXd S = G;
+    S.noalias() += GD * G;
+    S = 0.5 * (S + S.transpose()).eval();
+    const Eigen::LLT<Eigen::MatrixXd> spd(S);
+    if (spd.info() != Eigen::Success || !(spd.rcond() > 1e-13)) {
+      changed_.clear();
+      return false;
+    }
+    GD.diagonal().array() += 1.0;
+    capacitance_.compute(GD);
+  }
   ext_of_next_.resize(size_t(next.size()));
   for (int q = 0; q < nn; ++q) {
     const int e = ext_node[size_t(q)];
@@ -178,6 +200,9 @@ bool FactorCorrection::prepare(const OperationalSystem& base, const solve::Chole
 void FactorCorrection::solve(const solve::Cholesky& F, const Eigen::VectorXd& b, Eigen::VectorXd& x,
                              solve::SolveWorkspace& ws) {
   const int n = base_dofs_, k = rank();
+  if (b.size() != Eigen::Index(ext_of_next_.size()) || F.rows() != n)
+    fail("FactorCorrection::solve: a right-hand side of size ", b.size(), " for a prepared system of ",
+         ext_of_next_.size(), " unknowns (base factor ", F.rows(), " rows, kept columns for ", n, ")");
   b_.setZero(n, 1);
   ba_.setZero(added_);
   for (size_t i = 0; i < ext_of_next_.size(); ++i) {

@@ -45,11 +45,13 @@ class FactorCorrection {
   // Forgets every kept column (a new base).
   void clear();
 
-  // Prepares solves of `next` with `base` and its factor F. False, with
-  // nothing changed, when the systems differ in their interface or K', when
-  // either lacks its node-block rows, when more than `max_dofs` DOFs changed,
-  // or when the new columns would cost more than `max_flops`. *flops gets the
-  // cost of the columns and Gram entries computed.
+  // Prepares solves of `next` with `base` and its factor F. False when the
+  // systems differ in their interface or K', when either lacks its
+  // node-block rows, when more than `max_dofs` DOFs changed, when the new
+  // columns would cost more than `max_flops`, or when `next` is not clearly
+  // positive definite (then a refactor says why); the prepared system is
+  // then none. *flops gets the cost of the columns and Gram entries computed.
+  // Kept columns belong to one base (its generation).
   bool prepare(const OperationalSystem& base, const solve::Cholesky& F, const OperationalSystem& next, int max_dofs,
                double max_flops, solve::SolveWorkspace& ws, double* flops = nullptr);
 
@@ -62,6 +64,7 @@ class FactorCorrection {
 
  private:
   int base_dofs_ = 0;                // n: DOFs of the base system (rows of W)
+  long base_generation_ = -1;        // the base the kept columns belong to
   // Columns kept for this base: W(:, c) = L^-1 P e_{dof_of_col_[c]}.
   Eigen::MatrixXd W_;                // (n x cols)
   Eigen::MatrixXd gram_;             // (cols x cols) W'W

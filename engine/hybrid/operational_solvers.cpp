@@ -119,6 +119,29 @@ void CholmodSolver::adopt_pending() {
   ++adopted_;
 }
 
+void CholmodSolver::launch_refactor(const OperationalSystem& sys) {
+  auto r = std::make_unique<Refactor>();
+  r->sys = sys;
+  r->done = std::async(std::launch::async, [p = r.get()] {
+    p->factor.factor(p->sys.assembled(), "operational system (K + K')");
+  });
+  pending_ = std::move(r);  // only once the thread runs
+  solves_since_launch_ = 0;
+}
+
+// The factor made on the second thread, for `sys`: a corrected system then
+// solves against it. Its failure (a system that is not positive definite)
+// is reported by a refactor of `sys` itself, naming this frame's system.
+void CholmodSolver::take_pending(const OperationalSystem& sys) {
+  try {
+    adopt_pending();
+  } catch (const Error&) {
+    refactor(sys);
+    return;
+  }
+  if (!correct(sys)) refactor(sys);
+}
+
 SolveReport CholmodSolver::solve(const OperationalSystem& sys, const Eigen::VectorXd& b, Eigen::VectorXd& x) {
   if (sys.size() == 0) {
     x.resize(0);
@@ -127,21 +150,27 @@ SolveReport CholmodSolver::solve(const OperationalSystem& sys, const Eigen::Vect
   if (generation_ != sys.generation) {
     // A changed system (a cut): the kept factor with a low-rank correction
     // while that is cheaper than a refactor; then the factor made on the
-    // second thread, else a refactor here.
-    bool ok = correct(sys);
-    if (!ok && pending_) {
-      adopt_pending();
-      ok = correct(sys);
-    }
-    if (!ok) refactor(sys);
-    else if (corrected_ && !pending_ && correction_flops_ > 0.75 * correction_budget_ * factor_.factor_flops()) {
-      pending_ = std::make_unique<Refactor>();
-      pending_->sys = sys;
-      pending_->done = std::async(std::launch::async, [r = pending_.get()] {
-        r->factor.factor(r->sys.assembled(), "operational system (K + K')");
-      });
+    // second thread, else a refactor here. Until this succeeds the solver
+    // holds no prepared system (an error leaves it to prepare again).
+    generation_ = -1;
+    corrected_ = false;
+    if (correct(sys)) {
+      if (corrected_ && !pending_ && correction_flops_ > 0.75 * correction_budget_ * factor_.factor_flops())
+        launch_refactor(sys);
+    } else if (pending_) {
+      take_pending(sys);
+    } else {
+      refactor(sys);
     }
     generation_ = sys.generation;
+  } else if (pending_ && corrected_ && ++solves_since_launch_ >= kAdoptAfterSolves) {
+    // Cutting has paused: the corrected solves cost more than the factor
+    // made meanwhile would (counted in solves, never in time).
+    take_pending(sys);
+  }
+  if (b.norm() == 0) {  // no load: no displacement (and no residual to divide by)
+    x.setZero(sys.size());
+    return {0, 0.0, corrected_ ? correction_->rank() : 0};
   }
   const double bn = b.norm();
   auto residual = [&] {
@@ -149,12 +178,12 @@ SolveReport CholmodSolver::solve(const OperationalSystem& sys, const Eigen::Vect
     // the assembled matrix.
     sys.apply(x, r_);
     r_ -= b;
-    return bn == 0 ? 0.0 : r_.norm() / bn;
+    return r_.norm() / bn;
   };
   if (!corrected_) {
     if (dense_) x = dense_->solve(b);
     else factor_.solve_into(b, x, ws_);
-    return {0, bn == 0 ? 0.0 : residual(), 0};
+    return {0, residual(), 0};
   }
   // Corrected: refined while the residual is above 1e-12 (an ill-conditioned
   // capacitance matrix), at most twice; still above 1e-10: refactored.
@@ -168,10 +197,13 @@ SolveReport CholmodSolver::solve(const OperationalSystem& sys, const Eigen::Vect
     rep.relative_residual = residual();
   }
   if (rep.relative_residual > 1e-10 || !std::isfinite(rep.relative_residual)) {
-    refactor(sys);
-    if (dense_) x = dense_->solve(b);
+    ++fallbacks_;
+    if (pending_ && pending_->sys.generation == sys.generation) take_pending(sys);  // made for this very system
+    else refactor(sys);
+    if (corrected_) correction_->solve(factor_, b, x, ws_);
+    else if (dense_) x = dense_->solve(b);
     else factor_.solve_into(b, x, ws_);
-    return {0, residual(), 0};
+    return {0, residual(), corrected_ ? correction_->rank() : 0};
   }
   return rep;
 }

@@ -85,13 +85,17 @@ class CholmodSolver : public OperationalSolver {
   bool uses_dense() const { return bool(dense_); }  // for the current system
   long refactors() const { return refactors_; }      // factors made (the first included)
   long adopted() const { return adopted_; }          // of those, made on the second thread
+  long fallbacks() const { return fallbacks_; }      // corrected solves whose residual needed a refactor
 
  private:
   static constexpr int kDenseMax = 500;  // unknowns: up to here a dense LL' is used
+  static constexpr int kAdoptAfterSolves = 8;
   struct Refactor;  // a factor being made on a second thread
   void refactor(const OperationalSystem& sys);
   bool correct(const OperationalSystem& sys);
   void adopt_pending();
+  void launch_refactor(const OperationalSystem& sys);
+  void take_pending(const OperationalSystem& sys);
   bool allow_dense_ = true, allow_correction_ = true;
   double correction_budget_ = 1.0;
   solve::Cholesky factor_;
@@ -100,7 +104,8 @@ class CholmodSolver : public OperationalSolver {
   bool corrected_ = false;         // the current system goes through correction_
   double correction_flops_ = 0;    // spent on corrections against factor_
   std::unique_ptr<Refactor> pending_;
-  long refactors_ = 0, adopted_ = 0;
+  int solves_since_launch_ = 0;
+  long refactors_ = 0, adopted_ = 0, fallbacks_ = 0;
   std::unique_ptr<Eigen::LLT<Eigen::MatrixXd>> dense_;  // systems of up to kDenseMax unknowns
   solve::SolveWorkspace ws_;  // CHOLMOD's solve buffers, kept between frames
   Eigen::VectorXd r_;  // residual scratch

@@ -129,6 +129,7 @@ cholmod_dense dense_view(const double* data, Eigen::Index rows, Eigen::Index col
 void Cholesky::forward_into(const Eigen::MatrixXd& B, Eigen::MatrixXd& Y, SolveWorkspace& ws) const {
   if (!llt_) fail("Cholesky::forward called before factor()");
   if (B.rows() != rows_) fail("Cholesky::forward: right-hand sides with ", B.rows(), " rows for a ", rows_, "-row factor");
+  if (!llt_->raw()->is_ll) fail("Cholesky::forward: the factor is not LL' (an LDL' factor would need D)");
   const int* perm = static_cast<const int*>(llt_->raw()->Perm);
   Y.resize(B.rows(), B.cols());
   if (B.cols() == 0) return;
@@ -143,6 +144,7 @@ void Cholesky::forward_into(const Eigen::MatrixXd& B, Eigen::MatrixXd& Y, SolveW
 void Cholesky::backward_into(const Eigen::VectorXd& y, Eigen::VectorXd& x, SolveWorkspace& ws) const {
   if (!llt_) fail("Cholesky::backward called before factor()");
   if (y.size() != rows_) fail("Cholesky::backward: a vector of size ", y.size(), " for a ", rows_, "-row factor");
+  if (!llt_->raw()->is_ll) fail("Cholesky::backward: the factor is not LL' (an LDL' factor would need D)");
   cholmod_dense in = dense_view(y.data(), y.size(), 1);
   if (!cholmod_solve2(CHOLMOD_Lt, llt_->raw(), &in, nullptr, &ws.X, nullptr, &ws.Y, &ws.E, &ws.common()))
     fail("Cholesky::backward: CHOLMOD failed (status ", ws.common().status, "; out of memory?)");

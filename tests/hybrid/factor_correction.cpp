@@ -70,8 +70,8 @@ double rel(const Eigen::VectorXd& a, const Eigen::VectorXd& b) { return (a - b).
 // first system solves the new one and is compared with a dense LU of the
 // assembled system (independent truth) and with a fresh CHOLMOD factor.
 struct Outcome {
-  int solves = 0, corrected = 0, appended = 0, dropped = 0;
-  long refactors = 0, adopted = 0;
+  int solves = 0, corrected = 0, refined = 0, appended = 0, dropped = 0;
+  long refactors = 0, adopted = 0, fallbacks = 0;
 };
 
 Outcome run_changes(unsigned seed, int cases, int steps, int max_cells, double budget) {
@@ -118,13 +118,17 @@ Outcome run_changes(unsigned seed, int cases, int steps, int max_cells, double b
       CHECK(rel(x, xf) <= 1e-9);
       ++out.solves;
       out.corrected += r.correction_rank > 0;
-      // A second right-hand side on the same system: no new preparation.
+      out.refined += r.iterations > 0;
+      // A second right-hand side on the same system: no new factor.
+      const long factors = kept.refactors();
       const Eigen::VectorXd b2 = Eigen::VectorXd::Random(sys->size());
       kept.solve(*sys, b2, x);
       CHECK(rel(x, lu.solve(b2)) <= 1e-9);
+      if (budget > 1e6) CHECK(kept.refactors() == factors);
     }
     out.refactors += kept.refactors();
     out.adopted += kept.adopted();
+    out.fallbacks += kept.fallbacks();
   }
   return out;
 }
@@ -139,6 +143,8 @@ TEST_SUITE("hybrid/factor_correction") {
     MESSAGE(o.solves, " solves, ", o.corrected, " corrected, ", o.refactors, " factors, ", o.adopted, " from the second thread");
     CHECK(o.solves >= 40);
     CHECK(o.corrected >= o.solves - 8);  // all but each case's first system
+    CHECK(o.refined == 0);               // exact without refinement
+    CHECK(o.fallbacks == 0);             // no residual sent a solve to a refactor
     CHECK(o.appended >= 3);
     CHECK(o.dropped >= 3);
   }
@@ -148,6 +154,7 @@ TEST_SUITE("hybrid/factor_correction") {
     MESSAGE(o.solves, " solves, ", o.corrected, " corrected, ", o.refactors, " factors, ", o.adopted, " from the second thread");
     CHECK(o.solves >= 45);
     CHECK(o.adopted >= 3);
+    CHECK(o.fallbacks == 0);  // every taken-over factor solved its systems exactly
     CHECK(o.corrected >= o.solves / 3);
   }
 
@@ -192,6 +199,40 @@ TEST_SUITE("hybrid/factor_correction") {
     CHECK(fc.rank() == 0);
     fc.solve(F, b.head(base.size()), x, ws);
     CHECK(rel(x, F.solve(Eigen::VectorXd(b.head(base.size())))) <= 1e-14);
+  }
+
+  TEST_CASE("a change that leaves a loose piece is refused and the refactor names it") {
+    std::mt19937 rng(9);
+    for (int trial = 0; trial < 40; ++trial) {
+      test::HybridCase c;
+      do c = test::random_case(rng, 0, 5);
+      while (c.partition.operational.size() < 8 || c.partition.interface.empty());
+      // An operational tet whose four nodes are all free set-1 nodes: kept
+      // alone, it floats (six rigid modes).
+      std::vector<char> free1(size_t(c.mesh.num_nodes()), 0);
+      for (int v : c.partition.operational) free1[size_t(v)] = 1;
+      int lone = -1;
+      for (int t = 0; t < c.mesh.num_tets() && lone < 0; ++t)
+        if (c.partition.operational_tet[size_t(t)] && free1[size_t(c.mesh.tets(t, 0))] &&
+            free1[size_t(c.mesh.tets(t, 1))] && free1[size_t(c.mesh.tets(t, 2))] && free1[size_t(c.mesh.tets(t, 3))])
+          lone = t;
+      if (lone < 0) continue;
+      const Model M = precompute(c.mesh, c.material, c.partition, {});
+      CholmodSolver kept(false, true, 1e9);
+      Eigen::VectorXd x;
+      kept.solve(*M.operational, Eigen::VectorXd::Random(M.operational->size()), x);
+      const auto loose = rebuild_operational_system(M, c.mesh, c.material, {lone});
+      solve::Cholesky F;
+      F.factor(M.operational->assembled(), "test");
+      solve::SolveWorkspace ws;
+      FactorCorrection fc;
+      CHECK_FALSE(fc.prepare(*M.operational, F, *loose, 1 << 20, 1e18, ws));
+      CHECK_THROWS_WITH(kept.solve(*loose, Eigen::VectorXd::Random(loose->size()), x),
+                        doctest::Contains("not positive definite"));
+      CHECK(kept.fallbacks() == 0);  // refused before any solve, not caught by its residual
+      return;
+    }
+    FAIL("no case with an operational tet of four free nodes");
   }
 
   TEST_CASE("forward and backward halves of a CHOLMOD solve compose to the solve") {
