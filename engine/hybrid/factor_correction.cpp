@@ -101,7 +101,9 @@ bool FactorCorrection::prepare(const OperationalSystem& base, const solve::Chole
     for (int a = 0; a < 3; ++a)
       if (col_of_dof_[size_t(3 * p + a)] < 0) missing.push_back(3 * p + a);
   const double c = double(missing.size()), cols_after = double(W_.cols()) + c;
-  const double cost = c * (2 * F.factor_nonzeros() + 2.0 * n * cols_after) + 14.0 / 3 * double(k) * k * k;
+  // Columns (forward solves) and Gram entries, then G Delta, G Delta G, the
+  // definiteness check's LL' and the capacitance LU: about 5 k^3.
+  const double cost = c * (2 * F.factor_nonzeros() + 2.0 * n * cols_after) + 5.0 * double(k) * k * k;
   if (cost > max_flops) return false;
 
   // Appended nodes: N_aa (sparse, factored) and their coupling to the

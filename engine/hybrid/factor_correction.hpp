@@ -26,7 +26,8 @@
 // second cut against the same base solves only for its newly changed DOFs.
 //
 // Cost: c new columns cost c forward solves (2 nnz(L) flops each, BLAS 3) and
-// a Gram update (2 n c cols), plus O(k^3) for the capacitance matrix; a frame
+// a Gram update (2 n c cols), plus about 5 k^3 for the capacitance matrix
+// and the check that N is positive definite; a frame
 // costs one solve with the base factor, two n x k products and a k x k LU
 // solve. The caller weighs that against a refactor (Cholesky::factor_flops)
 // and checks every residual.
