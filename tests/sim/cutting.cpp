@@ -63,23 +63,9 @@ sim::ScenarioSpec bar_cut_spec(const std::string& name, double cut_pressure, con
 sim::ScenarioSpec zigzag_spec(const std::string& name, double xa, double xb, double y1, double y2, double y_end,
                               double fps, bool moving) {
   sim::ScenarioSpec s = softcut::test::held_bar_spec(name, V(0.1, 0.04, 0.04), 5e3, 0.01, 0.09, true);
-  if (moving) {
-    sim::LoadSpec wobble;
-    wobble.name = "wobble";
-    wobble.nodes = sim::NodeSelector::box(V(0.021, -1, 0.04), V(0.039, 1, 1));
-    wobble.direction = V(0, 0, -1);
-    wobble.magnitude = tools::Ramp::sine_wave(0.004, 0.002, 3.0);
-    s.loads.push_back(wobble);
-  }
-  tools::ToolSpec blade;
-  blade.name = "blade";
-  blade.kind = tools::ToolSpec::Kind::scalpel;
-  blade.blade_length = 0.06;
-  blade.blade_axis = V(0, 0, 1);
-  blade.radius = 0.001;
-  blade.cut_pressure = 1;
-  blade.direction = V(0, 1, 0);
-  blade.force = tools::Ramp::constant_value(0.05);
+  if (moving)
+    s.loads.push_back(softcut::test::wobble_load(sim::NodeSelector::box(V(0.021, -1, 0.04), V(0.039, 1, 1)), V(0, 0, -1)));
+  tools::ToolSpec blade = softcut::test::cutting_blade(V(0, 0, 1), V(0, 1, 0));
   blade.path = tools::Path::polyline({0.1, 0.35, 0.6, 0.85}, {V(xa, -0.0005, 0.02), V(xa, y1, 0.02),
                                                                 V(xb, y2, 0.02), V(xb, y_end, 0.02)});
   s.tools.push_back(blade);

@@ -92,25 +92,13 @@ sim::ScenarioSpec path_spec(const PathCase& c) {
                                          {sim::NodeSelector::box(V(-1, -1, -1), V(1, 1, 0)),
                                           sim::NodeSelector::box(V(-1, -1, 0.1), V(1, 1, 1))});
   }
-  if (c.moving) {
-    sim::LoadSpec wobble;
-    wobble.name = "wobble";
-    wobble.nodes = c.body == Body::bar    ? sim::NodeSelector::box(V(0.021, -1, 0.04), V(0.039, 1, 1))
-                   : c.body == Body::lobe ? sim::NodeSelector::box(V(-0.035, -1, 0.018), V(-0.028, 1, 1))
-                                          : sim::NodeSelector::box(V(-1, 0.015, 0.021), V(1, 1, 0.039));
-    wobble.direction = bar ? V(0, 0, -1) : V(0, -1, 0);
-    wobble.magnitude = tools::Ramp::sine_wave(0.004, 0.002, 3.0);
-    s.loads.push_back(wobble);
-  }
-  tools::ToolSpec blade;
-  blade.name = "blade";
-  blade.kind = tools::ToolSpec::Kind::scalpel;
-  blade.blade_length = 0.06;
-  blade.blade_axis = bar ? V(0, 0, 1) : V(0, 1, 0);
-  blade.radius = 0.001;
-  blade.cut_pressure = 1;
-  blade.direction = bar ? V(0, 1, 0) : V(1, 0, 0);
-  blade.force = tools::Ramp::constant_value(0.05);
+  if (c.moving)
+    s.loads.push_back(softcut::test::wobble_load(
+        c.body == Body::bar    ? sim::NodeSelector::box(V(0.021, -1, 0.04), V(0.039, 1, 1))
+        : c.body == Body::lobe ? sim::NodeSelector::box(V(-0.035, -1, 0.018), V(-0.028, 1, 1))
+                               : sim::NodeSelector::box(V(-1, 0.015, 0.021), V(1, 1, 0.039)),
+        bar ? V(0, 0, -1) : V(0, -1, 0)));
+  tools::ToolSpec blade = softcut::test::cutting_blade(bar ? V(0, 0, 1) : V(0, 1, 0), bar ? V(0, 1, 0) : V(1, 0, 0));
   std::vector<double> times;
   std::vector<V> points;
   const size_t n = c.along.size();

@@ -65,4 +65,31 @@ inline sim::ScenarioSpec held_bar_spec(const std::string& name, const Eigen::Vec
   return s;
 }
 
+// A load that moves the tissue while a blade passes: 4 mN along `direction`
+// on `nodes`, oscillating by 2 mN at 3 Hz.
+inline sim::LoadSpec wobble_load(const sim::NodeSelector& nodes, const Eigen::Vector3d& direction) {
+  sim::LoadSpec wobble;
+  wobble.name = "wobble";
+  wobble.nodes = nodes;
+  wobble.direction = direction;
+  wobble.magnitude = tools::Ramp::sine_wave(0.004, 0.002, 3.0);
+  return wobble;
+}
+
+// The cutting tests' scalpel: a 6 cm edge along `axis`, 1 mm contact radius,
+// cutting from 1 Pa, pressing with 50 mN along `direction`; the caller sets
+// its path.
+inline tools::ToolSpec cutting_blade(const Eigen::Vector3d& axis, const Eigen::Vector3d& direction) {
+  tools::ToolSpec blade;
+  blade.name = "blade";
+  blade.kind = tools::ToolSpec::Kind::scalpel;
+  blade.blade_length = 0.06;
+  blade.blade_axis = axis;
+  blade.radius = 0.001;
+  blade.cut_pressure = 1;
+  blade.direction = direction;
+  blade.force = tools::Ramp::constant_value(0.05);
+  return blade;
+}
+
 }  // namespace softcut::test
