@@ -168,11 +168,11 @@ SolveReport CholmodSolver::solve(const OperationalSystem& sys, const Eigen::Vect
     // made meanwhile would (counted in solves, never in time).
     take_pending(sys);
   }
-  if (b.norm() == 0) {  // no load: no displacement (and no residual to divide by)
+  const double bn = b.norm();
+  if (bn == 0) {  // no load: no displacement (and no residual to divide by)
     x.setZero(sys.size());
     return {0, 0.0, corrected_ ? correction_->rank() : 0};
   }
-  const double bn = b.norm();
   auto residual = [&] {
     // Through K + K' (one triangle of K' read): half the memory traffic of
     // the assembled matrix.
