@@ -44,6 +44,14 @@ local Frame = {}
 ---@field point number[] a point on the plane (m)
 ---@field normal number[] points into the half-space (any length > 0)
 
+---@class Strain A symmetric strain tensor in the mesh frame (tensor components: xy is eps_xy, half the engineering shear); components left out are 0.
+---@field xx? number eps_xx
+---@field yy? number eps_yy
+---@field zz? number eps_zz
+---@field yz? number eps_yz
+---@field zx? number eps_zx
+---@field xy? number eps_xy
+
 ---@class Render Off-screen frames written as PNG under DIR/frames/. Without eye/target the camera looks at the mesh's centre from azimuth/elevation, just far enough to see all of it.
 ---@field width? integer image width (px)
 ---@field height? integer image height (px)
@@ -110,6 +118,19 @@ function Scenario:mesh(args) end
 ---Assigns a material to a set of tets (all tets when no region field is given); later calls override earlier ones. Give a tissue preset, E and nu, or both (explicit values override the preset's).
 ---@param args Scenario_material_args
 function Scenario:material(args) end
+
+---@class Scenario_prestress_args
+---@field label? integer tets with this mesh label
+---@field sphere? Sphere tets whose centroid lies in the sphere
+---@field box? Box tets whose centroid lies in the axis-aligned box
+---@field halfspace? HalfSpace tets whose centroid lies on the normal's side of the plane
+---@field tets? integer[] explicit 0-based tet ids
+---@field name? string for messages
+---@field strain? number isotropic initial strain (eps0 = strain I); negative: the tissue would shrink if freed, so held in place it is under tension
+---@field tensor? Strain anisotropic initial strain, e.g. tension along one fibre direction
+---Gives a set of tets an initial strain eps0 (paper Sec. 5; all tets when no region field is given); later calls override earlier ones on shared tets. The stress is D (eps - eps0): tissue held in place with eps0 < 0 is under tension, as skin and capsules are, so an incision through it gapes. Tets split by a cut keep their parent's eps0.
+---@param args Scenario_prestress_args
+function Scenario:prestress(args) end
 
 ---@class Scenario_operational_args
 ---@field label? integer tets with this mesh label

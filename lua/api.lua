@@ -36,6 +36,14 @@ api.structs = {
   { name = "HalfSpace", summary = "Points x with (x - point) . normal >= 0.", fields = {
       F("point", "vec3", "a point on the plane", { unit = "m", required = true }),
       F("normal", "vec3", "points into the half-space (any length > 0)", { required = true }) } },
+  { name = "Strain", summary = "A symmetric strain tensor in the mesh frame (tensor components: xy is "
+      .. "eps_xy, half the engineering shear); components left out are 0.", fields = {
+      F("xx", "number", "eps_xx", { ge = -0.5, le = 0.5, default = 0, why = "a small-strain model" }),
+      F("yy", "number", "eps_yy", { ge = -0.5, le = 0.5, default = 0, why = "a small-strain model" }),
+      F("zz", "number", "eps_zz", { ge = -0.5, le = 0.5, default = 0, why = "a small-strain model" }),
+      F("yz", "number", "eps_yz", { ge = -0.5, le = 0.5, default = 0, why = "a small-strain model" }),
+      F("zx", "number", "eps_zx", { ge = -0.5, le = 0.5, default = 0, why = "a small-strain model" }),
+      F("xy", "number", "eps_xy", { ge = -0.5, le = 0.5, default = 0, why = "a small-strain model" }) } },
   { name = "Render", summary = "Off-screen frames written as PNG under DIR/frames/. Without eye/target the camera "
       .. "looks at the mesh's centre from azimuth/elevation, just far enough to see all of it.", fields = {
       F("width", "integer", "image width", { unit = "px", ge = 16, le = 8192, default = 1280 }),
@@ -90,6 +98,17 @@ api.functions = {
       F("poisson", "number", "Poisson's ratio nu", { gt = -1, lt = 0.5,
         why = "nu -> 0.5 is incompressible, which linear tets cannot represent" })),
     example = 's:material{ label = 2, tissue = "liver" }\ns:material{ sphere = { center = {0, 0, 0}, radius = 0.01 }, young = 2e4, poisson = 0.45 }' },
+  { name = "Scenario:prestress", summary = "Gives a set of tets an initial strain eps0 (paper Sec. 5; all tets "
+      .. "when no region field is given); later calls override earlier ones on shared tets. The stress is "
+      .. "D (eps - eps0): tissue held in place with eps0 < 0 is under tension, as skin and capsules are, so an "
+      .. "incision through it gapes. Tets split by a cut keep their parent's eps0.",
+    at_most_one_of = { { "label", "sphere", "box", "halfspace", "tets" } }, one_of = { { "strain", "tensor" } },
+    fields = with(region_fields,
+      F("name", "string", "for messages"),
+      F("strain", "number", "isotropic initial strain (eps0 = strain I); negative: the tissue would shrink if "
+        .. "freed, so held in place it is under tension", { ge = -0.5, le = 0.5, why = "a small-strain model" }),
+      F("tensor", "Strain", "anisotropic initial strain, e.g. tension along one fibre direction")),
+    example = 's:prestress{ label = 1, strain = -0.04 }\ns:prestress{ box = { min = {0, 0, 0}, max = {0.1, 0.1, 0.005} }, tensor = { xx = -0.05, yy = -0.02 } }' },
   { name = "Scenario:operational", summary = "Chooses the operational region (the part that can be cut and "
       .. "is solved every frame by CG; the rest is condensed). Default: none (everything condensed).",
     one_of = { { "label", "sphere", "box", "halfspace", "tets" } }, fields = region_fields,

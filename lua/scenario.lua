@@ -17,7 +17,7 @@ function M.new(args)
     name = a.name or internal.scenario_stem or "scenario",
     duration = a.duration, fps = a.fps, tolerance = a.tolerance, description = a.description,
     where = check.where(),
-    _materials = {}, _fixed = {}, _loads = {}, _tools = {}, _expect = {}, _on_frame = {},
+    _materials = {}, _prestress = {}, _fixed = {}, _loads = {}, _tools = {}, _expect = {}, _on_frame = {},
     _output = { csv = true, vtu = false, vtu_every = 1 },
   }, Scenario)
   if not s.name:match("^[%w_%-%.]+$") or s.name:match("^%.") then
@@ -106,6 +106,16 @@ function Scenario:material(args)
   local r = region(self, "material", a)
   self._materials[#self._materials + 1] = { name = a.name or ("material" .. (#self._materials + 1)), where = r.where,
     region = r, tissue = a.tissue, young = a.young, poisson = a.poisson }
+end
+
+function Scenario:prestress(args)
+  editable(self, "prestress")
+  local a = check.args("Scenario:prestress", args)
+  local r = region(self, "prestress", a)
+  local t = a.tensor
+  if a.strain then t = { xx = a.strain, yy = a.strain, zz = a.strain, yz = 0, zx = 0, xy = 0 } end
+  self._prestress[#self._prestress + 1] = { name = a.name or ("prestress" .. (#self._prestress + 1)), where = r.where,
+    region = r, xx = t.xx, yy = t.yy, zz = t.zz, yz = t.yz, zx = t.zx, xy = t.xy }
 end
 
 function Scenario:operational(args)

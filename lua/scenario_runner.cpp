@@ -84,6 +84,19 @@ sim::ScenarioSpec spec_from_table(lua_State* L, int s, const fs::path& source) {
     spec.materials.push_back(a);
   });
 
+  each(L, s, "_prestress", [&](int m) {
+    sim::PrestressAssignment a;
+    a.name = get_string(L, m, "name");
+    a.where = get_string(L, m, "where");
+    push_field(L, m, "region");
+    a.tets = to_tet_selector(L, -1);
+    lua_pop(L, 1);
+    const double xx = get_number(L, m, "xx", 0.0), yy = get_number(L, m, "yy", 0.0), zz = get_number(L, m, "zz", 0.0);
+    const double yz = get_number(L, m, "yz", 0.0), zx = get_number(L, m, "zx", 0.0), xy = get_number(L, m, "xy", 0.0);
+    a.strain << xx, xy, zx, xy, yy, yz, zx, yz, zz;
+    spec.prestress.push_back(a);
+  });
+
   push_field(L, s, "_operational");
   spec.operational = to_tet_selector(L, -1);
   lua_pop(L, 1);

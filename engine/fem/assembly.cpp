@@ -35,7 +35,8 @@ void check_tets(const mesh::TetMesh& m, const std::vector<Material>& tet_materia
       if (m.tets(t, k) < 0 || m.tets(t, k) >= nn)
         fail(who, ": tetrahedron ", t, " refers to node ", m.tets(t, k), ", but the mesh has nodes 0..", nn - 1);
     const Material& mat = tet_material[size_t(t)];
-    if (!(std::isfinite(mat.young) && mat.young > 0 && mat.poisson > -1.0 && mat.poisson < 0.5))
+    if (!(std::isfinite(mat.young) && mat.young > 0 && mat.poisson > -1.0 && mat.poisson < 0.5) ||
+        has_initial_strain(mat))
       check_material(mat, cat(who, ": material of tetrahedron ", t));
     const TetCorners X = tet_corners(m, t);
     double l = 0;
@@ -184,6 +185,29 @@ SparseMatrix assemble_stiffness_triplets(const mesh::TetMesh& m, const std::vect
   SparseMatrix K(3 * nn, 3 * nn);
   K.setFromTriplets(trip.begin(), trip.end());
   return K;
+}
+
+Eigen::MatrixX3d initial_strain_forces(const mesh::TetMesh& m, const std::vector<Material>& tet_material,
+                                       const std::vector<int>& tets_in) {
+  const std::vector<int> tets = tet_set(m, tets_in);
+  check_tets(m, tet_material, tets, "initial_strain_forces");
+  Eigen::MatrixX3d f = Eigen::MatrixX3d::Zero(m.num_nodes(), 3);
+  for (int t : tets) {
+    const Material& mat = tet_material[size_t(t)];
+    if (!has_initial_strain(mat)) continue;
+    double V = 0;
+    const Mat6x12 B = strain_displacement(tet_corners(m, t), &V);
+    const Eigen::Matrix<double, 6, 1> eps0 = Eigen::Map<const Eigen::Matrix<double, 6, 1>>(mat.initial_strain.data());
+    const Eigen::Matrix<double, 12, 1> fe = V * (B.transpose() * (elasticity_matrix(mat) * eps0));
+    for (int k = 0; k < 4; ++k) f.row(m.tets(t, k)) += fe.segment<3>(3 * k).transpose();
+  }
+  return f;
+}
+
+bool any_initial_strain(const std::vector<Material>& tet_material) {
+  for (const Material& mat : tet_material)
+    if (has_initial_strain(mat)) return true;
+  return false;
 }
 
 double strain_energy(const mesh::TetMesh& m, const std::vector<Material>& tet_material,

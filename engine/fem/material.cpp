@@ -12,6 +12,19 @@ void check_material(const Material& mat, const std::string& where) {
   if (!(mat.poisson > -1.0 && mat.poisson < 0.5))
     fail(where, ": Poisson's ratio must lie in (-1, 0.5), got ", mat.poisson,
          " (0.5 is incompressible and makes linear tets lock)");
+  static const char* const kNames[6] = {"xx", "yy", "zz", "yz", "zx", "xy"};
+  for (int k = 0; k < 6; ++k) {
+    const double e = mat.initial_strain[size_t(k)];
+    if (!(std::isfinite(e) && std::abs(e) <= kMaxInitialStrain))
+      fail(where, ": initial strain component ", kNames[k], " must be a finite number within +-", kMaxInitialStrain,
+           " (a small-strain model), got ", e);
+  }
+}
+
+bool has_initial_strain(const Material& mat) {
+  for (double e : mat.initial_strain)
+    if (e != 0) return true;
+  return false;
 }
 
 Eigen::Matrix<double, 6, 6> elasticity_matrix(const Material& mat) {

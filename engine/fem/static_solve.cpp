@@ -67,8 +67,11 @@ StaticSolution solve_static(const mesh::TetMesh& m, const std::vector<Material>&
   const DofMap fm = make_dof_map(free_node), cm = make_dof_map(fixed_in);
   const SparseMatrix Kff = restrict_matrix(K, fm);
   const Eigen::VectorXd u_all = flatten(sol.displacement);
-  const Eigen::VectorXd b =
-      restrict_vector(flatten(f), fm) - restrict_matrix(K, fm, cm) * restrict_vector(u_all, cm);
+  // Loads: the given forces plus the initial strains' equivalent forces.
+  const Eigen::VectorXd f_all =
+      any_initial_strain(tet_material) ? Eigen::VectorXd(flatten(f + initial_strain_forces(m, tet_material)))
+                                       : Eigen::VectorXd(flatten(f));
+  const Eigen::VectorXd b = restrict_vector(f_all, fm) - restrict_matrix(K, fm, cm) * restrict_vector(u_all, cm);
   sol.assemble_seconds = timer.seconds();
   sol.free_dofs = fm.size();
 
@@ -95,7 +98,7 @@ StaticSolution solve_static(const mesh::TetMesh& m, const std::vector<Material>&
   Eigen::VectorXd u_full = u_all;
   for (int i = 0; i < fm.size(); ++i) u_full(fm.global[size_t(i)]) = x(i);
   sol.displacement = unflatten(u_full);
-  const Eigen::VectorXd r = K * u_full - flatten(f);
+  const Eigen::VectorXd r = K * u_full - f_all;
   sol.reaction = Eigen::MatrixX3d::Zero(nn, 3);
   for (int i = 0; i < nn; ++i)
     if (fixed[size_t(i)]) sol.reaction.row(i) = r.segment<3>(3 * Eigen::Index(i)).transpose();
@@ -119,8 +122,11 @@ StrainField element_stresses(const mesh::TetMesh& m, const std::vector<Material>
   if (int(tet_material.size()) != m.num_tets())
     fail("element_stresses: ", tet_material.size(), " materials for ", m.num_tets(), " tetrahedra");
   StrainField sig = element_strains(m, u);
-  for (int t = 0; t < m.num_tets(); ++t)
-    sig.row(t) = (elasticity_matrix(tet_material[size_t(t)]) * sig.row(t).transpose()).transpose();
+  for (int t = 0; t < m.num_tets(); ++t) {
+    const Material& mat = tet_material[size_t(t)];
+    const Eigen::Matrix<double, 6, 1> eps0 = Eigen::Map<const Eigen::Matrix<double, 6, 1>>(mat.initial_strain.data());
+    sig.row(t) = (elasticity_matrix(mat) * (sig.row(t).transpose() - eps0)).transpose();
+  }
   return sig;
 }
 

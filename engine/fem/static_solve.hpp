@@ -28,14 +28,15 @@ struct StaticOptions {
 
 struct StaticSolution {
   Eigen::MatrixX3d displacement;  // (nnode x 3) m: prescribed on fixed nodes, 0 on nodes in no tet
-  Eigen::MatrixX3d reaction;      // (nnode x 3) N: K u - f on fixed nodes (support forces), 0 elsewhere
+  Eigen::MatrixX3d reaction;      // (nnode x 3) N: K u - f - f0 on fixed nodes (support forces), 0 elsewhere
   int free_dofs = 0;              // size of the solved system
   int cg_iterations = 0;          // cg backend only
   double cg_relative_residual = 0;
   double assemble_seconds = 0, solve_seconds = 0;
 };
 
-// Solves the whole mesh (every tet, materials one per tet). Nodes referenced
+// Solves the whole mesh (every tet, materials one per tet): K u = f + f0, f0
+// the initial strains' forces (initial_strain_forces). Nodes referenced
 // by no tet stay out of the system; a force on such a node is an error (it
 // would be lost). Forces on fixed nodes go straight into the support and show
 // up in `reaction`. Throws softcut::Error for: fixed ids out of range or
@@ -50,7 +51,8 @@ using StrainField = Eigen::Matrix<double, Eigen::Dynamic, 6>;  // (ntet x 6) Voi
 // Constant strain of every tet (engineering shears, dimensionless) for a
 // displacement field u (nnode x 3, m).
 StrainField element_strains(const mesh::TetMesh& m, const Eigen::MatrixX3d& u);
-// Stress sigma = D eps of every tet, Pa, same Voigt order (shear stresses).
+// Stress sigma = D (eps - eps0) of every tet, Pa, same Voigt order (shear
+// stresses); eps0 the material's initial strain.
 StrainField element_stresses(const mesh::TetMesh& m, const std::vector<Material>& tet_material,
                              const Eigen::MatrixX3d& u);
 

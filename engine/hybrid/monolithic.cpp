@@ -1,6 +1,7 @@
 #include "hybrid/monolithic.hpp"
 
 #include "core/error.hpp"
+#include "fem/assembly.hpp"
 #include "fem/dof_map.hpp"
 #include "solve/cholesky.hpp"
 
@@ -24,7 +25,10 @@ Reduced reduce(const mesh::TetMesh& m, const std::vector<fem::Material>& mat, co
   Reduced r;
   r.map = fem::make_dof_map(free);
   r.K = fem::restrict_matrix(fem::assemble_stiffness(m, mat), r.map);
-  r.f = fem::restrict_vector(fem::flatten(forces), r.map);
+  // The initial strains' forces join the given ones (K u = f + f0).
+  r.f = fem::restrict_vector(fem::flatten(fem::any_initial_strain(mat) ? Eigen::MatrixX3d(forces + fem::initial_strain_forces(m, mat))
+                                                                          : forces),
+                             r.map);
   return r;
 }
 

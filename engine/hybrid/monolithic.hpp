@@ -11,7 +11,8 @@
 
 namespace softcut::hybrid {
 
-// Direct CHOLMOD solve of K u = f over all tets, fixed nodes (node_fixed,
+// Direct CHOLMOD solve of K u = f + f0 over all tets (f0: the materials'
+// initial strains, fem::initial_strain_forces), fixed nodes (node_fixed,
 // nnode) eliminated; returns (nnode x 3) m, zero on fixed and unused nodes.
 // forces: (nnode x 3) N.
 Eigen::MatrixX3d solve_monolithic(const mesh::TetMesh& m, const std::vector<fem::Material>& tet_material,

@@ -48,6 +48,7 @@ SparseMatrix OperationalSystem::assembled() const {
 Eigen::VectorXd OperationalSystem::rhs(const Eigen::MatrixX3d& forces, const Eigen::VectorXd& P_prime) const {
   Eigen::VectorXd b(size());
   for (size_t k = 0; k < nodes.size(); ++k) b.segment<3>(3 * Eigen::Index(k)) = forces.row(nodes[k]).transpose();
+  if (prestress.size() == b.size()) b += prestress;
   if (num_interface > 0) b.tail(3 * Eigen::Index(num_interface)) -= P_prime;
   return b;
 }
@@ -90,6 +91,11 @@ OperationalSystem build_operational_system(const mesh::TetMesh& m, const std::ve
     sys.K = SparseMatrix(sys.size(), sys.size());
   else
     sys.K = node_block(fem::assemble_stiffness(m, tet_material, operational_tets), sys.nodes, sys.nodes);
+  // Initial strains of the operational tets (split tets carry their parent's).
+  bool strained = false;
+  for (int t : operational_tets) strained = strained || fem::has_initial_strain(tet_material[size_t(t)]);
+  if (strained)
+    sys.prestress = gather_nodes(fem::initial_strain_forces(m, tet_material, operational_tets), sys.nodes);
   sys.K_prime = std::move(K_prime);
   sys.generation = next_generation++;
   // Node blocks of K, row by row. K's column c holds its row c (symmetric),

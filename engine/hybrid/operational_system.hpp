@@ -4,6 +4,9 @@
 //   [ K11   K1I       ] [A1]   [ P1        ]
 //   [ KI1   K1II + K' ] [AI] = [ PI_ext - P' ]
 //
+// plus, on the right, the initial strains' forces of the operational tets
+// (`prestress`, rebuilt with the system when a cut splits them).
+//
 // K (K11, K1I, KI1, K1II) is assembled from the operational tets only; K' is
 // the dense Schur complement of the nonoperational region on the interface
 // DOFs (precomputed once, never changes). Cutting changes only operational
@@ -41,6 +44,9 @@ struct OperationalSystem {
   SparseMatrix K;               // (3n x 3n) N/m, operational tets only, both triangles stored
   std::shared_ptr<const Eigen::MatrixXd> K_prime;  // (3|I| x 3|I|) N/m, dense, on the last 3|I| DOFs
   long generation = 0;          // unique per build; solvers cache per-system data by it
+  // (size()) N: f0 = sum V B^T D eps0 of the operational tets on the unknowns;
+  // empty when none of them has an initial strain.
+  Eigen::VectorXd prestress;
   // K again in 3x3 node blocks, row by row (block CSR; K is symmetric), made by
   // build_operational_system: apply() runs on it, 3x faster than the scalar
   // sparse product. Empty for a hand-made system: apply() uses K then.
@@ -56,7 +62,7 @@ struct OperationalSystem {
   // K with K' added into its interface block (sparse with a dense corner), for
   // direct solvers and checks.
   SparseMatrix assembled() const;
-  // b = [P1; PI - P'] from per-node forces (nnode x 3, N; rows of other nodes
+  // b = [P1; PI - P'] + prestress from per-node forces (nnode x 3, N; rows of other nodes
   // are ignored) and P' (3|I|, N).
   Eigen::VectorXd rhs(const Eigen::MatrixX3d& forces, const Eigen::VectorXd& P_prime) const;
 };

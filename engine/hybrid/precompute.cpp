@@ -54,6 +54,7 @@ Model setup_model(const mesh::TetMesh& m, const std::vector<fem::Material>& tet_
   M.surface_index = node_positions(p.surface, nn);
 
   // Initial loads: checked like per-frame loads (no interior, fixed or unknown nodes).
+  // The initial strains' forces are added after the check: they may load interior nodes.
   M.initial_loads = Eigen::MatrixX3d::Zero(nn, 3);
   if (opt.initial_loads.size() > 0) {
     if (opt.initial_loads.rows() != nn)
@@ -63,7 +64,17 @@ Model setup_model(const mesh::TetMesh& m, const std::vector<fem::Material>& tet_
         check_load(p, v, opt.initial_loads.row(v).transpose(), "initial load");
     M.initial_loads = opt.initial_loads;
   }
+  // Initial strains of the nonoperational tets: constant forces on s, i and I
+  // (interior nodes too: condensed into the constant term below, DESIGN.md
+  // "Initial strain"); the operational tets' share is the operational
+  // system's (it changes when a cut splits them). Fixed rows go into the support.
+  if (!p.nonoperational_tets.empty() && fem::any_initial_strain(tet_material)) {
+    Eigen::MatrixX3d f0 = fem::initial_strain_forces(m, tet_material, p.nonoperational_tets);
+    for (int v : p.fixed) f0.row(v).setZero();
+    M.initial_loads += f0;
+  }
   M.Ps0 = gather_nodes(M.initial_loads, p.surface);
+  M.Pi0 = gather_nodes(M.initial_loads, p.interior);
 
   return M;
 }
@@ -167,23 +178,25 @@ Model precompute(const mesh::TetMesh& m, const std::vector<fem::Material>& tet_m
       M.Kstar_inv.middleCols(c0, w) = M.K22.solve(E).topRows(ns3);
     }
     M.timings.Kstar_inv_ms = t.ms();
-
-    t.reset();
+  }
+  // The constant term: K*^-1 Ps0 and P' for the initial loads. With loads on
+  // interior nodes (initial strains) it is (K22^-1 P2)[s] and KI2 K22^-1 P2,
+  // P2 = [Ps0; Pi0], one solve; surface loads alone use the dense blocks.
+  t.reset();
+  if (M.storage == Storage::dense && M.Pi0.squaredNorm() == 0) {
     M.Kstar_inv_Ps0 = M.Kstar_inv * M.Ps0;
     M.P_prime0 = M.KI2_K22inv_s * M.Ps0;
-    M.timings.Kstar_inv_Ps0_ms = t.ms();
   } else {
-    t.reset();
     Eigen::VectorXd z = Eigen::VectorXd::Zero(n23);
-    if (n23 > 0 && M.Ps0.squaredNorm() > 0) {
-      Eigen::VectorXd P2 = Eigen::VectorXd::Zero(n23);
-      P2.head(ns3) = M.Ps0;
+    if (n23 > 0 && (M.Ps0.squaredNorm() > 0 || M.Pi0.squaredNorm() > 0)) {
+      Eigen::VectorXd P2(n23);
+      P2 << M.Ps0, M.Pi0;
       z = M.K22.solve(P2);
     }
     M.Kstar_inv_Ps0 = z.head(ns3);
     M.P_prime0 = M.KI2 * z;
-    M.timings.Kstar_inv_Ps0_ms = t.ms();
   }
+  M.timings.Kstar_inv_Ps0_ms = t.ms();
 
   t.reset();
   build_operational(m, M);

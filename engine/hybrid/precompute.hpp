@@ -8,7 +8,8 @@
 //   (KI2 K22^-1)[:,s] = ((K22^-1 K2I)[s,:])^T          (3|I| x 3|s|)
 //   K*^-1             = (K22^-1)_ss                   (3|s| x 3|s|)
 //   K*^-1 P*          = -(K22^-1 K2I)[s,:]             (3|s| x 3|I|)
-//   K*^-1 Ps0         = (K22^-1)_ss Ps0                (3|s|)
+//   K*^-1 Ps0         = (K22^-1 [Ps0; Pi0])_s          (3|s|) (Pi0: interior
+//                       loads of initial strains, DESIGN.md "Initial strain")
 //
 // Storage (all give the same displacements):
 //   dense    the paper's scheme: every block above, O(|s|^2) memory; per
@@ -104,8 +105,12 @@ struct Model {
   Eigen::MatrixXd Kstar_inv_Pstar;  // (3|s| x 3|I|) dimensionless
   Eigen::VectorXd Kstar_inv_Ps0;    // (3|s|) m
 
+  // Initial loads: the given ones plus the initial strains' forces of the
+  // nonoperational tets (on s, i and I; the operational tets' are the
+  // operational system's `prestress`).
   Eigen::MatrixX3d initial_loads;   // (nnode x 3) N
   Eigen::VectorXd Ps0;              // (3|s|) N, initial surface loads
+  Eigen::VectorXd Pi0;              // (3|i|) N, initial interior loads (initial strains only)
   Eigen::VectorXd P_prime0;         // (3|I|) N, KI2 K22^-1 P2 for the initial loads
 
   std::shared_ptr<const OperationalSystem> operational;  // from the rest mesh

@@ -11,11 +11,10 @@ namespace softcut::hybrid {
 
 namespace {
 
-// P2 = [Ps0 + Ps_interact; 0] on the K22 DOFs (surface first), minus K2I AI.
+// P2 = [Ps0 + Ps_interact; Pi0] on the K22 DOFs (surface first), minus K2I AI.
 Eigen::VectorXd nonoperational_rhs(const Model& M, const State& S, const Eigen::VectorXd* AI) {
-  const Eigen::Index ns3 = 3 * Eigen::Index(M.ns());
-  Eigen::VectorXd P2 = Eigen::VectorXd::Zero(3 * Eigen::Index(M.nonop_nodes.size()));
-  P2.head(ns3) = M.Ps0 + S.Ps_interact;
+  Eigen::VectorXd P2(3 * Eigen::Index(M.nonop_nodes.size()));
+  P2 << M.Ps0 + S.Ps_interact, M.Pi0;
   if (AI && AI->size() > 0) P2.noalias() -= M.K2I * *AI;
   return P2;
 }

@@ -59,6 +59,13 @@ Model compile(const ScenarioSpec& spec, const RunResources& resources) {
     if (tets.empty()) diag.warn(w, ": selects no tet");
     for (int k : tets) m.tet_material[k] = mat;
   }
+  for (const auto& a : spec.prestress) {  // after the materials: they do not reset it
+    const std::string w = prefixed(a.where, "prestress '" + a.name + "'");
+    const std::vector<int> tets = select_tets(a.tets, ctx, w);
+    if (tets.empty()) diag.warn(w, ": selects no tet");
+    const std::array<double, 6> eps0 = voigt_strain(a.strain);
+    for (int k : tets) m.tet_material[k].initial_strain = eps0;
+  }
 
   std::vector<char> operational(m.mesh.num_tets(), 0);
   for (int k : select_tets(spec.operational, ctx, "operational")) operational[k] = 1;

@@ -50,6 +50,14 @@ void check_spec(const ScenarioSpec& s) {
       if (m.young != 0 && !(m.young > 0 && std::isfinite(m.young))) fail(w, ": young must be > 0 Pa, got ", m.young);
     }
   }
+  for (const auto& a : s.prestress) {
+    const std::string w = prefixed(a.where, "prestress '" + a.name + "'");
+    if (!a.strain.allFinite() || a.strain != a.strain.transpose())
+      fail(w, ": the strain must be a finite symmetric tensor");
+    fem::Material probe;
+    probe.initial_strain = voigt_strain(a.strain);
+    fem::check_material(probe, w);
+  }
   std::set<std::string> names;
   for (const auto& l : s.loads) {
     const std::string w = prefixed(l.where, "load '" + l.name + "'");
@@ -118,5 +126,9 @@ Backend parse_backend(std::string_view text) {
 }
 
 const char* to_string(LoadSpec::Direction d) { return d == LoadSpec::Direction::world ? "world" : "normal"; }
+
+std::array<double, 6> voigt_strain(const Eigen::Matrix3d& e) {
+  return {e(0, 0), e(1, 1), e(2, 2), 2 * e(1, 2), 2 * e(2, 0), 2 * e(0, 1)};
+}
 
 }  // namespace softcut::sim

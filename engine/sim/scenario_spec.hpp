@@ -3,6 +3,7 @@
 // (adding file:line to its own messages); compile() turns it into a Model.
 // No Lua here. Every item carries a `name` used in error messages and outputs.
 #include <Eigen/Core>
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <limits>
@@ -51,6 +52,15 @@ struct MaterialAssignment {
   std::string preset;             // tissue_preset() name, or empty
   double young = 0.0;             // Pa; 0: from the preset
   double poisson = -2.0;          // outside (-1, 0.5): from the preset
+};
+
+// Initial strain of a set of tets (fem::Material::initial_strain); later
+// entries override earlier ones on shared tets.
+struct PrestressAssignment {
+  std::string name;
+  std::string where;  // "scenario.lua:12" (prefixes messages), may be empty
+  TetSelector tets = TetSelector::of(TetSelector::Kind::all);
+  Eigen::Matrix3d strain = Eigen::Matrix3d::Zero();  // symmetric tensor eps0, mesh frame, dimensionless
 };
 
 struct LoadSpec {
@@ -150,6 +160,7 @@ struct ScenarioSpec {
   std::map<std::string, std::string> versions;   // extra versions for the summary (e.g. "lua")
   MeshSource mesh;
   std::vector<MaterialAssignment> materials;     // empty: fem::Material{} everywhere
+  std::vector<PrestressAssignment> prestress;    // initial strains (none: a stress-free rest state)
   TetSelector operational;                       // operational tets (default none)
   NodeSelector fixed;                            // required: at least one node
   std::vector<LoadSpec> loads;
@@ -174,6 +185,10 @@ void check_scenario_name(const std::string& name);
 // paths, names unique); throws softcut::Error naming the item, e.g.
 // "load 'push': ramp times must increase (t[2] = 0.5 after 0.7)".
 void check_spec(const ScenarioSpec& spec);
+
+// A symmetric strain tensor in fem::Material's Voigt order [xx yy zz yz zx
+// xy] with engineering shears (2 eps_yz, ...).
+std::array<double, 6> voigt_strain(const Eigen::Matrix3d& eps);
 
 const char* to_string(LoadSpec::Direction d);
 

@@ -28,6 +28,7 @@ struct MonolithicSystem {
   int nnode = 0;
   fem::DofMap map;
   fem::SparseMatrix K;  // free DOFs (both triangles), for the residual check
+  Eigen::VectorXd f0;   // free DOFs, N: the tets' initial strains (empty when none)
   solve::Cholesky factor;
   long generation = 0;
 
@@ -44,6 +45,8 @@ struct MonolithicSystem {
     for (int n = 0; n < nnode; ++n) free[size_t(n)] &= !node_fixed[size_t(n)];
     map = fem::make_dof_map(free);
     this->K = fem::restrict_matrix(K, map);
+    if (fem::any_initial_strain(tet_material))
+      f0 = fem::restrict_vector(fem::flatten(fem::initial_strain_forces(m, tet_material)), map);
     if (timings) timings->emplace_back("assemble", t.ms());
     t.reset();
     factor.factor(this->K, "whole-mesh stiffness (is every part of the body fixed somewhere?)", max_bytes);
@@ -104,7 +107,8 @@ class MonolithicSolver final : public Solver {
              SolveStats& stats) const override {
     Timer t;
     const MonolithicSystem& S = system(warm);
-    const Eigen::VectorXd f = fem::restrict_vector(fem::flatten(forces), S.map);
+    Eigen::VectorXd f = fem::restrict_vector(fem::flatten(forces), S.map);
+    if (S.f0.size() == f.size()) f += S.f0;
     const Eigen::VectorXd x = f.squaredNorm() > 0 ? S.factor.solve(f) : Eigen::VectorXd::Zero(f.size());
     stats = SolveStats{};
     if (f.squaredNorm() > 0) stats.relative_residual = (f - S.K * x).norm() / f.norm();

@@ -3,9 +3,14 @@
 #include <doctest/doctest.h>
 
 #include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <random>
 
 #include "core/error.hpp"
+#include "fem/dof_map.hpp"
 #include "fem/element_stiffness.hpp"
+#include "fem/static_solve.hpp"
 #include "fem_fixtures.hpp"
 
 using namespace softcut;
@@ -95,6 +100,51 @@ TEST_SUITE("fem/assembly") {
     Eigen::VectorXd v(3 * m.num_nodes());
     for (int i = 0; i < m.num_nodes(); ++i) v.segment<3>(3 * i) = u.row(i).transpose();
     CHECK(0.5 * v.dot(K * v) == doctest::Approx(fem::strain_energy(m, mats, u)).epsilon(1e-12));
+  }
+
+  TEST_CASE("initial strain forces do the virtual work of the initial stress: f0 . u = sum V eps(u) . D eps0") {
+    std::mt19937 rng(9);
+    std::normal_distribution<double> g(0, 1);
+    for (unsigned seed = 1; seed <= 3; ++seed) {
+      const mesh::TetMesh m = test::jittered_box(3, 2, 2, 0.2, seed);
+      auto mats = test::random_materials(m.num_tets(), seed);
+      std::vector<int> subset;
+      for (int t = 0; t < m.num_tets(); ++t) {
+        if (t % 3 == 0) continue;  // some tets without
+        for (double& e : mats[size_t(t)].initial_strain) e = 0.01 * g(rng);
+        if (t % 2) subset.push_back(t);
+      }
+      const Eigen::MatrixX3d u = Eigen::MatrixX3d::Random(m.num_nodes(), 3);
+      const fem::StrainField eps = fem::element_strains(m, u);
+      for (const std::vector<int>& tets : {std::vector<int>{}, subset}) {
+        double work = 0;
+        for (int t = 0; t < m.num_tets(); ++t) {
+          if (!tets.empty() && !std::count(tets.begin(), tets.end(), t)) continue;
+          const auto& mat = mats[size_t(t)];
+          const Eigen::Matrix<double, 6, 1> e0 = Eigen::Map<const Eigen::Matrix<double, 6, 1>>(mat.initial_strain.data());
+          work += mesh::signed_volume(m, t) * eps.row(t).dot(fem::elasticity_matrix(mat) * e0);
+        }
+        const Eigen::MatrixX3d f0 = fem::initial_strain_forces(m, mats, tets);
+        CAPTURE(seed);
+        CHECK(std::abs(work) > 0);
+        CHECK(fem::flatten(f0).dot(fem::flatten(u)) == doctest::Approx(work).epsilon(1e-12));
+        // A constant stress has no net force or moment on a free body.
+        CHECK((test::rigid_motions(m.nodes).transpose() * fem::flatten(f0)).norm() <= 1e-12 * fem::flatten(f0).norm());
+      }
+    }
+  }
+
+  TEST_CASE("a bad initial strain is refused with the tet and the component named") {
+    const mesh::TetMesh m = test::jittered_box(1, 1, 1, 0, 1);
+    auto mats = test::random_materials(m.num_tets(), 1);
+    mats[2].initial_strain[4] = std::nan("");
+    CHECK_THROWS_WITH_AS(fem::initial_strain_forces(m, mats), doctest::Contains("tetrahedron 2"), Error);
+    CHECK_THROWS_WITH_AS(fem::assemble_stiffness(m, mats), doctest::Contains("component zx"), Error);
+    mats[2].initial_strain[4] = 0.7;
+    CHECK_THROWS_WITH_AS(fem::initial_strain_forces(m, mats), doctest::Contains("within +-0.5"), Error);
+    mats[2].initial_strain[4] = 0.5;
+    CHECK(fem::flatten(fem::initial_strain_forces(m, mats)).norm() > 0);
+    CHECK(!fem::any_initial_strain(test::random_materials(m.num_tets(), 1)));
   }
 
   TEST_CASE("bad input is refused with the tet named") {

@@ -109,6 +109,89 @@ TEST_SUITE("fem/static_solve") {
     }
   }
 
+  // Initial strain, closed form: a body pinned only against rigid motion
+  // takes on exactly the strain eps0 it is given (no stress anywhere, no
+  // support force), whatever the mesh's distortion.
+  TEST_CASE("initial strain patch test: a pinned body takes on a uniform eps0 exactly and stays stress-free") {
+    std::mt19937 rng(23);
+    std::normal_distribution<double> g(0, 1);
+    for (unsigned seed = 1; seed <= 3; ++seed) {
+      const mesh::TetMesh m = test::jittered_box(4, 3, 3, 0.24, seed);
+      Eigen::Matrix3d A;  // symmetric eps0 with shears
+      for (int i = 0; i < 9; ++i) A(i) = 1e-2 * g(rng);
+      A = (0.5 * (A + A.transpose())).eval();
+      fem::Material mat{4e3, 0.1 + 0.1 * seed};
+      const Eigen::Matrix<double, 1, 6> e0 = voigt_strain(A);
+      for (int k = 0; k < 6; ++k) mat.initial_strain[size_t(k)] = e0(k);
+      const std::vector<fem::Material> mats(size_t(m.num_tets()), mat);
+      // Supports that remove the rigid motions without restraining the
+      // strain: u = eps0 x prescribed at three corners not on one line.
+      const int o = 0;
+      int cx = -1, cy = -1;
+      for (int i = 0; i < m.num_nodes(); ++i) {
+        const Eigen::Vector3d x = m.node(i);
+        if (x.y() == 0 && x.z() == 0 && x.x() > 0.99) cx = i;
+        if (x.x() == 0 && x.z() == 0 && x.y() > 0.99) cy = i;
+      }
+      REQUIRE(cx >= 0);
+      REQUIRE(cy >= 0);
+      REQUIRE(m.node(o).norm() == 0);
+      fem::StaticProblem p;
+      p.fixed_nodes = {o, cx, cy};
+      p.fixed_displacement.resize(3, 3);
+      for (int k = 0; k < 3; ++k) p.fixed_displacement.row(k) = (A * m.node(p.fixed_nodes[size_t(k)])).transpose();
+      const fem::StaticSolution s = fem::solve_static(m, mats, p);
+      double err = 0;
+      for (int i = 0; i < m.num_nodes(); ++i)
+        err = std::max(err, (s.displacement.row(i) - (A * m.node(i)).transpose()).norm());
+      CAPTURE(seed);
+      CHECK(err <= 1e-12 * A.norm());
+      const fem::StrainField eps = fem::element_strains(m, s.displacement);
+      const fem::StrainField sig = fem::element_stresses(m, mats, s.displacement);
+      const double s0 = (fem::elasticity_matrix(mat) * e0.transpose()).norm();
+      double eerr = 0, smax = 0;
+      for (int t = 0; t < m.num_tets(); ++t) {
+        eerr = std::max(eerr, (eps.row(t) - e0).norm());
+        smax = std::max(smax, sig.row(t).norm());
+      }
+      CHECK(eerr <= 1e-10 * e0.norm());
+      CHECK(smax <= 1e-9 * s0);  // against the stress eps0 would cause if held
+      CHECK(s.reaction.norm() <= 1e-9 * s0);
+      // Without the initial strain the same supports do not give that field:
+      // eps0 is what shapes it.
+      const fem::StaticSolution none =
+          fem::solve_static(m, std::vector<fem::Material>(size_t(m.num_tets()), {mat.young, mat.poisson}), p);
+      double off = 0, scale = 0;
+      for (int i = 0; i < m.num_nodes(); ++i) {
+        off = std::max(off, (none.displacement.row(i) - (A * m.node(i)).transpose()).norm());
+        scale = std::max(scale, (A * m.node(i)).norm());
+      }
+      CHECK(off > 0.1 * scale);
+    }
+  }
+
+  // Held all round, a uniform eps0 moves nothing: the equivalent forces of a
+  // constant stress cancel at every inner node, the stress is -D eps0, and the
+  // support forces are the traction of that stress on the boundary.
+  TEST_CASE("initial strain held on the whole boundary: no motion inside, stress -D eps0, balanced supports") {
+    const mesh::TetMesh m = test::jittered_box(4, 4, 4, 0.24, 7);
+    fem::Material mat{6e3, 0.4};
+    mat.initial_strain = {-0.03, -0.03, 0.01, 0.0, 0.004, 0.0};
+    const std::vector<fem::Material> mats(size_t(m.num_tets()), mat);
+    fem::StaticProblem p;
+    p.fixed_nodes = nodes_where(m, [](const Eigen::Vector3d& x) { return (x.array() == 0).any() || (x.array() == 1).any(); });
+    const fem::StaticSolution s = fem::solve_static(m, mats, p);
+    const Eigen::Matrix<double, 6, 1> e0 = Eigen::Map<const Eigen::Matrix<double, 6, 1>>(mat.initial_strain.data());
+    const Eigen::Matrix<double, 6, 1> expected = -fem::elasticity_matrix(mat) * e0;
+    CHECK(fem::flatten(s.displacement).norm() <= 1e-14);
+    const fem::StrainField sig = fem::element_stresses(m, mats, s.displacement);
+    for (int t = 0; t < m.num_tets(); ++t) CHECK((sig.row(t).transpose() - expected).norm() <= 1e-10 * expected.norm());
+    // Reactions: zero resultant and moment (a self-equilibrated stress).
+    const Eigen::MatrixXd R = test::rigid_motions(m.nodes);
+    CHECK((R.transpose() * fem::flatten(s.reaction)).norm() <= 1e-10 * fem::flatten(s.reaction).norm());
+    CHECK(fem::flatten(s.reaction).norm() > 0);
+  }
+
   // Expected ratios (the lead's independent prototype): 0.22, 0.51, 0.79,
   // 0.94 for 10x1x1 .. 80x8x8 cells. Linear tets lock in bending, so the
   // ratio climbs toward 1 (Timoshenko shear adds < 1% at L/h = 10). The

@@ -136,6 +136,10 @@ TEST_SUITE("hybrid/precompute_cache") {
     precompute_cached(c.mesh, mat, c.partition, {}, {dir.path}, &rm);
     CHECK(!rm.hit);
     CHECK(rm.key != r.key);
+    mat = c.material;  // only an initial strain changed: its forces enter the cached constant term
+    mat[0].initial_strain[1] = 1e-3;
+    precompute_cached(c.mesh, mat, c.partition, {}, {dir.path}, &rm);
+    CHECK(!rm.hit);
     PrecomputeOptions po;
     po.block_columns = 7;
     precompute_cached(c.mesh, c.material, c.partition, po, {dir.path}, &rm);
