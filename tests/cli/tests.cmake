@@ -15,6 +15,12 @@ set_tests_properties("cli: softcut_add_scenario_tests() in a project that uses s
 # reference log recorded with the CPU solver, through cuts (issue: GPU CG).
 add_test(NAME "cli: softcut check --backend gpu through_cut"
          COMMAND softcut check --backend gpu ${PROJECT_SOURCE_DIR}/scenarios/through_cut.lua)
+# Initial strains through cuts: every backend reproduces the log recorded with
+# the default (hybrid, direct), the whole-mesh solve included.
+foreach(backend monolithic cpu gpu)
+  add_test(NAME "cli: softcut check --backend ${backend} tensioned_incision"
+           COMMAND softcut check --backend ${backend} ${PROJECT_SOURCE_DIR}/scenarios/tensioned_incision.lua)
+endforeach()
 # softcut sweep as a Slurm array job on a private one-node cluster (root and
 # Debian's slurmctld/slurmd/slurm-client needed: skipped, saying why, without).
 add_test(NAME "cli: softcut sweep on a one-node Slurm cluster"
