@@ -12,11 +12,13 @@ void check_material(const Material& mat, const std::string& where) {
   if (!(mat.poisson > -1.0 && mat.poisson < 0.5))
     fail(where, ": Poisson's ratio must lie in (-1, 0.5), got ", mat.poisson,
          " (0.5 is incompressible and makes linear tets lock)");
+  // Tensor components within +-kMaxInitialStrain: the engineering shears
+  // stored here (gamma = 2 eps) within twice that; messages name the tensor value.
   static const char* const kNames[6] = {"xx", "yy", "zz", "yz", "zx", "xy"};
   for (int k = 0; k < 6; ++k) {
-    const double e = mat.initial_strain[size_t(k)];
+    const double e = k < 3 ? mat.initial_strain[size_t(k)] : 0.5 * mat.initial_strain[size_t(k)];
     if (!(std::isfinite(e) && std::abs(e) <= kMaxInitialStrain))
-      fail(where, ": initial strain component ", kNames[k], " must be a finite number within +-", kMaxInitialStrain,
+      fail(where, ": initial strain component eps_", kNames[k], " must be a finite number within +-", kMaxInitialStrain,
            " (a small-strain model), got ", e);
   }
 }

@@ -25,7 +25,8 @@ struct Material {
 bool has_initial_strain(const Material& mat);
 
 // Throws softcut::Error naming `where` unless E > 0 (finite), -1 < nu < 0.5
-// and every initial-strain component is finite with |value| <= kMaxInitialStrain.
+// and every initial-strain tensor component (eps_xy = gamma_xy / 2) is finite
+// with |value| <= kMaxInitialStrain.
 // Linear (small-strain) elasticity stops meaning anything well below this.
 constexpr double kMaxInitialStrain = 0.5;
 void check_material(const Material& mat, const std::string& where);

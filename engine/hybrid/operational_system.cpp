@@ -48,7 +48,11 @@ SparseMatrix OperationalSystem::assembled() const {
 Eigen::VectorXd OperationalSystem::rhs(const Eigen::MatrixX3d& forces, const Eigen::VectorXd& P_prime) const {
   Eigen::VectorXd b(size());
   for (size_t k = 0; k < nodes.size(); ++k) b.segment<3>(3 * Eigen::Index(k)) = forces.row(nodes[k]).transpose();
-  if (prestress.size() == b.size()) b += prestress;
+  if (prestress.size() > 0) {
+    if (prestress.size() != b.size())
+      fail("operational system: the initial-strain forces have ", prestress.size(), " entries for ", b.size(), " unknowns");
+    b += prestress;
+  }
   if (num_interface > 0) b.tail(3 * Eigen::Index(num_interface)) -= P_prime;
   return b;
 }

@@ -108,7 +108,7 @@ class MonolithicSolver final : public Solver {
     Timer t;
     const MonolithicSystem& S = system(warm);
     Eigen::VectorXd f = fem::restrict_vector(fem::flatten(forces), S.map);
-    if (S.f0.size() == f.size()) f += S.f0;
+    if (S.f0.size() > 0) f += S.f0;  // same DOF map: built with the system
     const Eigen::VectorXd x = f.squaredNorm() > 0 ? S.factor.solve(f) : Eigen::VectorXd::Zero(f.size());
     stats = SolveStats{};
     if (f.squaredNorm() > 0) stats.relative_residual = (f - S.K * x).norm() / f.norm();
@@ -216,8 +216,8 @@ class HybridSolver final : public Solver {
     if (scratch.operational != rs.state.operational) hybrid::set_operational_system(scratch, rs.state.operational);
     hybrid::UpdateOptions opt;
     opt.recover_interior = need_interior_;
-    // Responses are measured against the zero-load state, so initial model
-    // loads (none in sim, but allowed by hybrid) cancel.
+    // Responses are measured against the zero-load state, so the model's
+    // initial loads (the initial strains' forces) cancel.
     std::vector<hybrid::Load> none;
     hybrid::update(model_, scratch, none, *rs.state.solver, opt);
     const Eigen::VectorXd u_zero = fem::flatten(scratch.u);

@@ -139,10 +139,14 @@ TEST_SUITE("fem/assembly") {
     auto mats = test::random_materials(m.num_tets(), 1);
     mats[2].initial_strain[4] = std::nan("");
     CHECK_THROWS_WITH_AS(fem::initial_strain_forces(m, mats), doctest::Contains("tetrahedron 2"), Error);
-    CHECK_THROWS_WITH_AS(fem::assemble_stiffness(m, mats), doctest::Contains("component zx"), Error);
-    mats[2].initial_strain[4] = 0.7;
-    CHECK_THROWS_WITH_AS(fem::initial_strain_forces(m, mats), doctest::Contains("within +-0.5"), Error);
-    mats[2].initial_strain[4] = 0.5;
+    CHECK_THROWS_WITH_AS(fem::assemble_stiffness(m, mats), doctest::Contains("component eps_zx"), Error);
+    mats[2].initial_strain[0] = 0.7;
+    mats[2].initial_strain[4] = 0.0;
+    CHECK_THROWS_WITH_AS(fem::initial_strain_forces(m, mats), doctest::Contains("eps_xx must be a finite number within +-0.5"), Error);
+    mats[2].initial_strain[0] = 0.5;
+    mats[2].initial_strain[4] = 1.2;  // engineering shear: eps_zx = 0.6, named as the tensor value
+    CHECK_THROWS_WITH_AS(fem::initial_strain_forces(m, mats), doctest::Contains("eps_zx must be a finite number within +-0.5 (a small-strain model), got 0.6"), Error);
+    mats[2].initial_strain[4] = 1.0;  // eps_zx = 0.5: the limit
     CHECK(fem::flatten(fem::initial_strain_forces(m, mats)).norm() > 0);
     CHECK(!fem::any_initial_strain(test::random_materials(m.num_tets(), 1)));
   }
