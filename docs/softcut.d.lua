@@ -175,14 +175,14 @@ function Scenario:probe(args) end
 ---@class Scenario_grasper_args
 ---@field name string for messages, outputs and Frame methods
 ---@field path Path|number[] tip center over time
----@field radius? number jaw radius: nodes within it are grasped (m)
+---@field radius? number jaw radius: the surface within it is grasped (m)
 ---@field force? Ramp|number pull magnitude over time (drive force) (N)
 ---@field direction? number[] pull direction (default: toward the tip)
 ---@field stiffness? number total spring stiffness (drive spring) (N/m)
 ---@field start? number closes at the first frame from this time that touches (s)
 ---@field stop? number opens at this time (default: never) (s)
 ---@field implicit? boolean spring solved exactly within each frame (false: explicit, lags a frame and needs stiffness x compliance < 1)
----A grasper: closes on the nodes its tip touches at `start`, drags them along its path with a spring of total `stiffness` (or a force toward the tip), opens at `stop`.
+---A grasper: closes at `start` (or the first frame after it that touches) on the patch of surface under its jaw, points spread over the jaw's disc and bound to their triangles' nodes (so no single node is pulled into a spike), drags them along its path with a spring of total `stiffness` (or a force toward the tip), opens at `stop`.
 ---@param args Scenario_grasper_args
 function Scenario:grasper(args) end
 

@@ -139,12 +139,14 @@ api.functions = {
       F("start", "number", "in contact from this time", { unit = "s", ge = 0, default = 0 }),
       F("stop", "number", "until this time (default: the end)", { unit = "s", ge = 0 }) },
     example = 's:probe{ name = "tip", path = softcut.path.polyline{ times = {0, 1}, points = {{0.05, 0.02, 0.05}, {0.05, 0.02, 0.04}} },\n         radius = 0.004, stiffness = 200 }' },
-  { name = "Scenario:grasper", summary = "A grasper: closes on the nodes its tip touches at `start`, drags "
-      .. "them along its path with a spring of total `stiffness` (or a force toward the tip), opens at `stop`.",
+  { name = "Scenario:grasper", summary = "A grasper: closes at `start` (or the first frame after it that touches) "
+      .. "on the patch of surface under its jaw, points spread over the jaw's disc and bound to their "
+      .. "triangles' nodes (so no single node is pulled into a spike), drags them along its path with a spring "
+      .. "of total `stiffness` (or a force toward the tip), opens at `stop`.",
     one_of = { { "force", "stiffness" } }, fields = {
       F("name", "string", "for messages, outputs and Frame methods", { required = true }),
       F("path", "Path", "tip center over time", { required = true }),
-      F("radius", "number", "jaw radius: nodes within it are grasped", { unit = "m", gt = 0, default = 0.005 }),
+      F("radius", "number", "jaw radius: the surface within it is grasped", { unit = "m", gt = 0, default = 0.005 }),
       F("force", "Ramp", "pull magnitude over time (drive force)", { unit = "N" }),
       F("direction", "vec3", "pull direction (default: toward the tip)"),
       F("stiffness", "number", "total spring stiffness (drive spring)", { unit = "N/m", gt = 0 }),

@@ -86,7 +86,7 @@ int bench_springs(const Args& args) {
     if (a == "--help" || a == "-h") {
       std::puts("usage: softcut bench springs [--frames N] [--radius R]\n"
                 "  steps a grasped box N frames (default 31) with an explicit spring, an implicit spring with\n"
-                "  the compliance cache, and without it (R: grasper radius in m, default 0.009: 5 nodes)");
+                "  the compliance cache, and without it (R: grasper radius in m, default 0.009: a grip on 17 nodes)");
       return 0;
     } else if (a == "--frames" && i + 1 < args.size()) {
       frames = std::max(2, parse_count(args[++i], "bench springs: --frames"));

@@ -58,7 +58,15 @@ render::SceneContent scene_content(const Model& m, const State& s) {
       g.jaw_length = 4 * spec.radius;
       g.jaw_width = 1.5 * spec.radius;
       g.shaft_length = 20 * spec.radius;
-      g.pivot = ts.tip - g.axis * g.jaw_length;  // jaw tips at the tool tip
+      // Jaw tips at the tissue they hold (the grip's centroid now), else at the tip.
+      Eigen::Vector3d tips = ts.tip;
+      if (ts.engaged && !ts.grip.empty()) {
+        const Eigen::MatrixX3d x = current_mesh(m, s).nodes + s.displacement;
+        tips.setZero();
+        for (const tools::SurfacePoint& p : ts.grip) tips += p.at(x);
+        tips /= double(ts.grip.size());
+      }
+      g.pivot = tips - g.axis * g.jaw_length;
       g.opening_deg = ts.engaged ? 0.0 : 30.0;
       c.tools.push_back(g);
     }

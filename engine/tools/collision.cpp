@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <utility>
 
 namespace softcut::tools {
 
@@ -46,6 +48,95 @@ std::vector<int> nodes_in_sphere(const ContactSurface& s, const Eigen::Vector3d&
   hit = {s.surface.faces(best_face, 0), s.surface.faces(best_face, 1), s.surface.faces(best_face, 2)};
   std::sort(hit.begin(), hit.end());
   return hit;
+}
+
+Eigen::Vector3d SurfacePoint::at(const Eigen::MatrixX3d& positions) const {
+  return weights(0) * positions.row(nodes[0]).transpose() + weights(1) * positions.row(nodes[1]).transpose() +
+         weights(2) * positions.row(nodes[2]).transpose();
+}
+
+namespace {
+
+Eigen::Vector3d corner(const ContactSurface& s, int face, int k) {
+  return s.positions.row(s.surface.faces(face, k)).transpose();
+}
+
+// Barycentric weights of a point q of triangle (a, b, c), clamped to the
+// triangle (q comes from closest_point_on_triangle, so only rounding is cut).
+Eigen::Vector3d barycentric(const Eigen::Vector3d& q, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                            const Eigen::Vector3d& c) {
+  const Eigen::Vector3d v0 = b - a, v1 = c - a, v2 = q - a;
+  const double d00 = v0.dot(v0), d01 = v0.dot(v1), d11 = v1.dot(v1), d20 = v2.dot(v0), d21 = v2.dot(v1);
+  const double den = d00 * d11 - d01 * d01;
+  if (!(den > 0)) return Eigen::Vector3d(1, 0, 0);  // a degenerate face: its first corner
+  Eigen::Vector3d w;
+  w(1) = (d11 * d20 - d01 * d21) / den;
+  w(2) = (d00 * d21 - d01 * d20) / den;
+  w(0) = 1 - w(1) - w(2);
+  w = w.cwiseMax(0.0);
+  return w / w.sum();
+}
+
+// Nearest point of the faces `cand` to p: (face, point), face -1 when none.
+std::pair<int, Eigen::Vector3d> nearest_on(const ContactSurface& s, const std::vector<int>& cand,
+                                           const Eigen::Vector3d& p) {
+  int best = -1;
+  double best_d2 = std::numeric_limits<double>::infinity();
+  Eigen::Vector3d best_q = p;
+  for (int f : cand) {
+    const Eigen::Vector3d q = closest_point_on_triangle(p, corner(s, f, 0), corner(s, f, 1), corner(s, f, 2));
+    const double d2 = (q - p).squaredNorm();
+    if (d2 < best_d2) best_d2 = d2, best = f, best_q = q;
+  }
+  return {best, best_q};
+}
+
+}  // namespace
+
+std::vector<SurfacePoint> surface_patch(const ContactSurface& s, const Eigen::Vector3d& center, double radius) {
+  // Faces that may hold a sample: within 2 radius of the centre (a sample
+  // lies within radius of the nearest point, which lies within radius).
+  std::vector<int> cand;
+  for (int f = 0; f < s.surface.faces.rows(); ++f) {
+    const Eigen::Vector3d a = corner(s, f, 0), b = corner(s, f, 1), c = corner(s, f, 2);
+    const Eigen::Vector3d m = (a + b + c) / 3;
+    const double reach = 2 * radius + std::sqrt(std::max({(a - m).squaredNorm(), (b - m).squaredNorm(), (c - m).squaredNorm()}));
+    if ((m - center).squaredNorm() <= (1 + 1e-9) * reach * reach) cand.push_back(f);
+  }
+  std::vector<SurfacePoint> out;
+  const auto [f0, q0] = nearest_on(s, cand, center);
+  if (f0 < 0 || (q0 - center).norm() > radius) return out;
+  auto add = [&](int f, const Eigen::Vector3d& q) {
+    SurfacePoint p;
+    for (int k = 0; k < 3; ++k) p.nodes[size_t(k)] = s.surface.faces(f, k);
+    p.weights = barycentric(q, corner(s, f, 0), corner(s, f, 1), corner(s, f, 2));
+    out.push_back(p);
+  };
+  add(f0, q0);
+  // Tangent plane at q0: the nearest face's normal.
+  const Eigen::Vector3d a = corner(s, f0, 0), b = corner(s, f0, 1), c = corner(s, f0, 2);
+  Eigen::Vector3d n = (b - a).cross(c - a);
+  if (!(n.norm() > 0)) return out;
+  n.normalize();
+  const Eigen::Vector3d t1 = n.unitOrthogonal(), t2 = n.cross(t1);
+  constexpr double kPi = 3.14159265358979323846;
+  for (const auto& [rho, count] : {std::pair{0.5, 6}, std::pair{1.0, 12}})
+    for (int k = 0; k < count; ++k) {
+      const double th = 2 * kPi * (k + 0.5 * (count == 12)) / count;
+      const Eigen::Vector3d x = q0 + rho * radius * (std::cos(th) * t1 + std::sin(th) * t2);
+      const auto [f, q] = nearest_on(s, cand, x);
+      if (f >= 0 && (q - x).norm() <= 0.5 * radius) add(f, q);
+    }
+  // And every surface node on the patch: on a mesh finer than the pattern
+  // the jaw holds all the tissue under it, not 19 points of it.
+  for (int v : s.surface.nodes)
+    if ((s.positions.row(v).transpose() - q0).norm() <= radius) {
+      SurfacePoint p;
+      p.nodes = {v, v, v};
+      p.weights = Eigen::Vector3d(1, 0, 0);
+      out.push_back(p);
+    }
+  return out;
 }
 
 Eigen::Vector3d closest_point_on_segment(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {

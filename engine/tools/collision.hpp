@@ -2,6 +2,7 @@
 // Contact between a tool tip (a sphere) and the CURRENT deformed boundary
 // surface: which surface nodes the tool manipulates this frame.
 #include <Eigen/Core>
+#include <array>
 #include <vector>
 
 #include "mesh/surface.hpp"
@@ -20,6 +21,29 @@ struct ContactSurface {
 // smaller than the faces), the three nodes of the nearest such triangle.
 // Empty when the sphere misses the surface.
 std::vector<int> nodes_in_sphere(const ContactSurface& s, const Eigen::Vector3d& center, double radius);
+
+// A point of the surface, bound to the three nodes of its triangle by
+// barycentric weights (the usual embedded attachment): it moves with them,
+// and a force on it acts on them in the same proportions.
+struct SurfacePoint {
+  std::array<int, 3> nodes{};                       // node ids of the triangle
+  Eigen::Vector3d weights = Eigen::Vector3d::Zero(); // barycentric, >= 0, sum 1
+  Eigen::Vector3d at(const Eigen::MatrixX3d& positions) const;  // position, m
+};
+
+// The surface a jaw of `radius` closes on when its centre is at `center`
+// (a grasper's patch): the surface point nearest the centre and a fixed
+// pattern of points over the disc of that radius in the tangent plane there
+// (rings at radius / 2 and radius, 6 and 12 points), each moved to the
+// nearest surface point; samples that land more than radius / 2 away (past
+// the body's edge) are dropped; then every surface node within `radius` of
+// the nearest point (weight 1 on itself). So the patch covers the jaw's area
+// whatever the mesh: on coarse meshes the pattern spreads it over the
+// triangles, on fine ones the jaw holds all the nodes under it (a load
+// spread over an area, which converges as the mesh is refined), and a jaw
+// smaller than the faces still holds the triangle under it. Empty when the
+// surface is farther than `radius` from the centre.
+std::vector<SurfacePoint> surface_patch(const ContactSurface& s, const Eigen::Vector3d& center, double radius);
 
 // Surface nodes whose deformed position lies within `radius` of the segment
 // a-b (a capsule: the scalpel's contact), sorted by id. When none does (an

@@ -64,6 +64,7 @@ void update_tool(const ToolSpec& spec, ToolState& st, double t, const ContactSur
   if (!active) {
     st.engaged = false;
     st.nodes.clear();
+    st.grip.clear();
     st.offsets.clear();
     return;
   }
@@ -87,44 +88,61 @@ void update_tool(const ToolSpec& spec, ToolState& st, double t, const ContactSur
       }
     }
     st.engaged = !st.nodes.empty();
-  } else if (spec.kind == ToolSpec::Kind::probe || !st.engaged) {
-    // A probe re-detects contact every frame; a grasper closes on first contact.
-    st.nodes = nodes_in_sphere(s, st.tip, spec.radius);
+  } else if (spec.kind == ToolSpec::Kind::probe) {
+    st.nodes = nodes_in_sphere(s, st.tip, spec.radius);  // re-detected every frame
     st.engaged = !st.nodes.empty();
+  } else if (!st.engaged) {  // a grasper closes on first contact, on the patch under its jaw
+    st.grip = surface_patch(s, st.tip, spec.radius);
+    st.engaged = !st.grip.empty();
+    st.nodes.clear();
     st.offsets.clear();
-    if (spec.kind == ToolSpec::Kind::grasper)
-      for (int n : st.nodes) st.offsets.push_back(s.positions.row(n).transpose() - st.tip);
+    for (const SurfacePoint& p : st.grip) {
+      st.nodes.insert(st.nodes.end(), p.nodes.begin(), p.nodes.end());
+      st.offsets.push_back(p.at(s.positions) - st.tip);
+    }
+    std::sort(st.nodes.begin(), st.nodes.end());
+    st.nodes.erase(std::unique(st.nodes.begin(), st.nodes.end()), st.nodes.end());
   }
   const size_t k = st.nodes.size();
   if (k == 0) return;
   st.forces.assign(k, Eigen::Vector3d::Zero());
-  if (spec.drive == ToolSpec::Drive::force) {
+  if (spec.kind == ToolSpec::Kind::grasper) {
+    // Per grip point, then onto its nodes by its weights.
+    const size_t np = st.grip.size();
     Eigen::Vector3d dir = spec.direction;
-    if (dir.squaredNorm() == 0) {
-      if (spec.kind != ToolSpec::Kind::grasper) {
-        for (int n : st.nodes) dir -= s.normals.row(n).transpose();
-      } else {
-        Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
-        for (int n : st.nodes) centroid += s.positions.row(n).transpose();
-        dir = st.tip - centroid / double(k);
+    if (spec.drive == ToolSpec::Drive::force && dir.squaredNorm() == 0) {
+      Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+      for (const SurfacePoint& p : st.grip) centroid += p.at(s.positions);
+      dir = st.tip - centroid / double(np);
+    }
+    const double f = spec.drive == ToolSpec::Drive::force ? evaluate(spec.force, t) / double(np) : 0.0;
+    const double kp = spec.stiffness / double(np);
+    for (size_t i = 0; i < np; ++i) {
+      const SurfacePoint& p = st.grip[i];
+      Eigen::Vector3d fp = Eigen::Vector3d::Zero();
+      if (spec.drive == ToolSpec::Drive::spring) fp = kp * (st.tip + st.offsets[i] - p.at(s.positions));
+      else if (dir.norm() > 0) fp = f * dir.normalized();  // no defined direction (tip at the centroid): none
+      for (int j = 0; j < 3; ++j) {
+        const size_t at = size_t(std::lower_bound(st.nodes.begin(), st.nodes.end(), p.nodes[size_t(j)]) - st.nodes.begin());
+        st.forces[at] += p.weights(j) * fp;
       }
     }
+  } else if (spec.drive == ToolSpec::Drive::force) {
+    Eigen::Vector3d dir = spec.direction;
+    if (dir.squaredNorm() == 0)
+      for (int n : st.nodes) dir -= s.normals.row(n).transpose();
     const double len = dir.norm();
-    if (!(len > 0)) return;  // no defined direction (e.g. tip at the grasped centroid): no force
+    if (!(len > 0)) return;  // no defined direction (normals that cancel): no force
     const Eigen::Vector3d per_node = evaluate(spec.force, t) / double(k) * dir / len;
     for (size_t i = 0; i < k; ++i) st.forces[i] = per_node;
   } else {
     const double kn = spec.stiffness / double(k);
-    for (size_t i = 0; i < k; ++i) {
+    for (size_t i = 0; i < k; ++i) {  // probe / scalpel: penalty pushing the node out of the sphere / capsule
       const Eigen::Vector3d x = s.positions.row(st.nodes[i]).transpose();
-      if (spec.kind == ToolSpec::Kind::grasper) {
-        st.forces[i] = kn * (st.tip + st.offsets[i] - x);
-      } else {  // probe / scalpel: penalty pushing the node out of the sphere / capsule
-        const Eigen::Vector3d d = x - (scalpel ? closest_point_on_segment(x, contact_a, contact_b) : st.tip);
-        const double dn = d.norm();
-        Eigen::Vector3d out = dn > 0 ? Eigen::Vector3d(d / dn) : Eigen::Vector3d(s.normals.row(st.nodes[i]).transpose());
-        st.forces[i] = kn * std::max(0.0, spec.radius - dn) * out;
-      }
+      const Eigen::Vector3d d = x - (scalpel ? closest_point_on_segment(x, contact_a, contact_b) : st.tip);
+      const double dn = d.norm();
+      Eigen::Vector3d out = dn > 0 ? Eigen::Vector3d(d / dn) : Eigen::Vector3d(s.normals.row(st.nodes[i]).transpose());
+      st.forces[i] = kn * std::max(0.0, spec.radius - dn) * out;
     }
   }
   for (const auto& f : st.forces) st.total_force += f;

@@ -21,9 +21,9 @@ struct ToolSpec {
   // force: total force magnitude `force(t)` (N), split evenly over the
   //        manipulated nodes, along `direction`.
   // spring: total stiffness `stiffness` (N/m) split evenly over the
-  //        manipulated nodes; each node is pulled toward its target
-  //        (grasper: grasp-time offset from the tip; probe: pushed out to the
-  //        tip sphere's surface). update_tool() evaluates it on last frame's
+  //        manipulated nodes (grasper: over its grip points); each is pulled
+  //        toward its target (grasper: grasp-time offset from the tip; probe:
+  //        pushed out to the tip sphere's surface). update_tool() evaluates it on last frame's
   //        positions (explicit). A grasper with `implicit` (the default) is
   //        instead solved exactly within each frame by sim::step (see
   //        sim/springs.hpp), so any stiffness works; explicit springs only
@@ -41,13 +41,14 @@ struct ToolSpec {
   Ramp force;             // N (drive force)
   // Unit force direction (drive force). Zero: probe pushes along minus the
   // mean deformed outward normal of its contact nodes; grasper pulls toward
-  // the tip from the centroid of the grasped nodes.
+  // the tip from the centroid of its grip points.
   Eigen::Vector3d direction = Eigen::Vector3d::Zero();
   double stiffness = 0.0;  // N/m, total (drive spring), > 0
   bool implicit = true;    // grasper spring: exact within the frame (false: explicit, lags a frame)
   // probe: in contact only in [active_from, active_until];
   // grasper: closes at the first frame with t >= active_from that touches the
-  // surface, keeps the grasped nodes, opens at active_until.
+  // surface, on the patch of surface under its jaw (tools::surface_patch,
+  // radius = `radius`), keeps it, opens at active_until.
   double active_from = 0.0;                                        // s
   double active_until = std::numeric_limits<double>::infinity();   // s
 
@@ -76,8 +77,12 @@ struct ToolState {
   bool override_tip = false;                      // true: `tip` was set by the script, path ignored
   bool engaged = false;                           // grasper closed / probe touching
   std::vector<int> nodes;                         // (k) manipulated node ids, sorted
-  std::vector<Eigen::Vector3d> offsets;           // (k) grasper: node minus tip at grasp, m
   std::vector<Eigen::Vector3d> forces;            // (k) force on each node this frame, N
+  // Grasper: the surface points it holds (surface_patch at closing; `nodes`
+  // are their triangles' nodes) and each point minus the tip at grasp, m.
+  // A point's spring or force acts on its nodes by its weights.
+  std::vector<SurfacePoint> grip;                 // (p)
+  std::vector<Eigen::Vector3d> offsets;           // (p)
   Eigen::Vector3d total_force = Eigen::Vector3d::Zero();  // N
   // Scalpel only.
   Eigen::Vector3d blade_a = Eigen::Vector3d::Zero(), blade_b = Eigen::Vector3d::Zero();  // edge this frame, m

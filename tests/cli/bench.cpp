@@ -343,7 +343,7 @@ TEST_SUITE("cli/bench") {
       std::map<std::string, std::vector<std::string>> by;
       for (const auto& row : rows) {
         REQUIRE(row.size() >= 8);
-        CHECK(row[2] == "5");  // grasped nodes at the default radius
+        CHECK(row[2] == "17");  // nodes of the triangles under the jaw at the default radius
         CHECK(std::atof(row[3].c_str()) > 0);
         by[row[1]] = row;
       }

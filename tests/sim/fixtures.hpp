@@ -1,5 +1,7 @@
 #pragma once
 // Small scenarios shared by the sim tests.
+#include <Eigen/Core>
+#include <algorithm>
 #include <filesystem>
 #include <string>
 
@@ -90,6 +92,27 @@ inline tools::ToolSpec cutting_blade(const Eigen::Vector3d& axis, const Eigen::V
   blade.direction = direction;
   blade.force = tools::Ramp::constant_value(0.05);
   return blade;
+}
+
+// W (3p x 3m) of a grasper's grip: row block p holds point p's barycentric
+// weights on the columns of its nodes' DOFs, the nodes ordered as ts.nodes.
+inline Eigen::MatrixXd grip_weights(const tools::ToolState& ts) {
+  Eigen::MatrixXd W = Eigen::MatrixXd::Zero(Eigen::Index(3 * ts.grip.size()), Eigen::Index(3 * ts.nodes.size()));
+  for (size_t p = 0; p < ts.grip.size(); ++p)
+    for (int j = 0; j < 3; ++j) {
+      const auto at = std::find(ts.nodes.begin(), ts.nodes.end(), ts.grip[p].nodes[size_t(j)]) - ts.nodes.begin();
+      W.block<3, 3>(Eigen::Index(3 * p), Eigen::Index(3 * at)).diagonal().array() += ts.grip[p].weights(j);
+    }
+  return W;
+}
+
+// The grip points' targets minus their positions for node displacements u
+// (nnode x 3) on rest positions X: (3p) m.
+inline Eigen::VectorXd grip_gaps(const tools::ToolState& ts, const Eigen::MatrixX3d& X, const Eigen::MatrixX3d& u) {
+  Eigen::VectorXd d(Eigen::Index(3 * ts.grip.size()));
+  const Eigen::MatrixX3d x = X + u;
+  for (size_t p = 0; p < ts.grip.size(); ++p) d.segment<3>(Eigen::Index(3 * p)) = ts.tip + ts.offsets[p] - ts.grip[p].at(x);
+  return d;
 }
 
 }  // namespace softcut::test

@@ -68,17 +68,30 @@ sim::ScenarioSpec grasp_spec(const std::string& scratch, const std::string& back
   return spec;
 }
 
-// Closed form of the springs of tool 0 in the state's frame: per node
-// f = (I/kn + C)^-1 (tip + offset - X - u0), u0 the response to the loads.
+// Closed form of the springs of tool 0 in the state's frame: with W the
+// grip's weights and C the compliance of its nodes, the point forces solve
+// (I/kp + W C W^T) f = T - X_p - W u0 (u0 the response to the loads); the
+// nodes take W^T f (3 per entry of ts.nodes).
 Eigen::VectorXd closed_form(const sim::Model& m, const sim::State& s, const Monolithic& ref, double k) {
   const tools::ToolState& ts = s.tools[0];
-  const double kn = k / double(ts.nodes.size());
+  const double kp = k / double(ts.grip.size());
   const Eigen::MatrixX3d u0 = ref.solve(sim::load_forces(m, s, s.time));
-  const Eigen::MatrixXd C = ref.compliance(ts.nodes);
-  Eigen::VectorXd d(C.rows());
-  for (size_t j = 0; j < ts.nodes.size(); ++j)
-    d.segment<3>(Eigen::Index(3 * j)) = ts.tip + ts.offsets[j] - m.mesh.node(ts.nodes[j]) - u0.row(ts.nodes[j]).transpose();
-  return (Eigen::MatrixXd::Identity(C.rows(), C.cols()) / kn + C).llt().solve(d);
+  const Eigen::MatrixXd W = softcut::test::grip_weights(ts);
+  const Eigen::MatrixXd A = W * ref.compliance(ts.nodes) * W.transpose();
+  const Eigen::VectorXd d = softcut::test::grip_gaps(ts, m.mesh.nodes, u0);
+  return W.transpose() * (Eigen::MatrixXd::Identity(A.rows(), A.cols()) / kp + A).llt().solve(d);
+}
+
+// The grip covers the jaw's area on the top face (z = 0.02), not one node;
+// a jaw wider than the bar also holds its sides, within half a radius of
+// the top.
+void check_patch(const sim::Model& m, const tools::ToolState& ts, const V& center, double radius) {
+  REQUIRE(ts.grip.size() >= 7);
+  for (const auto& p : ts.grip) {
+    const V x = p.at(m.mesh.nodes);
+    CHECK((x - center).norm() <= 1.5 * radius);
+    CHECK(x.z() >= 0.02 - 0.5 * radius);
+  }
 }
 
 Eigen::VectorXd tool_forces(const sim::State& s) {
@@ -132,7 +145,7 @@ TEST_SUITE("sim/springs") {
       auto spec = grasp_spec("sim_springs_stiff", backend);
       sim::Model m = sim::compile(spec);
       const Monolithic ref(m);
-      const std::vector<int> grasped = {45, 46};
+      const std::vector<int> grasped = {45, 46};  // top nodes under the jaw: the stiffness scale
       REQUIRE((m.mesh.node(45) - V(0.06, 0.01, 0.02)).norm() < 1e-12);
       REQUIRE((m.mesh.node(46) - V(0.08, 0.01, 0.02)).norm() < 1e-12);
       REQUIRE(m.partition.node_set[45] == softcut::hybrid::NodeSet::interface);
@@ -146,7 +159,7 @@ TEST_SUITE("sim/springs") {
       for (int frame = 0; frame < 3; ++frame) {
         CAPTURE(frame);
         sim::step(m, s);
-        REQUIRE(s.tools[0].nodes == grasped);
+        check_patch(m, s.tools[0], V(0.07, 0.01, 0.02), 0.011);
         const Eigen::VectorXd expected = closed_form(m, s, ref, k);
         CHECK(expected.norm() > 1e-4);  // the spring does work in every frame
         CHECK((tool_forces(s) - expected).norm() <= 1e-8 * expected.norm());
@@ -165,15 +178,15 @@ TEST_SUITE("sim/springs") {
     const sim::Model m = sim::compile(spec);
     sim::State s = sim::make_state(m);
     sim::step(m, s);  // grasp on the rest positions: no stretch yet
-    CHECK(tool_forces(s).norm() == 0.0);
+    CHECK(tool_forces(s).norm() <= 1e-12 * 0.5 * 3e-3);  // rounding of the barycentric points only
     const Eigen::MatrixX3d u_prev = s.displacement;
     sim::step(m, s);
     const tools::ToolState& ts = s.tools[0];
-    for (size_t j = 0; j < ts.nodes.size(); ++j) {
-      const int n = ts.nodes[j];
-      const V expected = 0.25 * (ts.tip + ts.offsets[j] - m.mesh.node(n) - u_prev.row(n).transpose());
-      CHECK((ts.forces[j] - expected).norm() <= 1e-14 * expected.norm());
-    }
+    // Each point's spring (0.5 N/m over the points) on last frame's positions, onto its nodes.
+    const Eigen::VectorXd expected = softcut::test::grip_weights(ts).transpose() *
+                                     (0.5 / double(ts.grip.size()) * softcut::test::grip_gaps(ts, m.mesh.nodes, u_prev));
+    REQUIRE(expected.norm() > 0);
+    CHECK((tool_forces(s) - expected).norm() <= 1e-14 * expected.norm());
     CHECK(s.springs.builds == 0);
   }
 
@@ -188,9 +201,10 @@ TEST_SUITE("sim/springs") {
     CHECK(s.springs.builds == 1);
     CHECK(nocache.springs.builds == 3);
     CHECK((s.displacement - nocache.displacement).norm() <= 1e-9 * s.displacement.norm());
-    CHECK(s.springs.nodes == std::vector<int>{45, 46});
+    const std::vector<int> first = s.tools[0].nodes;
+    CHECK(s.springs.nodes == first);
 
-    // Let go for a frame, then grasp only (0.08, 0.01, 0.02).
+    // Let go for a frame, then grasp a small patch around (0.08, 0.01, 0.02).
     s.tool_specs[0].enabled = false;
     sim::step(m, s);
     CHECK(s.tools[0].nodes.empty());
@@ -200,16 +214,87 @@ TEST_SUITE("sim/springs") {
     s.tools[0].override_tip = true;
     s.tools[0].tip = m.mesh.node(46) + s.displacement.row(46).transpose();
     sim::step(m, s);
-    REQUIRE(s.tools[0].nodes == std::vector<int>{46});
+    const std::vector<int> second = s.tools[0].nodes;
+    REQUIRE(std::count(second.begin(), second.end(), 46) == 1);
+    REQUIRE(second != first);
     CHECK(s.springs.builds == 2);
-    CHECK(s.springs.nodes == std::vector<int>{46});
-    CHECK((s.springs.compliance - ref.compliance({46})).norm() <= 1e-8 * ref.compliance({46}).norm());
+    CHECK(s.springs.nodes == second);
+    CHECK((s.springs.compliance - ref.compliance(second)).norm() <= 1e-8 * ref.compliance(second).norm());
     s.tools[0].tip += V(0, 0, 2e-3);  // pull: the same set, the cached columns serve
     sim::step(m, s);
     CHECK(s.springs.builds == 2);
     const Eigen::VectorXd expected = closed_form(m, s, ref, 50.0);
     CHECK(expected.norm() > 1e-3);
     CHECK((tool_forces(s) - expected).norm() <= 1e-8 * expected.norm());
+  }
+
+  // #17: a grasp must not pull one node into a spike. A slab fixed at its
+  // base is lifted 2 mm by a stiff grasper of radius r = 4 mm at the middle of
+  // its top face; "peak" is the grip's lift over the mean lift of the top
+  // nodes in the ring r < d <= 2r around it. A jaw that holds one node (the
+  // old grasp) peaks in proportion to the refinement (a point load: 5.3,
+  // 11.7, 22.4 at 8, 16, 32 cells). The patch grip is a rigid punch of radius
+  // r, whose continuum value on a half-space is 1 / ((2/pi) mean of
+  // asin(r/d) over the ring) = 2.09; the meshes approach it from below as
+  // the locking of the nearly incompressible linear tets eases (1.09, 1.44,
+  // 1.86; 2.27 at 64 cells on a slab, measured once: 90 s, 10 GB).
+  TEST_CASE("a patch grasp lifts a patch: its peak over the ring around it stays bounded as the mesh is refined") {
+    const double radius_ring = 4e-3;  // the patch jaw's radius
+    auto peak = [&](int n, double radius, const V& center) {
+      sim::ScenarioSpec spec;
+      spec.name = "slab";
+      spec.mesh.generator = "box";
+      spec.mesh.options = {{"max.x", 0.04}, {"max.y", 0.04}, {"max.z", 0.02}, {"nx", n}, {"ny", n}, {"nz", n / 2}};
+      sim::MaterialAssignment mat;
+      mat.name = "tissue";
+      mat.young = 5e3;
+      mat.poisson = 0.45;
+      spec.materials.push_back(mat);
+      spec.fixed = sim::NodeSelector::box(V(-1, -1, -1), V(1, 1, 0));
+      spec.solver.backend = sim::parse_backend("monolithic");
+      spec.timeline.duration = 0.1;
+      spec.timeline.frame_rate = 10.0;
+      spec.outputs.dir = softcut::test::scratch_dir("sim_springs_patch");
+      tools::ToolSpec g;
+      g.name = "jaw";
+      g.kind = tools::ToolSpec::Kind::grasper;
+      g.drive = tools::ToolSpec::Drive::spring;
+      g.radius = radius;
+      g.stiffness = 1e5;  // stiff: the grip goes onto its target
+      g.path = tools::Path::polyline({0.0, 0.1}, {center, center + V(0, 0, 2e-3)});
+      spec.tools.push_back(g);
+      const sim::Model m = sim::compile(spec);
+      sim::State s = sim::make_state(m);
+      for (int i = 0; i < m.num_frames; ++i) sim::step(m, s);
+      const tools::ToolState& ts = s.tools[0];
+      REQUIRE(!ts.grip.empty());
+      double lift = 0;
+      for (const auto& p : ts.grip) lift += p.at(s.displacement).z() / double(ts.grip.size());
+      CHECK(lift == doctest::Approx(2e-3).epsilon(0.02));
+      double ring = 0;
+      int count = 0;
+      for (int v = 0; v < m.mesh.num_nodes(); ++v) {
+        const V x = m.mesh.node(v);
+        const double d = (x - V(center.x(), center.y(), 0.02)).norm();
+        if (x.z() == 0.02 && d > radius_ring && d <= 2 * radius_ring) ring += s.displacement(v, 2), ++count;
+      }
+      REQUIRE(count >= 4);
+      return lift / (ring / count);
+    };
+    const V off_node(0.0207, 0.0211, 0.02), on_node(0.02, 0.02, 0.02);
+    double patch[3], single[3];
+    const int cells[3] = {8, 16, 32};
+    for (int i = 0; i < 3; ++i) {
+      patch[i] = peak(cells[i], radius_ring, off_node);
+      single[i] = peak(cells[i], 1e-7, on_node);  // a jaw on one node
+      MESSAGE("cells ", cells[i], ": patch peak ", patch[i], ", one-node peak ", single[i]);
+    }
+    for (int i = 0; i + 1 < 3; ++i) {
+      CHECK(single[i + 1] >= 1.8 * single[i]);  // the control: the measure sees a spike grow
+      CHECK(patch[i + 1] <= 1.4 * patch[i]);    // the patch's increments shrink (1.32x, 1.29x)
+    }
+    CHECK(patch[2] <= 2.5);               // near the rigid punch's 2.09, far below one node's 22
+    CHECK(patch[2] <= 0.15 * single[2]);
   }
 
   TEST_CASE("a fixed grasped node takes no spring force") {

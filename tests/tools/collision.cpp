@@ -2,6 +2,7 @@
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <random>
 
 #include "mesh/generate/box.hpp"
@@ -62,6 +63,68 @@ TEST_SUITE("tools/collision") {
     REQUIRE(hit.size() == 3);
     for (int n : hit) CHECK(m.nodes(n, 2) == 1.0);
     CHECK(tools::nodes_in_sphere(rest, V(0.3, 0.6, 1.05), 0.02).empty());
+  }
+
+  TEST_CASE("a jaw's patch covers its disc on the surface, the same points whatever the mesh") {
+    // The top face z = 1 of unit boxes meshed 2, 4 and 16 cells a side: the
+    // patch's points lie on it, bound by convex weights, at the same places.
+    const V center(0.43, 0.57, 1.02);
+    const double r = 0.1;
+    std::vector<V> first;
+    for (int cells : {2, 4, 16}) {
+      CAPTURE(cells);
+      mesh::BoxOptions o;
+      o.nx = o.ny = o.nz = cells;
+      const mesh::TetMesh m = mesh::generate_box(o);
+      const mesh::Surface s = mesh::extract_surface(m);
+      const Eigen::MatrixX3d normals = mesh::vertex_normals(m, s);
+      const tools::ContactSurface rest{m.nodes, s, normals};
+      const std::vector<tools::SurfacePoint> patch = tools::surface_patch(rest, center, r);
+      // The nearest point and rings of 6 and 12, all on the face, then the top
+      // nodes within r of the nearest point.
+      int inside = 0;
+      for (int n = 0; n < m.num_nodes(); ++n)
+        inside += m.nodes(n, 2) == 1.0 && (V(m.nodes.row(n).transpose()) - V(0.43, 0.57, 1.0)).norm() <= r;
+      REQUIRE(patch.size() == size_t(19 + inside));
+      CHECK(inside >= (cells == 16 ? 9 : 1));  // (0.5, 0.5) lies 0.099 from the centre
+      std::vector<V> at;
+      for (const auto& p : patch) {
+        CHECK(p.weights.minCoeff() >= 0);
+        CHECK(p.weights.sum() == doctest::Approx(1.0).epsilon(1e-14));
+        for (int n : p.nodes) CHECK(m.nodes(n, 2) == 1.0);
+        at.push_back(p.at(m.nodes));
+        CHECK(at.back().z() == doctest::Approx(1.0).epsilon(1e-14));
+        CHECK((at.back() - V(0.43, 0.57, 1.0)).norm() <= r * (1 + 1e-12));
+      }
+      CHECK((at[0] - V(0.43, 0.57, 1.0)).norm() <= 1e-14);  // the nearest point first
+      if (first.empty()) first = at;
+      for (size_t i = 0; i < 19; ++i) CHECK((at[i] - first[i]).norm() <= 1e-12);
+    }
+  }
+
+  TEST_CASE("a jaw smaller than the faces holds the triangle under it, and a jaw off the surface nothing") {
+    mesh::BoxOptions o;
+    o.nx = o.ny = o.nz = 1;
+    const mesh::TetMesh m = mesh::generate_box(o);
+    const mesh::Surface s = mesh::extract_surface(m);
+    const Eigen::MatrixX3d normals = mesh::vertex_normals(m, s);
+    const tools::ContactSurface rest{m.nodes, s, normals};
+    const std::vector<tools::SurfacePoint> patch = tools::surface_patch(rest, V(0.3, 0.6, 1.01), 0.02);
+    REQUIRE(!patch.empty());
+    std::vector<int> nodes;
+    for (const auto& p : patch) {
+      nodes.insert(nodes.end(), p.nodes.begin(), p.nodes.end());
+      CHECK((p.at(m.nodes) - V(0.3, 0.6, 1.0)).norm() <= 0.02 * (1 + 1e-12));
+    }
+    std::sort(nodes.begin(), nodes.end());
+    nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
+    CHECK(nodes.size() == 3);  // one triangle of the top face
+    for (int n : nodes) CHECK(m.nodes(n, 2) == 1.0);
+    CHECK(tools::surface_patch(rest, V(0.3, 0.6, 1.05), 0.02).empty());
+    // At an edge of the body the samples past it are dropped, the rest kept.
+    const std::vector<tools::SurfacePoint> edge = tools::surface_patch(rest, V(1.0, 0.5, 1.0), 0.2);
+    CHECK(edge.size() >= 7);
+    for (const auto& p : edge) CHECK((p.at(m.nodes) - V(1.0, 0.5, 1.0)).norm() <= 0.2 * (1 + 1e-12) + 1e-12);
   }
 
   TEST_CASE("nodes near a segment: the capsule around it, else the faces it reaches") {
