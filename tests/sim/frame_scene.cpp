@@ -100,6 +100,35 @@ TEST_SUITE("sim/frame_scene") {
     }
   }
 
+  TEST_CASE("a grasper's jaws are drawn at the tissue they hold, not at its tip") {
+    // An implicit grasper lifts the top of the cantilever; a soft spring
+    // leaves the tissue well short of the tip, and the jaws stay with the tissue.
+    auto spec = softcut::test::cantilever_spec(softcut::test::scratch_dir("sim_frame_scene_jaw"), 0.3);
+    spec.loads.clear();
+    tools::ToolSpec g;
+    g.name = "jaw";
+    g.kind = tools::ToolSpec::Kind::grasper;
+    g.drive = tools::ToolSpec::Drive::spring;
+    g.stiffness = 0.2;
+    g.radius = 0.004;
+    g.path = tools::Path::polyline({0.0, 0.2}, {V(0.07, 0.01, 0.02), V(0.07, 0.01, 0.03)});
+    spec.tools = {g};
+    const sim::Model m = sim::compile(spec);
+    sim::State s = sim::make_state(m);
+    for (int k = 0; k < 3; ++k) sim::step(m, s);
+    const tools::ToolState& ts = s.tools[0];
+    REQUIRE(ts.engaged);
+    const Eigen::MatrixX3d x = sim::deformed_positions(m, s);
+    V held = V::Zero();
+    for (const auto& p : ts.grip) held += p.at(x) / double(ts.grip.size());
+    REQUIRE((held - ts.tip).norm() > 2e-3);  // the tissue lags the tip
+    CHECK(held.z() > 0.02 + 1e-4);           // but it was lifted
+    const auto c = sim::scene_content(m, s);
+    REQUIRE(c.tools.size() == 1);
+    const auto& jaw = std::get<softcut::render::GrasperShape>(c.tools[0]);
+    CHECK((jaw.pivot + jaw.axis * jaw.jaw_length - held).norm() <= 1e-12);
+  }
+
   TEST_CASE("a scalpel whose edge points along up (a stab) is drawn as a blade, not refused as a line") {
     auto spec = softcut::test::cantilever_spec(softcut::test::scratch_dir("sim_frame_scene_stab"), 0.2);
     tools::ToolSpec blade;
