@@ -1,9 +1,10 @@
 -- Cutting with dragging and poking (Wu & Heng 2005, Fig. 11): a scalpel
 -- presses a block of liver tissue, cuts an incision into the operational
 -- region once its contact pressure passes the threshold, and is lifted out;
--- a grasper then takes one lip of the incision and drags it open while a
--- probe pokes the other side. The incision is partial, so the body stays one
--- piece, held at its base.
+-- the tissue is under tension (an initial strain, paper Sec. 5), so the
+-- incision gapes; a grasper then takes one lip over its jaw's area and drags
+-- it open while a probe pokes the other side. The incision is partial, so
+-- the body stays one piece, held at its base and sides.
 --   softcut run scenarios/incision_drag_poke.lua --set depth=0.015
 local P = softcut.params{
   depth = 0.008,        -- m, incision depth
@@ -11,6 +12,7 @@ local P = softcut.params{
   cut_pressure = 6e3,   -- Pa: reached at 0.29 N over the 24 mm x 2 mm contact strip
   drag = 0.014,         -- m, how far the grasper pulls the lip (+y)
   poke = 0.25,          -- N, probe force on the other lip
+  tension = -0.04,      -- initial horizontal strain (negative: under tension when held)
 }
 
 local s = softcut.scenario{
@@ -19,7 +21,15 @@ local s = softcut.scenario{
 }
 local m = s:mesh{ generate = "box", options = { min = { 0, 0, 0 }, max = { 0.06, 0.04, 0.024 }, nx = 12, ny = 8, nz = 5 } }
 s:material{ tissue = "liver" }
-s:fix{ nodes = softcut.select.box{ min = { -1, -1, 0 }, max = { 1, 1, 0 } } }  -- base
+-- Tissue in place is under tension: held at its base and sides, it would
+-- shrink by 4 % in the horizontal plane if freed (with the vertical strain
+-- that leaves its top free of traction), so the incision gapes.
+local nu = 0.45
+s:prestress{ tensor = { xx = P.tension, yy = P.tension, zz = -2 * nu / (1 - nu) * P.tension } }
+local held = softcut.select.box{ min = { -1, -1, 0 }, max = { 1, 1, 0 } }                                -- base
+  + softcut.select.box{ min = { -1, -1, -1 }, max = { 0, 1, 1 } } + softcut.select.box{ min = { 0.06, -1, -1 }, max = { 1, 1, 1 } }
+  + softcut.select.box{ min = { -1, -1, -1 }, max = { 1, 0, 1 } } + softcut.select.box{ min = { -1, 0.04, -1 }, max = { 1, 1, 1 } }
+s:fix{ nodes = held }
 s:operational{ box = { min = { 0.008, 0.008, 0.008 }, max = { 0.052, 0.032, 0.025 } } }
 
 -- The incision plane y = yc lies 1.5 mm off a node plane, so the blade splits tets.
@@ -54,6 +64,16 @@ end }
 s:expect{ name = "partial cut: still one piece", at = 2.4, check = function(f)
   local c = f:cutting()
   return c.components == 1, ("%d connected pieces"):format(c.components)
+end }
+local function lip(y) return softcut.select.box{ min = { xc - 0.006, y - 1e-4, top }, max = { xc + 0.006, y + 1e-4, top } } end
+local function gap(f) return f:mean_displacement(lip(0.025))[2] - f:mean_displacement(lip(0.02))[2] end
+s:expect{ name = "held in place, the tension moves nothing", at = 0.15, check = function(f)
+  local m = f:max_displacement(softcut.select.all())
+  return m < 1e-12, ("largest displacement %.3g m before the blade touches"):format(m)
+end }
+-- Without the tension (--set tension=0) the lips stay where they were: 0.000 mm.
+s:expect{ name = "the incision gapes", at = 1.15, check = function(f)
+  return gap(f) > 3e-4, ("lips %.2f mm further apart than at rest, before anything pulls them"):format(1e3 * gap(f))
 end }
 s:expect{ name = "the grasper holds the lip", at = 2.0, check = function(f) return f:tool("jaw").engaged end,
           message = "grasper let go" }
