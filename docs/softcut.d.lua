@@ -168,7 +168,7 @@ function Scenario:load(args) end
 ---@field stiffness? number total spring stiffness (drive spring) (N/m)
 ---@field start? number in contact from this time (s)
 ---@field stop? number until this time (default: the end) (s)
----A probe: a sphere tip on a path that pokes the surface it touches, with a ramp-driven force (`force`) or a spring of total `stiffness` pushing the contact nodes to the tip's surface.
+---A probe: a sphere tip on a path that pokes the surface it touches, with a ramp-driven force (`force`, spread over the circle the sphere presses into the surface; it acts only while the sphere reaches the surface, so let the path follow the dent) or a spring of total `stiffness` pushing the contact nodes to the tip's surface.
 ---@param args Scenario_probe_args
 function Scenario:probe(args) end
 

@@ -128,8 +128,9 @@ api.functions = {
       F("per_node", "boolean", "every node gets the full force", { default = false }) },
     example = 's:load{ name = "press", nodes = softcut.select.sphere{ center = {0.05, 0.02, 0.04}, radius = 0.006 },\n        normal = -0.5, ramp = softcut.ramp.smoothstep{ t0 = 0, t1 = 1 } }' },
   { name = "Scenario:probe", summary = "A probe: a sphere tip on a path that pokes the surface it touches, "
-      .. "with a ramp-driven force (`force`) or a spring of total `stiffness` pushing the contact nodes "
-      .. "to the tip's surface.", one_of = { { "force", "stiffness" } }, fields = {
+      .. "with a ramp-driven force (`force`, spread over the circle the sphere presses into the surface; "
+      .. "it acts only while the sphere reaches the surface, so let the path follow the dent) or a spring of "
+      .. "total `stiffness` pushing the contact nodes to the tip's surface.", one_of = { { "force", "stiffness" } }, fields = {
       F("name", "string", "for messages, outputs and Frame methods", { required = true }),
       F("path", "Path", "tip center over time", { required = true }),
       F("radius", "number", "tip radius", { unit = "m", gt = 0, default = 0.005 }),

@@ -48,10 +48,13 @@ s:grasper{
   name = "jaw", radius = 0.002, stiffness = 400, start = 1.2,
   path = softcut.path.polyline{ times = { 1.2, 2.0 }, points = { { xc, yc + 0.0035, top }, { xc, yc + 0.0035 + P.drag, top + 0.004 } } },
 }
--- Probe pressing the -y lip down.
+-- Probe pressing the -y lip down over its contact circle. A force-driven
+-- probe acts only where its sphere reaches the surface, so its path follows
+-- the dent it makes (4 mm over the ramp).
 s:probe{
   name = "tip", radius = 0.003, start = 1.6, force = softcut.ramp.smoothstep{ t0 = 1.6, t1 = 2.1, to = P.poke },
-  path = softcut.path.fixed{ xc - 0.008, yc - 0.0065, top + 0.001 },
+  path = softcut.path.polyline{ times = { 1.6, 2.1 },
+    points = { { xc - 0.008, yc - 0.0065, top + 0.001 }, { xc - 0.008, yc - 0.0065, top - 0.004 } } },
 }
 
 s:output{ log = softcut.select.surface() * softcut.select.box{ min = { 0.015, 0.012, 0.015 }, max = { 0.045, 0.031, 0.025 } },
@@ -75,6 +78,8 @@ end }
 s:expect{ name = "the incision gapes", at = 1.15, check = function(f)
   return gap(f) > 3e-4, ("lips %.2f mm further apart than at rest, before anything pulls them"):format(1e3 * gap(f))
 end }
+s:expect{ name = "the probe presses to the end", at = 2.4, check = function(f) return f:tool("tip").engaged end,
+          message = "the probe lost contact" }
 s:expect{ name = "the grasper holds the lip", at = 2.0, check = function(f) return f:tool("jaw").engaged end,
           message = "grasper let go" }
 s:expect{ name = "base fixed", at = 2.4, nodes = softcut.select.box{ min = { -1, -1, 0 }, max = { 1, 1, 0 } }, measure = "max", max = 0 }

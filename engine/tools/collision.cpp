@@ -93,7 +93,8 @@ std::pair<int, Eigen::Vector3d> nearest_on(const ContactSurface& s, const std::v
 
 }  // namespace
 
-std::vector<SurfacePoint> surface_patch(const ContactSurface& s, const Eigen::Vector3d& center, double radius) {
+std::vector<SurfacePoint> surface_patch(const ContactSurface& s, const Eigen::Vector3d& center, double radius,
+                                        bool contact_circle) {
   // Faces that may hold a sample: within 2 radius of the centre (a sample
   // lies within radius of the nearest point, which lies within radius).
   std::vector<int> cand;
@@ -113,6 +114,8 @@ std::vector<SurfacePoint> surface_patch(const ContactSurface& s, const Eigen::Ve
     out.push_back(p);
   };
   add(f0, q0);
+  const double disc = contact_circle ? std::sqrt(std::max(0.0, radius * radius - (q0 - center).squaredNorm())) : radius;
+  if (!(disc > 0)) return out;  // a sphere just touching: a point
   // Tangent plane at q0: the nearest face's normal.
   const Eigen::Vector3d a = corner(s, f0, 0), b = corner(s, f0, 1), c = corner(s, f0, 2);
   Eigen::Vector3d n = (b - a).cross(c - a);
@@ -123,14 +126,14 @@ std::vector<SurfacePoint> surface_patch(const ContactSurface& s, const Eigen::Ve
   for (const auto& [rho, count] : {std::pair{0.5, 6}, std::pair{1.0, 12}})
     for (int k = 0; k < count; ++k) {
       const double th = 2 * kPi * (k + 0.5 * (count == 12)) / count;
-      const Eigen::Vector3d x = q0 + rho * radius * (std::cos(th) * t1 + std::sin(th) * t2);
+      const Eigen::Vector3d x = q0 + rho * disc * (std::cos(th) * t1 + std::sin(th) * t2);
       const auto [f, q] = nearest_on(s, cand, x);
-      if (f >= 0 && (q - x).norm() <= 0.5 * radius) add(f, q);
+      if (f >= 0 && (q - x).norm() <= 0.5 * disc) add(f, q);
     }
   // And every surface node on the patch: on a mesh finer than the pattern
   // the jaw holds all the tissue under it, not 19 points of it.
   for (int v : s.surface.nodes)
-    if ((s.positions.row(v).transpose() - q0).norm() <= radius) {
+    if ((s.positions.row(v).transpose() - q0).norm() <= disc) {
       SurfacePoint p;
       p.nodes = {v, v, v};
       p.weights = Eigen::Vector3d(1, 0, 0);

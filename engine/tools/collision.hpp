@@ -42,8 +42,12 @@ struct SurfacePoint {
 // triangles, on fine ones the jaw holds all the nodes under it (a load
 // spread over an area, which converges as the mesh is refined), and a jaw
 // smaller than the faces still holds the triangle under it. Empty when the
-// surface is farther than `radius` from the centre.
-std::vector<SurfacePoint> surface_patch(const ContactSurface& s, const Eigen::Vector3d& center, double radius);
+// surface is farther than `radius` from the centre. With `contact_circle`
+// the disc is the circle the sphere cuts from the surface's tangent plane,
+// radius sqrt(radius^2 - d^2) for the centre at distance d (a probe pressed
+// in: its contact area), a single point when it just touches.
+std::vector<SurfacePoint> surface_patch(const ContactSurface& s, const Eigen::Vector3d& center, double radius,
+                                        bool contact_circle = false);
 
 // Surface nodes whose deformed position lies within `radius` of the segment
 // a-b (a capsule: the scalpel's contact), sorted by id. When none does (an

@@ -88,11 +88,14 @@ void update_tool(const ToolSpec& spec, ToolState& st, double t, const ContactSur
       }
     }
     st.engaged = !st.nodes.empty();
-  } else if (spec.kind == ToolSpec::Kind::probe) {
-    st.nodes = nodes_in_sphere(s, st.tip, spec.radius);  // re-detected every frame
+  } else if (spec.kind == ToolSpec::Kind::probe && spec.drive == ToolSpec::Drive::spring) {
+    st.nodes = nodes_in_sphere(s, st.tip, spec.radius);  // re-detected every frame; a penalty per node
     st.engaged = !st.nodes.empty();
-  } else if (!st.engaged) {  // a grasper closes on first contact, on the patch under its jaw
-    st.grip = surface_patch(s, st.tip, spec.radius);
+  } else if (spec.kind == ToolSpec::Kind::probe || !st.engaged) {
+    // A force-driven probe presses over its contact area, re-detected every
+    // frame; a grasper closes on first contact, on the patch under its jaw.
+    const bool probe = spec.kind == ToolSpec::Kind::probe;
+    st.grip = surface_patch(s, st.tip, spec.radius, probe);
     st.engaged = !st.grip.empty();
     st.nodes.clear();
     st.offsets.clear();
@@ -106,14 +109,18 @@ void update_tool(const ToolSpec& spec, ToolState& st, double t, const ContactSur
   const size_t k = st.nodes.size();
   if (k == 0) return;
   st.forces.assign(k, Eigen::Vector3d::Zero());
-  if (spec.kind == ToolSpec::Kind::grasper) {
-    // Per grip point, then onto its nodes by its weights.
+  if (!st.grip.empty()) {
+    // Grasper, force-driven probe: per grip point, then onto its nodes by its weights.
     const size_t np = st.grip.size();
     Eigen::Vector3d dir = spec.direction;
     if (spec.drive == ToolSpec::Drive::force && dir.squaredNorm() == 0) {
-      Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
-      for (const SurfacePoint& p : st.grip) centroid += p.at(s.positions);
-      dir = st.tip - centroid / double(np);
+      if (spec.kind == ToolSpec::Kind::probe) {  // against the surface's normal there
+        for (const SurfacePoint& p : st.grip) dir -= p.at(s.normals);
+      } else {  // toward the tip from the grip's centroid
+        Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+        for (const SurfacePoint& p : st.grip) centroid += p.at(s.positions);
+        dir = st.tip - centroid / double(np);
+      }
     }
     const double f = spec.drive == ToolSpec::Drive::force ? evaluate(spec.force, t) / double(np) : 0.0;
     const double kp = spec.stiffness / double(np);

@@ -1,9 +1,11 @@
 #pragma once
 // Surgical tools: a probe pokes, a grasper grabs and drags, a scalpel presses
 // and, above its cutting pressure, cuts. Each moves on a Path; collision with
-// the current deformed surface picks the manipulated nodes (either region;
-// probe/grasper: within the sphere tip, scalpel: within `radius` of the blade
-// edge); the tool then applies nodal forces, N. Cutting itself is done by
+// the current deformed surface picks what it acts on (either region; probe
+// and grasper: points of the surface patch under the sphere tip, bound to
+// their triangles' nodes; a spring probe: nodes within the sphere; scalpel:
+// nodes within `radius` of the blade edge); the tool then applies nodal
+// forces, N. Cutting itself is done by
 // sim::step (sim/cutting.hpp) from the blade poses kept in ToolState.
 #include <Eigen/Core>
 #include <limits>
@@ -18,8 +20,11 @@ namespace softcut::tools {
 
 struct ToolSpec {
   enum class Kind { probe, grasper, scalpel };
-  // force: total force magnitude `force(t)` (N), split evenly over the
-  //        manipulated nodes, along `direction`.
+  // force: total force magnitude `force(t)` (N) along `direction`, split
+  //        evenly over the grip points (grasper: its jaw's patch; probe: the
+  //        circle it presses into the surface, tools::surface_patch) and on
+  //        to their nodes by barycentric weights; a scalpel splits it evenly
+  //        over its contact nodes.
   // spring: total stiffness `stiffness` (N/m) split evenly over the
   //        manipulated nodes (grasper: over its grip points); each is pulled
   //        toward its target (grasper: grasp-time offset from the tip; probe:
@@ -80,7 +85,8 @@ struct ToolState {
   std::vector<Eigen::Vector3d> forces;            // (k) force on each node this frame, N
   // Grasper: the surface points it holds (surface_patch at closing; `nodes`
   // are their triangles' nodes) and each point minus the tip at grasp, m.
-  // A point's spring or force acts on its nodes by its weights.
+  // Force-driven probe: its contact area this frame (surface_patch's contact
+  // circle), no offsets. A point's spring or force acts on its nodes by its weights.
   std::vector<SurfacePoint> grip;                 // (p)
   std::vector<Eigen::Vector3d> offsets;           // (p)
   Eigen::Vector3d total_force = Eigen::Vector3d::Zero();  // N

@@ -2,6 +2,8 @@
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
+
 #include "core/error.hpp"
 #include "mesh/generate/box.hpp"
 
@@ -29,7 +31,7 @@ struct BoxContact {
 }  // namespace
 
 TEST_SUITE("tools/tool") {
-  TEST_CASE("force-driven probe splits its ramp over the contact nodes, pushing against the normal") {
+  TEST_CASE("force-driven probe spreads its ramp over its contact circle, pushing against the normal") {
     BoxContact b;
     tools::ToolSpec spec;
     spec.name = "probe";
@@ -38,10 +40,20 @@ TEST_SUITE("tools/tool") {
     spec.force = tools::Ramp::linear_ramp(0.0, 2.0, 0.0, 1.0);
     tools::ToolState st;
     tools::update_tool(spec, st, 0.5, b.contact());
-    REQUIRE(st.nodes.size() == 5);
+    // Tip on the top face: the contact circle has the tip's radius; it holds
+    // the pattern's 19 points and the 5 top nodes within 0.26.
+    REQUIRE(st.grip.size() == 19 + 5);
     CHECK(st.engaged);
     CHECK((st.total_force - V(0, 0, -1.0)).norm() < 1e-12);
-    for (const auto& f : st.forces) CHECK((f - V(0, 0, -0.2)).norm() < 1e-12);
+    // The nodal forces press where the probe does: their centre of pressure
+    // is the tip (the weights reproduce the points' positions).
+    V moment = V::Zero();
+    for (size_t i = 0; i < st.nodes.size(); ++i) {
+      CHECK(b.x(st.nodes[i], 2) == 1.0);
+      CHECK(st.forces[i].z() < 0);
+      moment += st.forces[i].z() * V(b.x.row(st.nodes[i]).transpose());
+    }
+    CHECK((moment / st.total_force.z() - V(0.5, 0.5, 1.0)).norm() < 1e-12);
     // Explicit direction wins.
     spec.direction = V(1, 0, 0);
     tools::update_tool(spec, st, 1.0, b.contact());
@@ -89,7 +101,9 @@ TEST_SUITE("tools/tool") {
     st.tip = V(0, 0, 0);
     st.override_tip = true;
     tools::update_tool(spec, st, 0.0, b.contact());
-    CHECK(st.nodes == std::vector<int>{0});
+    REQUIRE(st.engaged);
+    CHECK(std::count(st.nodes.begin(), st.nodes.end(), 0) == 1);  // node 0 sits at the corner (0, 0, 0)
+    for (const auto& p : st.grip) CHECK(p.at(b.x).norm() <= 0.01 * (1 + 1e-12));
   }
 
   TEST_CASE("bad tools are refused naming the tool") {
