@@ -304,28 +304,34 @@ struct Renderer::Impl {
 
     set_camera(surface_prog, scene.camera);
     set_camera(flat_prog, scene.camera);
-    glUseProgram(surface_prog);
     // Tissue and tools are closed, outward-wound surfaces (a tet mesh's
     // boundary stays closed through cuts: each side of a cut is a face), so
     // only back faces are culled, nothing visible: llvmpipe shades about half
     // the fragments it would otherwise.
-    glEnable(GL_CULL_FACE);
-    glCullFace(GL_BACK);
-    glFrontFace(GL_CCW);
-    glEnable(GL_POLYGON_OFFSET_FILL);  // pushes faces back so their edges win the depth test
-    glPolygonOffset(1.0f, 1.0f);
-    for (const Batch* b : {&tissue, &tools})
-      if (b->count) {
-        glBindVertexArray(b->vao);
-        glDrawArrays(GL_TRIANGLES, 0, b->count);
-      }
-    glDisable(GL_POLYGON_OFFSET_FILL);
-    glDisable(GL_CULL_FACE);
+    // Order: tissue; then the lines and points (those drawn on top write no
+    // depth, so they show through tissue); then the tools, depth-tested
+    // against the tissue: an instrument is never covered by a point or line.
+    auto draw_surface = [&](const Batch& b) {
+      if (!b.count) return;
+      glUseProgram(surface_prog);
+      glEnable(GL_CULL_FACE);
+      glCullFace(GL_BACK);
+      glFrontFace(GL_CCW);
+      glEnable(GL_POLYGON_OFFSET_FILL);  // pushes faces back so their edges win the depth test
+      glPolygonOffset(1.0f, 1.0f);
+      glEnable(GL_DEPTH_TEST);
+      glBindVertexArray(b.vao);
+      glDrawArrays(GL_TRIANGLES, 0, b.count);
+      glDisable(GL_POLYGON_OFFSET_FILL);
+      glDisable(GL_CULL_FACE);
+    };
+    draw_surface(tissue);
     glUseProgram(flat_prog);
     draw_flat(wire, GL_LINES, scene.wire.size_px, scene.wire.on_top);
     draw_flat(ipoints, GL_POINTS, scene.interface_points.size_px, scene.interface_points.on_top);
     draw_flat(lines, GL_LINES, scene.force_lines.size_px, scene.force_lines.on_top);
     draw_flat(mpoints, GL_POINTS, scene.manipulated_points.size_px, scene.manipulated_points.on_top);
+    draw_surface(tools);
     glBindVertexArray(0);
     if (samples > 1)
       glBlitNamedFramebuffer(ms_fbo, fbo, 0, 0, width, height, 0, 0, width, height, GL_COLOR_BUFFER_BIT, GL_NEAREST);

@@ -221,7 +221,8 @@ Scene SceneExtractor::extract(const mesh::TetMesh& m, const Eigen::MatrixX3d& x,
       scene.interface_points.add(x.row(v).transpose(), pal.interface_nodes);
     }
 
-  // The manipulated node and its force line stay visible whatever is in front.
+  // The manipulated nodes and their force lines show through the tissue;
+  // the renderer draws the tools after them, so never over an instrument.
   scene.manipulated_points.size_px = 1.5f * settings.point_size_px;
   scene.manipulated_points.on_top = true;
   scene.force_lines.size_px = settings.line_width_px;

@@ -188,6 +188,37 @@ TEST_SUITE("render/renderer") {
     CHECK_FALSE(same_color(rgb(shared_renderer().draw(hidden), px), to8(s.palette.interface_nodes)));
   }
 
+  TEST_CASE("manipulated points show through tissue but never over an instrument") {
+    Block b;
+    RenderSettings s;
+    s.width = 160;
+    s.height = 120;
+    s.point_size_px = 8;
+    s.camera.auto_frame = false;
+    s.camera.eye = Eigen::Vector3d(0.05, -0.25, 0.2);
+    s.camera.target = Eigen::Vector3d(0.05, 0.03, 0.02);
+    const int top = 3 + 7 * (2 + 5 * 3), inside = 3 + 7 * (2 + 5 * 1);  // nodes (3, 2, 3) and (3, 2, 1)
+    REQUIRE((b.mesh.node(top) - Eigen::Vector3d(0.05, 0.03, 0.04)).norm() < 1e-12);
+    b.content.manipulated = {{top, b.mesh.node(top)}, {inside, b.mesh.node(inside)}};
+    const render::Scene bare = render::extract_scene(b.mesh, b.mesh.nodes, b.content, s);
+    const Image plain = shared_renderer().draw(bare);
+    const Eigen::Vector3i green = to8(s.palette.manipulated);
+    CHECK(same_color(rgb(plain, pixel_of(bare, b.mesh.node(top))), green));
+    CHECK(same_color(rgb(plain, pixel_of(bare, b.mesh.node(inside))), green));  // through the tissue
+    // A probe between the camera and the top node hides it.
+    render::ProbeShape probe;
+    probe.tip = b.mesh.node(top) + 0.3 * (s.camera.eye - b.mesh.node(top));
+    probe.axis = Eigen::Vector3d(0, 0, 1);
+    probe.radius = 0.008;
+    b.content.tools = {probe};
+    const render::Scene covered = render::extract_scene(b.mesh, b.mesh.nodes, b.content, s);
+    const Image img = shared_renderer().draw(covered);
+    const Eigen::Vector2i px = pixel_of(covered, b.mesh.node(top));
+    CHECK(px == pixel_of(bare, b.mesh.node(top)));
+    CHECK_FALSE(same_color(rgb(img, px), green));
+    CHECK(same_color(rgb(img, pixel_of(covered, b.mesh.node(inside))), green));  // the other still shows
+  }
+
   TEST_CASE("wireframe and multisampling change edge pixels only") {
     Block b;
     RenderSettings s;
