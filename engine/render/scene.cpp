@@ -76,6 +76,7 @@ struct SceneExtractor::Topology {
   int count[3] = {0, 0, 0};         // faces per FaceKind
   std::vector<int> start, adj;      // node -> surface faces (CSR: start (nnode + 1), adj (3 nface))
   std::vector<std::array<int, 3>> edges;  // unique surface edges (lo node, hi node, first face); on demand
+  std::vector<std::array<int, 2>> rim;    // edges between cut and uncut faces; with `edges`
   bool have_edges = false;
   int builds = 0;
 
@@ -110,13 +111,16 @@ struct SceneExtractor::Topology {
     for (int f = 0; f < nface; ++f)
       for (int k = 0; k < 3; ++k) adj[size_t(fill[size_t(surf.faces(f, k))]++)] = f;
     edges.clear();
+    rim.clear();
     have_edges = false;
     ++builds;
   }
 
-  // Each surface edge once, with the first face that holds it (its colour).
-  const std::vector<std::array<int, 3>>& surface_edges() {
-    if (have_edges) return edges;
+  // Each surface edge once, with the first face that holds it (its colour),
+  // and the incision's rim: the edges where a cut face meets one that is not
+  // (lo node, hi node), so a closed incision still shows as an outline.
+  void build_edges() {
+    if (have_edges) return;
     const int nface = int(surf.faces.rows());
     std::vector<std::array<int, 3>> all;
     all.reserve(size_t(3 * nface));
@@ -126,10 +130,22 @@ struct SceneExtractor::Topology {
         all.push_back({std::min(a, b), std::max(a, b), f});
       }
     std::sort(all.begin(), all.end());
-    for (size_t i = 0; i < all.size(); ++i)
-      if (i == 0 || all[i][0] != all[i - 1][0] || all[i][1] != all[i - 1][1]) edges.push_back(all[i]);
+    for (size_t i = 0, j = 0; i < all.size(); i = j) {
+      bool cut = false, uncut = false;
+      for (j = i; j < all.size() && all[j][0] == all[i][0] && all[j][1] == all[i][1]; ++j)
+        (kind[size_t(all[j][2])] == kCut ? cut : uncut) = true;
+      edges.push_back(all[i]);
+      if (cut && uncut) rim.push_back({all[i][0], all[i][1]});
+    }
     have_edges = true;
+  }
+  const std::vector<std::array<int, 3>>& surface_edges() {
+    build_edges();
     return edges;
+  }
+  const std::vector<std::array<int, 2>>& rim_edges() {
+    build_edges();
+    return rim;
   }
 };
 
@@ -203,6 +219,15 @@ Scene SceneExtractor::extract(const mesh::TetMesh& m, const Eigen::MatrixX3d& x,
     }
     scene.tissue.add(p[0], p[1], p[2], n[0], n[1], n[2], kind_color[topo.kind[size_t(f)]]);
   }
+
+  // The incision's outline (depth-tested: the tissue is drawn pushed back,
+  // so a line on its surface wins), present only once something was cut.
+  scene.outline.size_px = settings.line_width_px;
+  if (settings.incision_outline && topo.count[kCut] > 0)
+    for (const auto& [a, b] : topo_->rim_edges()) {
+      scene.outline.add(x.row(a).transpose(), pal.outline);
+      scene.outline.add(x.row(b).transpose(), pal.outline);
+    }
 
   // Wireframe: each surface edge once, coloured after its first face.
   scene.wire.size_px = settings.wire_width_px;

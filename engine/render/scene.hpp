@@ -21,6 +21,7 @@ struct Palette {
   Rgba operational{0.80f, 0.80f, 0.78f, 1.0f};
   Rgba nonoperational{0.12f, 0.20f, 0.55f, 1.0f};
   Rgba cut{0.72f, 0.16f, 0.24f, 1.0f};
+  Rgba outline{0.45f, 0.05f, 0.10f, 1.0f};  // the incision's rim on the surface
   Rgba manipulated{0.10f, 0.85f, 0.20f, 1.0f};
   Rgba interface_nodes{1.00f, 0.78f, 0.10f, 1.0f};
   Rgba tool{0.70f, 0.72f, 0.76f, 1.0f};
@@ -31,6 +32,7 @@ struct RenderSettings {
   int width = 640, height = 480;  // pixels
   int msaa_samples = 4;            // 0 or 1: no multisampling; clamped to the driver's maximum
   bool wireframe = false;          // draw the surface edges over the shading
+  bool incision_outline = true;    // outline where cut faces meet the outer surface (visible when closed)
   bool show_interface = true;      // interface ("common") nodes as points
   bool interface_on_top = true;    // ... visible through the surface (they are mostly inside)
   double crease_angle_deg = 40.0;  // normals are smoothed across edges flatter than this; 0: flat
@@ -65,6 +67,7 @@ struct Scene {
   Triangles tissue;  // boundary faces of the tet mesh, one triangle each
   Triangles tools;
   Primitives wire;         // surface edges (lines), when wireframe is on
+  Primitives outline;      // the incision's rim (lines): edges between cut and uncut surface faces
   Primitives force_lines;  // manipulated node -> line_end (lines)
   Primitives interface_points;
   Primitives manipulated_points;

@@ -111,6 +111,30 @@ TEST_SUITE("render/scene") {
     CHECK(red == 8);
   }
 
+  TEST_CASE("the incision is outlined where cut faces meet the outer surface, even when closed") {
+    const mesh::TetMesh m = box(3, 2, 2);
+    SceneContent c;
+    CHECK(render::extract_scene(m, m.nodes, c, {}).outline.vertices() == 0);  // nothing cut
+    c.cut_faces.assign(size_t(4 * m.num_tets()), 0);
+    for (int t = 0; t < m.num_tets(); ++t)  // the square x = 0, 2 x 2 cells, marked cut
+      for (int f = 0; f < 4; ++f) {
+        bool on = true;
+        for (int k = 0; k < 3; ++k) on &= m.node(m.tets(t, mesh::kTetFaces[f][k])).x() == 0.0;
+        c.cut_faces[size_t(4 * t + f)] = on;
+      }
+    const render::Scene sc = render::extract_scene(m, m.nodes, c, {});
+    // The rim is the square's perimeter: 4 sides of 2 segments, 2 vertices each.
+    REQUIRE(sc.outline.vertices() == 16);
+    for (const Eigen::Vector3f& p : sc.outline.positions) {
+      CHECK(p.x() == 0.0f);
+      CHECK((p.y() == 0.0f || p.y() == 1.0f || p.z() == 0.0f || p.z() == 1.0f));
+    }
+    CHECK(!sc.outline.on_top);  // hidden behind tissue like the surface it lies on
+    RenderSettings off;
+    off.incision_outline = false;
+    CHECK(render::extract_scene(m, m.nodes, c, off).outline.vertices() == 0);
+  }
+
   TEST_CASE("deformed positions are drawn but framing follows the rest shape") {
     const mesh::TetMesh m = box(2, 2, 2);
     Eigen::MatrixX3d x = m.nodes;
