@@ -61,7 +61,12 @@ api.structs = {
       F("wireframe", "boolean", "draw tet edges", { default = false }),
       F("show_interface", "boolean", "draw the interface nodes (the border of the operational region)", { default = false }),
       F("show_forces", "boolean", "draw manipulated nodes and their force lines", { default = true }),
-      F("background", "vec3", "RGB in [0, 1]", { default = { 0.2, 0.22, 0.26 } }) } },
+      F("background", "vec3", "RGB in [0, 1]", { default = { 0.2, 0.22, 0.26 } }),
+      F("style", "string", "clinical: tissue coloured by material (each distinct E, nu in order of first use, so a "
+        .. "lesion shows); paper: the paper's colours (operational light grey, nonoperational dark blue)",
+        { values = { "clinical", "paper" }, default = "clinical" }),
+      F("tissue_colors", "vec3[]", "clinical style: RGB in [0, 1] per material group, cycled (default: "
+        .. "parenchyma red-brown, a pale lesion tone, ...)") } },
 }
 
 api.functions = {

@@ -217,6 +217,9 @@ sim::ScenarioSpec spec_from_table(lua_State* L, int s, const fs::path& source) {
       rs.show_interface = get_bool(L, r, "show_interface", rs.show_interface);
       rs.show_forces = get_bool(L, r, "show_forces", true);
       rs.background = get_vec3(L, r, "background", rs.background);
+      rs.style = get_string(L, r, "style", "clinical") == "paper" ? sim::RenderSettings::Style::paper
+                                                                 : sim::RenderSettings::Style::clinical;
+      rs.tissue_colors = get_vec3s(L, r, "tissue_colors");
     }
     lua_pop(L, 1);
   }

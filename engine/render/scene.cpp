@@ -19,6 +19,8 @@ void check_settings(const RenderSettings& s) {
     fail("render: crease_angle_deg = ", s.crease_angle_deg, " must lie in [0, 180]");
   if (!(s.point_size_px > 0 && s.line_width_px > 0 && s.wire_width_px > 0))
     fail("render: point_size_px, line_width_px and wire_width_px must be positive");
+  if (s.style == Style::clinical && s.palette.tissue.empty())
+    fail("render: the clinical style needs at least one tissue colour in the palette");
 }
 
 void check_content(const mesh::TetMesh& m, const Eigen::MatrixX3d& x, const SceneContent& c) {
@@ -31,6 +33,11 @@ void check_content(const mesh::TetMesh& m, const Eigen::MatrixX3d& x, const Scen
   if (!c.cut_faces.empty() && int(c.cut_faces.size()) != 4 * ntet)
     fail("render: the cut-face flags have ", c.cut_faces.size(), " entries but the mesh needs 4 x ", ntet,
          " (one per tet face, or none)");
+  if (!c.tet_group.empty() && int(c.tet_group.size()) != ntet)
+    fail("render: the tissue groups have ", c.tet_group.size(), " entries but the mesh has ", ntet,
+         " tets (one per tet, or none)");
+  for (size_t i = 0; i < c.tet_group.size(); ++i)
+    if (c.tet_group[i] < 0) fail("render: tet ", i, " has tissue group ", c.tet_group[i], "; groups are >= 0");
   for (size_t i = 0; i < c.interface_nodes.size(); ++i)
     if (c.interface_nodes[i] < 0 || c.interface_nodes[i] >= nnode)
       fail("render: interface node ", i, " has id ", c.interface_nodes[i], ", outside the mesh's 0..", nnode - 1);
@@ -188,6 +195,14 @@ Scene SceneExtractor::extract(const mesh::TetMesh& m, const Eigen::MatrixX3d& x,
     if (!x.row(v).allFinite()) fail("render: the position of node ", v, " is not finite (did the solve diverge?)");
   const int nface = int(surf.faces.rows());
   const Rgba kind_color[3] = {pal.operational, pal.nonoperational, pal.cut};
+  // A face's colour: cut faces the cut colour; else its region's (paper) or
+  // its tet's tissue group's (clinical).
+  auto face_color = [&](int f) -> Rgba {
+    const unsigned char k = topo.kind[size_t(f)];
+    if (k == kCut || settings.style == Style::paper) return kind_color[k];
+    const int g = content.tet_group.empty() ? 0 : content.tet_group[size_t(surf.face_tet(f))];
+    return pal.tissue[size_t(g) % pal.tissue.size()];
+  };
 
   // Shading normals: per corner, the area-weighted mean of the normals of the
   // faces around that node that bend by less than the crease angle from this
@@ -217,7 +232,7 @@ Scene SceneExtractor::extract(const mesh::TetMesh& m, const Eigen::MatrixX3d& x,
       const double len = sum.norm();
       n[k] = len > 0 ? Eigen::Vector3d(sum / len) : Eigen::Vector3d::UnitZ();  // degenerate face
     }
-    scene.tissue.add(p[0], p[1], p[2], n[0], n[1], n[2], kind_color[topo.kind[size_t(f)]]);
+    scene.tissue.add(p[0], p[1], p[2], n[0], n[1], n[2], face_color(f));
   }
 
   // The incision's outline (depth-tested: the tissue is drawn pushed back,
@@ -233,7 +248,7 @@ Scene SceneExtractor::extract(const mesh::TetMesh& m, const Eigen::MatrixX3d& x,
   scene.wire.size_px = settings.wire_width_px;
   if (settings.wireframe)
     for (const auto& [a, b, f] : topo_->surface_edges()) {
-      const Rgba c = wire_color(kind_color[topo.kind[size_t(f)]]);
+      const Rgba c = wire_color(face_color(f));
       scene.wire.add(x.row(a).transpose(), c);
       scene.wire.add(x.row(b).transpose(), c);
     }

@@ -17,6 +17,7 @@ namespace softcut::render {
 // Default colours follow the paper's figures (Figs. 4-11): operational part
 // light grey, nonoperational part dark blue, manipulated node and its force
 // line green; cut faces show the tissue interior.
+// style clinical: tissue coloured by group (material) from `tissue`, cycled.
 struct Palette {
   Rgba operational{0.80f, 0.80f, 0.78f, 1.0f};
   Rgba nonoperational{0.12f, 0.20f, 0.55f, 1.0f};
@@ -26,11 +27,20 @@ struct Palette {
   Rgba interface_nodes{1.00f, 0.78f, 0.10f, 1.0f};
   Rgba tool{0.70f, 0.72f, 0.76f, 1.0f};
   Rgba background{0.20f, 0.22f, 0.26f, 1.0f};
+  // Clinical style, per tissue group: parenchyma red-brown, then a pale
+  // lesion/fat tone, then further tissues.
+  std::vector<Rgba> tissue{{0.62f, 0.30f, 0.26f, 1.0f}, {0.90f, 0.82f, 0.60f, 1.0f}, {0.78f, 0.55f, 0.52f, 1.0f},
+                           {0.52f, 0.40f, 0.58f, 1.0f}, {0.85f, 0.70f, 0.45f, 1.0f}};
 };
+
+// paper: the paper's region colours (operational / nonoperational);
+// clinical: tissue colours by group (SceneContent::tet_group).
+enum class Style { paper, clinical };
 
 struct RenderSettings {
   int width = 640, height = 480;  // pixels
   int msaa_samples = 4;            // 0 or 1: no multisampling; clamped to the driver's maximum
+  Style style = Style::paper;
   bool wireframe = false;          // draw the surface edges over the shading
   bool incision_outline = true;    // outline where cut faces meet the outer surface (visible when closed)
   bool show_interface = true;      // interface ("common") nodes as points
@@ -54,6 +64,7 @@ struct SceneContent {
   std::vector<char> operational;  // (ntet) nonzero: operational tet; empty: all operational
   std::vector<char> cut_faces;    // (4 ntet) nonzero at 4 t + f: face f (opposite local
                                   // vertex f) of tet t lies on a cut; empty: none
+  std::vector<int> tet_group;     // (ntet) tissue group, >= 0 (clinical style); empty: all 0
   std::vector<int> interface_nodes;  // node ids shown as points
   std::vector<ManipulatedNode> manipulated;
   std::vector<ToolShape> tools;

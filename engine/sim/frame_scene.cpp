@@ -12,6 +12,19 @@ render::SceneContent scene_content(const Model& m, const State& s) {
   c.operational = s.cut ? s.cut->operational_tet : m.partition.operational_tet;
   if (s.cut) c.cut_faces = s.cut->cut_face;
   if (rs.show_interface) c.interface_nodes = m.partition.interface;
+  if (rs.style == RenderSettings::Style::clinical) {
+    // Tissue groups: distinct (E, nu) in order of first use (a few), so each
+    // material, a lesion's included, has its colour; split tets keep theirs.
+    const std::vector<fem::Material>& mat = s.cut ? s.cut->tet_material : m.tet_material;
+    std::vector<std::pair<double, double>> seen;
+    c.tet_group.resize(mat.size());
+    for (size_t t = 0; t < mat.size(); ++t) {
+      const std::pair<double, double> key{mat[t].young, mat[t].poisson};
+      auto it = std::find(seen.begin(), seen.end(), key);
+      if (it == seen.end()) it = seen.insert(seen.end(), key);
+      c.tet_group[t] = int(it - seen.begin());
+    }
+  }
   for (size_t k = 0; k < s.tools.size() && k < s.tool_specs.size(); ++k) {
     const tools::ToolSpec& spec = s.tool_specs[k];
     const tools::ToolState& ts = s.tools[k];
@@ -82,6 +95,11 @@ render::RenderSettings render_settings(const Model& m, const State& s) {
   o.wireframe = r.wireframe;
   o.show_interface = r.show_interface;
   o.palette.background = {float(r.background.x()), float(r.background.y()), float(r.background.z()), 1.0f};
+  o.style = r.style == RenderSettings::Style::paper ? render::Style::paper : render::Style::clinical;
+  if (!r.tissue_colors.empty()) {
+    o.palette.tissue.clear();
+    for (const Eigen::Vector3d& c : r.tissue_colors) o.palette.tissue.push_back({float(c.x()), float(c.y()), float(c.z()), 1.0f});
+  }
   o.camera.auto_frame = r.auto_frame;
   o.camera.azimuth_deg = r.azimuth_deg + r.orbit_deg_per_s * s.time;
   o.camera.elevation_deg = r.elevation_deg;

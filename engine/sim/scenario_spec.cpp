@@ -95,6 +95,10 @@ void check_spec(const ScenarioSpec& s) {
     fail("outputs.render: azimuth_deg and orbit_deg_per_s must be finite");
   if (!r.background.allFinite() || r.background.minCoeff() < 0 || r.background.maxCoeff() > 1)
     fail("outputs.render: background components must lie in [0, 1]");
+  if (r.tissue_colors.size() > 256) fail("outputs.render: at most 256 tissue colours, got ", r.tissue_colors.size());
+  for (size_t i = 0; i < r.tissue_colors.size(); ++i)
+    if (!r.tissue_colors[i].allFinite() || r.tissue_colors[i].minCoeff() < 0 || r.tissue_colors[i].maxCoeff() > 1)
+      fail("outputs.render: tissue colour ", i + 1, " has components outside [0, 1]");
   if (r.msaa_samples < 0 || r.msaa_samples > 16) fail("outputs.render: msaa_samples must be 0..16");
   if (!(s.solver.cg_tolerance > 0 && s.solver.cg_tolerance < 1))
     fail("solver: cg_tolerance must lie in (0, 1), got ", s.solver.cg_tolerance);

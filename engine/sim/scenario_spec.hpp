@@ -101,6 +101,11 @@ struct RenderSettings {
   Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
   double fov_deg = 30.0;                                   // vertical
   Eigen::Vector3d background = Eigen::Vector3d(0.20, 0.22, 0.26);  // RGB in [0, 1]
+  // clinical: tissue coloured by material (one colour per distinct E, nu in
+  // order of first use: a lesion shows); paper: the paper's region colours.
+  enum class Style { clinical, paper };
+  Style style = Style::clinical;
+  std::vector<Eigen::Vector3d> tissue_colors;  // RGB in [0, 1] per material group; empty: the default palette
   bool wireframe = false;
   bool show_interface = false;  // interface nodes as points (a debugging view)
   bool show_forces = true;     // manipulated nodes and their force lines

@@ -5,6 +5,7 @@
 #include <Eigen/Geometry>
 #include <random>
 
+#include "core/error.hpp"
 #include "mesh/generate/box.hpp"
 #include "mesh/surface.hpp"
 
@@ -109,6 +110,45 @@ TEST_SUITE("render/scene") {
         CHECK(centroid(sc.tissue, i).x() == doctest::Approx(0.0));
       }
     CHECK(red == 8);
+  }
+
+  TEST_CASE("clinical style colours tissue by group, cycling the palette, cut faces still cut, paper by region") {
+    const mesh::TetMesh m = box(4, 2, 2);
+    SceneContent c;
+    c.operational.resize(size_t(m.num_tets()));
+    c.tet_group.resize(size_t(m.num_tets()));
+    for (int t = 0; t < m.num_tets(); ++t) {
+      c.operational[size_t(t)] = tet_centroid(m, t).x() < 0.5;
+      c.tet_group[size_t(t)] = tet_centroid(m, t).y() < 0.5 ? 0 : 6;  // 6 cycles to palette entry 1 of 5
+    }
+    c.cut_faces.assign(size_t(4 * m.num_tets()), 0);
+    for (int t = 0; t < m.num_tets(); ++t)  // the face x = 0 marked cut
+      for (int f = 0; f < 4; ++f) {
+        bool on = true;
+        for (int k = 0; k < 3; ++k) on &= m.node(m.tets(t, mesh::kTetFaces[f][k])).x() == 0.0;
+        c.cut_faces[size_t(4 * t + f)] = on;
+      }
+    RenderSettings s;
+    s.style = render::Style::clinical;
+    const auto& pal = s.palette;
+    REQUIRE(pal.tissue.size() == 5);
+    const render::Scene sc = render::extract_scene(m, m.nodes, c, s);
+    const render::Scene paper = render::extract_scene(m, m.nodes, c, {});
+    for (int i = 0; i < sc.tissue.count(); ++i) {
+      const Eigen::Vector3d p = centroid(sc.tissue, i);
+      const render::Rgba got = sc.tissue.colors[size_t(3 * i)], old = paper.tissue.colors[size_t(3 * i)];
+      if (p.x() == doctest::Approx(0.0)) {
+        CHECK(got == pal.cut);
+        CHECK(old == pal.cut);
+      } else if (p.y() < 0.49 || p.y() > 0.51) {  // faces of one group (not on y = 0.5)
+        CHECK(got == (p.y() < 0.5 ? pal.tissue[0] : pal.tissue[1]));
+        CHECK(old == (p.x() < 0.5 ? pal.operational : pal.nonoperational));
+      }
+    }
+    c.tet_group[3] = -1;
+    CHECK_THROWS_WITH_AS(render::extract_scene(m, m.nodes, c, s), doctest::Contains("tet 3 has tissue group -1"), Error);
+    c.tet_group.resize(5);
+    CHECK_THROWS_WITH_AS(render::extract_scene(m, m.nodes, c, s), doctest::Contains("tissue groups have 5 entries"), Error);
   }
 
   TEST_CASE("the incision is outlined where cut faces meet the outer surface, even when closed") {

@@ -100,6 +100,38 @@ TEST_SUITE("sim/frame_scene") {
     }
   }
 
+  TEST_CASE("the clinical style groups tets by material in order of first use, the paper style by region") {
+    auto spec = softcut::test::cantilever_spec(softcut::test::scratch_dir("sim_frame_scene_style"), 0.1);
+    sim::MaterialAssignment lesion;
+    lesion.name = "lesion";
+    lesion.young = 2e4;
+    lesion.poisson = 0.45;
+    lesion.tets.kind = sim::TetSelector::Kind::box;
+    lesion.tets.lo = V(0.07, -1, -1);
+    lesion.tets.hi = V(1, 1, 1);
+    spec.materials.push_back(lesion);
+    spec.prestress.push_back({"p", "", sim::TetSelector::of(sim::TetSelector::Kind::all), -0.01 * Eigen::Matrix3d::Identity()});
+    spec.outputs.render.tissue_colors = {V(0.1, 0.2, 0.3), V(0.9, 0.8, 0.7)};
+    const sim::Model m = sim::compile(spec);
+    sim::State s = sim::make_state(m);
+    sim::step(m, s);
+    const auto c = sim::scene_content(m, s);
+    REQUIRE(int(c.tet_group.size()) == m.mesh.num_tets());
+    for (int t = 0; t < m.mesh.num_tets(); ++t)  // the initial strain does not make a group of its own
+      CHECK(c.tet_group[size_t(t)] == (m.tet_material[size_t(t)].young == 2e4 ? 1 : 0));
+    const softcut::render::RenderSettings r = sim::render_settings(m, s);
+    CHECK(r.style == softcut::render::Style::clinical);
+    REQUIRE(r.palette.tissue.size() == 2);
+    CHECK(r.palette.tissue[1][0] == doctest::Approx(0.9f));
+    auto paper = spec;
+    paper.outputs.render.style = sim::RenderSettings::Style::paper;
+    const sim::Model mp = sim::compile(paper);
+    sim::State sp = sim::make_state(mp);
+    sim::step(mp, sp);
+    CHECK(sim::scene_content(mp, sp).tet_group.empty());
+    CHECK(sim::render_settings(mp, sp).style == softcut::render::Style::paper);
+  }
+
   TEST_CASE("a grasper's jaws are drawn at the tissue they hold, not at its tip") {
     // An implicit grasper lifts the top of the cantilever; a soft spring
     // leaves the tissue well short of the tip, and the jaws stay with the tissue.
