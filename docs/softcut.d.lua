@@ -68,6 +68,7 @@ local Frame = {}
 ---@field wireframe? boolean draw tet edges
 ---@field show_interface? boolean draw the interface nodes (the border of the operational region)
 ---@field show_forces? boolean draw manipulated nodes and their force lines
+---@field show_loads? boolean draw each acting load (s:load) as an arrow along its total force ending at its nodes' centroid, the largest a tenth of the model's size
 ---@field background? number[] RGB in [0, 1]
 ---@field style? string clinical: tissue coloured by material (each distinct E, nu in order of first use, so a lesion shows); paper: the paper's colours (operational light grey, nonoperational dark blue)
 ---@field tissue_colors? number[][] clinical style: RGB in [0, 1] per material group, cycled (default: parenchyma red-brown, a pale lesion tone, ...)

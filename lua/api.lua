@@ -61,6 +61,8 @@ api.structs = {
       F("wireframe", "boolean", "draw tet edges", { default = false }),
       F("show_interface", "boolean", "draw the interface nodes (the border of the operational region)", { default = false }),
       F("show_forces", "boolean", "draw manipulated nodes and their force lines", { default = true }),
+      F("show_loads", "boolean", "draw each acting load (s:load) as an arrow along its total force ending at its "
+        .. "nodes' centroid, the largest a tenth of the model's size", { default = false }),
       F("background", "vec3", "RGB in [0, 1]", { default = { 0.2, 0.22, 0.26 } }),
       F("style", "string", "clinical: tissue coloured by material (each distinct E, nu in order of first use, so a "
         .. "lesion shows); paper: the paper's colours (operational light grey, nonoperational dark blue)",

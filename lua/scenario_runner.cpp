@@ -216,6 +216,7 @@ sim::ScenarioSpec spec_from_table(lua_State* L, int s, const fs::path& source) {
       rs.wireframe = get_bool(L, r, "wireframe", false);
       rs.show_interface = get_bool(L, r, "show_interface", rs.show_interface);
       rs.show_forces = get_bool(L, r, "show_forces", true);
+      rs.show_loads = get_bool(L, r, "show_loads", false);
       rs.background = get_vec3(L, r, "background", rs.background);
       rs.style = get_string(L, r, "style", "clinical") == "paper" ? sim::RenderSettings::Style::paper
                                                                  : sim::RenderSettings::Style::clinical;

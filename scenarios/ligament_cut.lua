@@ -45,7 +45,8 @@ s:scalpel{
 }
 
 s:output{ log = softcut.select.surface() * softcut.select.box{ min = { -1, -1, zc - 0.002 }, max = { 1, 1, zc + 0.002 } },
-          render = { width = 720, height = 720, azimuth = -120, elevation = 25, fov = 24, every = 2, show_interface = false } }
+          render = { width = 720, height = 720, azimuth = -120, elevation = 25, fov = 24, every = 2, show_interface = false, show_loads = true,
+                     tissue_colors = { { 0.90, 0.87, 0.80 } } } }  -- ligament: pearly white
 
 s:expect{ name = "the blade cut", at = 1.0, check = function(f)
   local c = f:cutting()

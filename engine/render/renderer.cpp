@@ -171,7 +171,7 @@ FrameTimings& FrameTimings::operator+=(const FrameTimings& o) {
 struct Renderer::Impl {
   gpu::EglContext& ctx;
   GLuint surface_prog = 0, flat_prog = 0;
-  Batch tissue, tools, wire, outline, lines, ipoints, mpoints;
+  Batch tissue, tools, wire, outline, lines, arrows, ipoints, mpoints;
   // Framebuffers: `ms` multisampled (when samples > 1), `single` the resolve
   // target and readback source (and draw target without MSAA).
   GLuint ms_fbo = 0, ms_color = 0, ms_depth = 0, fbo = 0, color = 0, depth = 0;
@@ -185,7 +185,7 @@ struct Renderer::Impl {
     ctx.make_current();
     surface_prog = link(kSurfaceVs, kSurfaceFs);
     flat_prog = link(kFlatVs, kFlatFs);
-    for (Batch* b : {&tissue, &tools, &wire, &outline, &lines, &ipoints, &mpoints}) b->create();
+    for (Batch* b : {&tissue, &tools, &wire, &outline, &lines, &arrows, &ipoints, &mpoints}) b->create();
     glGetFloatv(GL_ALIASED_LINE_WIDTH_RANGE, line_range);
     check("renderer setup");
   }
@@ -198,7 +198,7 @@ struct Renderer::Impl {
     } catch (const Error&) {
       return;
     }
-    for (Batch* b : {&tissue, &tools, &wire, &outline, &lines, &ipoints, &mpoints}) b->destroy();
+    for (Batch* b : {&tissue, &tools, &wire, &outline, &lines, &arrows, &ipoints, &mpoints}) b->destroy();
     glDeleteProgram(surface_prog);
     glDeleteProgram(flat_prog);
     free_targets();
@@ -279,6 +279,7 @@ struct Renderer::Impl {
     tools.set(scene.tools);
     wire.set(scene.wire);
     outline.set(scene.outline);
+    arrows.set(scene.arrows);
     lines.set(scene.force_lines);
     ipoints.set(scene.interface_points);
     mpoints.set(scene.manipulated_points);
@@ -332,6 +333,7 @@ struct Renderer::Impl {
     draw_flat(outline, GL_LINES, scene.outline.size_px, scene.outline.on_top);
     draw_flat(ipoints, GL_POINTS, scene.interface_points.size_px, scene.interface_points.on_top);
     draw_flat(lines, GL_LINES, scene.force_lines.size_px, scene.force_lines.on_top);
+    draw_flat(arrows, GL_LINES, scene.arrows.size_px, scene.arrows.on_top);
     draw_flat(mpoints, GL_POINTS, scene.manipulated_points.size_px, scene.manipulated_points.on_top);
     draw_surface(tools);
     glBindVertexArray(0);

@@ -274,6 +274,25 @@ Scene SceneExtractor::extract(const mesh::TetMesh& m, const Eigen::MatrixX3d& x,
     scene.force_lines.add(mn.line_end, pal.manipulated);
   }
 
+  // Load arrows: the shaft, and a head of two strokes a quarter of its length
+  // long at 25 degrees, in a plane holding the shaft.
+  scene.arrows.size_px = settings.line_width_px;
+  scene.arrows.on_top = true;
+  for (size_t i = 0; i < content.arrows.size(); ++i) {
+    const Arrow& a = content.arrows[i];
+    if (!a.from.allFinite() || !a.to.allFinite()) fail("render: arrow ", i, " has a non-finite end");
+    const Eigen::Vector3d d = a.to - a.from;
+    if (!(d.norm() > 0)) continue;
+    const Eigen::Vector3d u = d.normalized(), side = u.unitOrthogonal();
+    const double h = 0.25 * d.norm();
+    scene.arrows.add(a.from, pal.arrow);
+    scene.arrows.add(a.to, pal.arrow);
+    for (double sgn : {-1.0, 1.0}) {
+      scene.arrows.add(a.to, pal.arrow);
+      scene.arrows.add(a.to - h * (std::cos(0.436) * u + sgn * std::sin(0.436) * side), pal.arrow);
+    }
+  }
+
   for (size_t i = 0; i < content.tools.size(); ++i) {
     try {
       add_tool(scene.tools, content.tools[i], settings.tool_segments, pal.tool);

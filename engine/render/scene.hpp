@@ -23,6 +23,7 @@ struct Palette {
   Rgba nonoperational{0.12f, 0.20f, 0.55f, 1.0f};
   Rgba cut{0.72f, 0.16f, 0.24f, 1.0f};
   Rgba outline{0.45f, 0.05f, 0.10f, 1.0f};  // the incision's rim on the surface
+  Rgba arrow{1.00f, 0.55f, 0.10f, 1.0f};    // load arrows
   Rgba manipulated{0.10f, 0.85f, 0.20f, 1.0f};
   Rgba interface_nodes{1.00f, 0.78f, 0.10f, 1.0f};
   Rgba tool{0.70f, 0.72f, 0.76f, 1.0f};
@@ -59,6 +60,11 @@ struct ManipulatedNode {
   Eigen::Vector3d line_end{0, 0, 0};  // m
 };
 
+// A load drawn as an arrow: a shaft from `from` to `to` and a head at `to`.
+struct Arrow {
+  Eigen::Vector3d from{0, 0, 0}, to{0, 0, 0};  // m
+};
+
 // Everything but the mesh itself. Sizes refer to the mesh passed alongside.
 struct SceneContent {
   std::vector<char> operational;  // (ntet) nonzero: operational tet; empty: all operational
@@ -67,6 +73,7 @@ struct SceneContent {
   std::vector<int> tet_group;     // (ntet) tissue group, >= 0 (clinical style); empty: all 0
   std::vector<int> interface_nodes;  // node ids shown as points
   std::vector<ManipulatedNode> manipulated;
+  std::vector<Arrow> arrows;  // loads
   std::vector<ToolShape> tools;
 };
 
@@ -80,6 +87,7 @@ struct Scene {
   Primitives wire;         // surface edges (lines), when wireframe is on
   Primitives outline;      // the incision's rim (lines): edges between cut and uncut surface faces
   Primitives force_lines;  // manipulated node -> line_end (lines)
+  Primitives arrows;       // load arrows: shaft and two head strokes each (lines, on top)
   Primitives interface_points;
   Primitives manipulated_points;
   Camera camera;

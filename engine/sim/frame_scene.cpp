@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cstdio>
 
+
 namespace softcut::sim {
 
 render::SceneContent scene_content(const Model& m, const State& s) {
@@ -24,6 +25,30 @@ render::SceneContent scene_content(const Model& m, const State& s) {
       if (it == seen.end()) it = seen.insert(seen.end(), key);
       c.tet_group[t] = int(it - seen.begin());
     }
+  }
+  if (rs.show_loads) {
+    // One arrow per acting load, ending at the centroid of its nodes along
+    // its total force; the largest is a tenth of the rest shape's diagonal
+    // long, the others in proportion.
+    const mesh::TetMesh& mesh = current_mesh(m, s);
+    const Eigen::MatrixX3d x = mesh.nodes + s.displacement;
+    std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> at_total;  // (centroid, total force)
+    double fmax = 0;
+    for (const ActiveLoad& l : s.loads) {
+      if (!l.enabled || l.nodes.empty()) continue;
+      const double mag = tools::evaluate(l.spec.magnitude, s.time) * l.scale;
+      const double per_node = l.spec.per_node ? mag : mag / double(l.nodes.size());
+      Eigen::Vector3d total = Eigen::Vector3d::Zero(), centroid = Eigen::Vector3d::Zero();
+      for (size_t k = 0; k < l.nodes.size(); ++k) {
+        total += per_node * l.directions.row(Eigen::Index(k)).transpose();
+        centroid += x.row(l.nodes[k]).transpose() / double(l.nodes.size());
+      }
+      if (!(total.norm() > 0)) continue;  // zero (or not finite: the step reports that)
+      at_total.emplace_back(centroid, total);
+      fmax = std::max(fmax, total.norm());
+    }
+    const double scale = 0.1 * (mesh.nodes.colwise().maxCoeff() - mesh.nodes.colwise().minCoeff()).norm() / fmax;
+    for (const auto& [tip, f] : at_total) c.arrows.push_back({tip - scale * f, tip});
   }
   for (size_t k = 0; k < s.tools.size() && k < s.tool_specs.size(); ++k) {
     const tools::ToolSpec& spec = s.tool_specs[k];

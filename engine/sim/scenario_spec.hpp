@@ -109,6 +109,7 @@ struct RenderSettings {
   bool wireframe = false;
   bool show_interface = false;  // interface nodes as points (a debugging view)
   bool show_forces = true;     // manipulated nodes and their force lines
+  bool show_loads = false;     // each acting load (s:load) as an arrow at its nodes' centroid
   int msaa_samples = 4;
   int every = 1;               // render every n-th frame
   bool contact_sheet = true;   // also <dir>/contact_sheet.png: a grid of up to ~24 frames

@@ -3,6 +3,7 @@
 #include <doctest/doctest.h>
 
 #include <Eigen/Geometry>
+#include <cmath>
 #include <random>
 
 #include "core/error.hpp"
@@ -149,6 +150,23 @@ TEST_SUITE("render/scene") {
     CHECK_THROWS_WITH_AS(render::extract_scene(m, m.nodes, c, s), doctest::Contains("tet 3 has tissue group -1"), Error);
     c.tet_group.resize(5);
     CHECK_THROWS_WITH_AS(render::extract_scene(m, m.nodes, c, s), doctest::Contains("tissue groups have 5 entries"), Error);
+  }
+
+  TEST_CASE("load arrows: a shaft ending at the node and a two-stroke head pointing back along it") {
+    const mesh::TetMesh m = box(1, 1, 1);
+    SceneContent c;
+    c.arrows = {{Eigen::Vector3d(0, 0, 2), Eigen::Vector3d(0, 0, 1)}, {Eigen::Vector3d(1, 1, 1), Eigen::Vector3d(1, 1, 1)}};
+    const render::Scene sc = render::extract_scene(m, m.nodes, c, {});
+    REQUIRE(sc.arrows.vertices() == 6);  // the zero-length arrow is skipped
+    CHECK(sc.arrows.on_top);
+    CHECK((sc.arrows.positions[1] - Eigen::Vector3f(0, 0, 1)).norm() == 0);
+    for (int k : {3, 5}) {  // head strokes: from the tip back up, 25 degrees off the shaft, 0.25 long
+      const Eigen::Vector3f d = sc.arrows.positions[size_t(k)] - Eigen::Vector3f(0, 0, 1);
+      CHECK(d.norm() == doctest::Approx(0.25).epsilon(1e-6));
+      CHECK(d.z() == doctest::Approx(0.25 * std::cos(0.436)).epsilon(1e-6));
+    }
+    c.arrows[0].from.x() = std::nan("");
+    CHECK_THROWS_WITH_AS(render::extract_scene(m, m.nodes, c, {}), doctest::Contains("arrow 0 has a non-finite end"), Error);
   }
 
   TEST_CASE("the incision is outlined where cut faces meet the outer surface, even when closed") {

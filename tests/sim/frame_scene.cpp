@@ -100,6 +100,35 @@ TEST_SUITE("sim/frame_scene") {
     }
   }
 
+  TEST_CASE("a load arrow per load ends at its nodes' centroid along its total force, the largest a tenth of the model") {
+    auto spec = softcut::test::cantilever_spec(softcut::test::scratch_dir("sim_frame_scene_loads"), 0.3);
+    sim::LoadSpec side = spec.loads[0];  // a second load, half as strong, along +y on the same nodes
+    side.name = "side";
+    side.direction = V(0, 1, 0);
+    side.magnitude = tools::Ramp::linear_ramp(0.0, 0.005, 0.0, 1.0);
+    spec.loads.push_back(side);
+    const sim::Model m0 = sim::compile(spec);
+    sim::State s0 = sim::make_state(m0);
+    sim::step(m0, s0);
+    sim::step(m0, s0);
+    CHECK(sim::scene_content(m0, s0).arrows.empty());  // off by default
+    spec.outputs.render.show_loads = true;
+    const sim::Model m = sim::compile(spec);
+    sim::State s = sim::make_state(m);
+    sim::step(m, s);
+    CHECK(sim::scene_content(m, s).arrows.empty());  // t = 0: both ramps are still 0 N
+    sim::step(m, s);
+    const auto c = sim::scene_content(m, s);
+    REQUIRE(c.arrows.size() == 2);
+    const Eigen::MatrixX3d x = sim::deformed_positions(m, s);
+    V centroid = V::Zero();
+    for (int n : s.loads[0].nodes) centroid += x.row(n).transpose() / double(s.loads[0].nodes.size());
+    const double diag = (m.mesh.nodes.colwise().maxCoeff() - m.mesh.nodes.colwise().minCoeff()).norm();
+    CHECK((c.arrows[0].to - centroid).norm() <= 1e-15);
+    CHECK((c.arrows[0].to - c.arrows[0].from - V(0, 0, -0.1 * diag)).norm() <= 1e-12 * diag);
+    CHECK((c.arrows[1].to - c.arrows[1].from - V(0, 0.05 * diag, 0)).norm() <= 1e-12 * diag);
+  }
+
   TEST_CASE("the clinical style groups tets by material in order of first use, the paper style by region") {
     auto spec = softcut::test::cantilever_spec(softcut::test::scratch_dir("sim_frame_scene_style"), 0.1);
     sim::MaterialAssignment lesion;
