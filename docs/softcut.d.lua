@@ -185,7 +185,7 @@ function Scenario:probe(args) end
 ---@field start? number closes at the first frame from this time that touches (s)
 ---@field stop? number opens at this time (default: never) (s)
 ---@field implicit? boolean spring solved exactly within each frame (false: explicit, lags a frame and needs stiffness x compliance < 1)
----A grasper: closes at `start` (or the first frame after it that touches) on the patch of surface under its jaw, points spread over the jaw's disc and bound to their triangles' nodes (so no single node is pulled into a spike), drags them along its path with a spring of total `stiffness` (or a force toward the tip), opens at `stop`.
+---A grasper: closes at `start` (or the first frame after it that touches) on the patch of surface under its jaw (facing it, within the jaw radius), points spread over it and bound to their triangles' nodes (so no single node is pulled into a spike), drags them along its path with a spring of total `stiffness` (or a force toward the tip), opens at `stop`.
 ---@param args Scenario_grasper_args
 function Scenario:grasper(args) end
 
@@ -448,7 +448,7 @@ function softcut.vec.length(a) end
 ---@return number[]
 function softcut.vec.lerp(a, b, s) end
 
----Displacement of a node (0-based id) this frame; nodes made by cutting have ids after the rest mesh's.
+---Displacement of a node (0-based id) this frame; nodes made by cutting have ids after the rest mesh's. Nodes inside the nonoperational region are solved only when logged (s:output{ log = ... }), exported or under an expectation's bounds; reading one otherwise is an error (here and in the other Frame node reads).
 ---@param node integer node id
 ---@return number[]
 function Frame:displacement(node) end
@@ -468,7 +468,7 @@ function Frame:mean_displacement(nodes) end
 ---@return number
 function Frame:max_displacement(nodes) end
 
----A tool's state: tip (m), engaged, num_nodes, force (N, total); a scalpel also pressure (Pa) and cutting (it cut this frame).
+---A tool's state: tip (m), engaged, num_nodes (the nodes it acts on: a grip's are its triangles' corners), force (N, total); a scalpel also pressure (Pa) and cutting (it cut this frame).
 ---@param name string tool name
 ---@return table
 function Frame:tool(name) end

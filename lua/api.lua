@@ -148,7 +148,7 @@ api.functions = {
       F("stop", "number", "until this time (default: the end)", { unit = "s", ge = 0 }) },
     example = 's:probe{ name = "tip", path = softcut.path.polyline{ times = {0, 1}, points = {{0.05, 0.02, 0.05}, {0.05, 0.02, 0.04}} },\n         radius = 0.004, stiffness = 200 }' },
   { name = "Scenario:grasper", summary = "A grasper: closes at `start` (or the first frame after it that touches) "
-      .. "on the patch of surface under its jaw, points spread over the jaw's disc and bound to their "
+      .. "on the patch of surface under its jaw (facing it, within the jaw radius), points spread over it and bound to their "
       .. "triangles' nodes (so no single node is pulled into a spike), drags them along its path with a spring "
       .. "of total `stiffness` (or a force toward the tip), opens at `stop`.",
     one_of = { { "force", "stiffness" } }, fields = {
@@ -336,7 +336,9 @@ api.functions = {
     fields = {}, returns = "vec3", example = "softcut.vec.lerp(m.min, m.max, 0.5)" },
 
   { name = "Frame:displacement", summary = "Displacement of a node (0-based id) this frame; nodes made by "
-      .. "cutting have ids after the rest mesh's.",
+      .. "cutting have ids after the rest mesh's. Nodes inside the nonoperational region are solved only when "
+      .. "logged (s:output{ log = ... }), exported or under an expectation's bounds; reading one otherwise is "
+      .. "an error (here and in the other Frame node reads).",
     positional = { F("node", "integer", "node id", { required = true, ge = 0 }) }, fields = {}, returns = "vec3",
     example = "local u = f:displacement(42)" },
   { name = "Frame:position", summary = "Deformed position of a node this frame.",
@@ -347,8 +349,9 @@ api.functions = {
     example = "local u = f:mean_displacement(tip)" },
   { name = "Frame:max_displacement", summary = "Largest displacement magnitude over a node set.",
     positional = { F("nodes", "Selection", "node set", { required = true }) }, fields = {}, returns = "number",
-    example = "if f:max_displacement(softcut.select.all()) > 0.02 then f:stop() end" },
-  { name = "Frame:tool", summary = "A tool's state: tip (m), engaged, num_nodes, force (N, total); "
+    example = "if f:max_displacement(softcut.select.surface()) > 0.02 then f:stop() end" },
+  { name = "Frame:tool", summary = "A tool's state: tip (m), engaged, num_nodes (the nodes it acts on: a grip's "
+      .. "are its triangles' corners), force (N, total); "
       .. "a scalpel also pressure (Pa) and cutting (it cut this frame).",
     positional = { F("name", "string", "tool name", { required = true }) }, fields = {}, returns = "table",
     example = "local jaw = f:tool(\"jaw\")" },

@@ -50,7 +50,9 @@ int tool_index(lua_State* L, const Vec& tools, int idx) {
 int frame_displacement(lua_State* L) {
   return protect(L, [L] {
     FrameContext& c = ctx(L);
-    push_vec3(L, c.state->displacement.row(node_of(L, c, 2)).transpose());
+    const int n = node_of(L, c, 2);
+    sim::check_solved(*c.model, *c.state, n, user_prefix(L) + "displacement");
+    push_vec3(L, c.state->displacement.row(n).transpose());
     return 1;
   });
 }
@@ -59,6 +61,7 @@ int frame_position(lua_State* L) {
   return protect(L, [L] {
     FrameContext& c = ctx(L);
     const int n = node_of(L, c, 2);
+    sim::check_solved(*c.model, *c.state, n, user_prefix(L) + "position");
     push_vec3(L, (sim::current_mesh(*c.model, *c.state).nodes.row(n) + c.state->displacement.row(n)).transpose());
     return 1;
   });
@@ -67,7 +70,9 @@ int frame_position(lua_State* L) {
 int frame_mean_displacement(lua_State* L) {
   return protect(L, [L] {
     FrameContext& c = ctx(L);
-    push_vec3(L, sim::mean_displacement(*c.state, ids_of(L, 2, c, "mean_displacement")));
+    const std::vector<int> ids = ids_of(L, 2, c, "mean_displacement");
+    for (int n : ids) sim::check_solved(*c.model, *c.state, n, user_prefix(L) + "mean_displacement");
+    push_vec3(L, sim::mean_displacement(*c.state, ids));
     return 1;
   });
 }
@@ -76,7 +81,10 @@ int frame_max_displacement(lua_State* L) {
   return protect(L, [L] {
     FrameContext& c = ctx(L);
     double m = 0;
-    for (int n : ids_of(L, 2, c, "max_displacement")) m = std::max(m, c.state->displacement.row(n).norm());
+    for (int n : ids_of(L, 2, c, "max_displacement")) {
+      sim::check_solved(*c.model, *c.state, n, user_prefix(L) + "max_displacement");
+      m = std::max(m, c.state->displacement.row(n).norm());
+    }
     lua_pushnumber(L, m);
     return 1;
   });

@@ -4,7 +4,7 @@
 -- "bare area"; a stiff lesion (label 2) sits inside the right part.
 --   softcut run scenarios/liver_retraction.lua --set lift=0.03   (pulls the lesion too far: the run stops)
 local P = softcut.params{
-  lift = 0.02,         -- m, how far the grasper tip rises
+  lift = 0.016,        -- m, how far the grasper tip rises (the lesion stays within the 1 cm rule)
   stiffness = 200,     -- N/m, grasper spring (total; solved implicitly within each frame)
   lesion_young = 3e4,  -- Pa, lesion stiffness
 }
@@ -38,8 +38,10 @@ local grasp_zone = softcut.select.sphere{ center = edge, radius = 0.008 } * soft
 local posterior = softcut.select.halfspace{ point = { 0, 0.025, 0 }, normal = { 0, 1, 0 } }
 local lesion = softcut.select.label(2)
 
--- Log the surface around the grasped edge (keeps the reference log small).
-s:output{ log = softcut.select.surface() * softcut.select.sphere{ center = edge, radius = 0.02 }, render = { width = 960, height = 540, eye = { 0.12, -0.2, 0.12 }, target = { 0, 0, 0.01 } } }
+-- Log the surface around the grasped edge (keeps the reference log small)
+-- and the lesion: logged, its interior nodes are solved every frame, which
+-- the trainer's rule below reads.
+s:output{ log = softcut.select.surface() * softcut.select.sphere{ center = edge, radius = 0.02 } + lesion, render = { width = 960, height = 540, eye = { 0.12, -0.2, 0.12 }, target = { 0, 0, 0.01 } } }
 
 -- The stiff spring keeps the edge close to the jaw: most of the lift at t = 2 s,
 -- a bit over half of it at t = 1 s (the jaw is then 60 % up, plus the grasp lag).

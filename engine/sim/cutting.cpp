@@ -412,6 +412,9 @@ std::vector<CutEvent> cut_stage(const Model& m, State& s, int frame, double t) {
         s.warnings.push_back(cat("frame ", frame, " (t = ", t, " s), scalpel '", spec.name, "': ", w));
       }
       m.solver->apply_cut(cm, rec, s.solver_run);
+      // Grips the cut went through: each point onto a face of one side.
+      const Eigen::MatrixX3d x = cm.mesh.nodes + s.displacement;
+      for (tools::ToolState& other : s.tools) tools::rebind_grip(other, x, cm.surface);
       ts.cut_events++;
     }
     ev.nodes_after = cm.mesh.num_nodes(), ev.tets_after = cm.mesh.num_tets();

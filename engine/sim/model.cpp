@@ -89,9 +89,12 @@ Model compile(const ScenarioSpec& spec, const RunResources& resources) {
   for (const auto& l : spec.loads) resolve_load(m, l);  // errors now rather than at frame 0
 
   // Interior nonoperational nodes are condensed away; recover them each frame
-  // only when an output needs them.
+  // only when an output or an expectation's bounds need them (a script that
+  // reads one otherwise gets an error: check_solved).
   bool need_interior = spec.outputs.vtu;
   for (int n : m.log_nodes) need_interior |= m.partition.node_set[n] == hybrid::NodeSet::interior;
+  for (const auto& nodes : m.expectation_nodes)
+    for (int n : nodes) need_interior |= m.partition.node_set[n] == hybrid::NodeSet::interior;
   m.solver = make_solver(m.mesh, m.tet_material, m.partition, spec.solver, need_interior, resources, diag);
   for (const auto& p : m.solver->precompute_ms()) m.precompute_ms.push_back(p);
 
@@ -194,6 +197,13 @@ Eigen::MatrixX3d deformed_positions(const Model& m, const State& s) {
 
 std::vector<int> select_nodes(const Model& m, const NodeSelector& sel, const std::string& where) {
   return select_nodes(sel, context(m), where);
+}
+
+void check_solved(const Model& m, const State&, int n, const std::string& what) {
+  if (m.solver->interior_valid() || n < 0 || n >= m.mesh.num_nodes()) return;  // cutting appends operational nodes
+  if (m.partition.node_set[size_t(n)] == hybrid::NodeSet::interior)
+    fail(what, ": node ", n, " lies inside the nonoperational region, whose displacements the hybrid model "
+         "condenses away and recovers only when asked; add it to s:output{ log = ... } to have it solved every frame");
 }
 
 Eigen::Vector3d mean_displacement(const State& s, const std::vector<int>& nodes) {

@@ -1,6 +1,7 @@
 #pragma once
 // Model (fixed after compile) and State (changes every frame), MuJoCo style:
 // step(const Model&, State&) reads the one and writes the other.
+#include <Eigen/Cholesky>
 #include <Eigen/Core>
 #include <map>
 #include <memory>
@@ -79,6 +80,9 @@ struct SpringCache {
   long generation = -1;       // Solver::system_generation() it was built for
   Eigen::MatrixXd response;   // (3 nnode x 3m) m/N, displacement field of 1 N on each grasped DOF
   Eigen::MatrixXd compliance; // (3m x 3m) m/N, C_gg: the grasped rows of `response`
+  Eigen::MatrixXd W;          // (3p x 3m) the grip points' weights (sim/springs.hpp)
+  Eigen::LLT<Eigen::MatrixXd> A_llt;  // of diag(1/k) + W C W^T
+  std::vector<double> grip_key;       // the grips (nodes, weights, stiffnesses) W and A_llt belong to
   bool enabled = true;        // false: rebuild every frame (for measuring the cache)
   int builds = 0;             // times `response` was computed
   double build_ms = 0;        // total time spent computing it
@@ -147,6 +151,10 @@ State copy_state(const Model& m, const State& s);
 Eigen::MatrixX3d deformed_positions(const Model& m, const State& s);
 // Nodes of a selector on the compiled model (e.g. for expectations).
 std::vector<int> select_nodes(const Model& m, const NodeSelector& sel, const std::string& where);
+// Throws naming `what` and the node when node n's displacement is not solved
+// this frame: an interior nonoperational node while the solver does not
+// recover them (hybrid backends unless logged or exported).
+void check_solved(const Model& m, const State& s, int n, const std::string& what);
 // Mean displacement (3) of a node set, m; throws on an empty set.
 Eigen::Vector3d mean_displacement(const State& s, const std::vector<int>& nodes);
 

@@ -28,4 +28,9 @@ namespace softcut::sim {
 // to do).
 int solve_implicit_springs(const Model& m, State& s);
 
+// The most nodes the implicit graspers may hold together (grip points: twice
+// that): each costs 3 solves per grasp and the dense blocks grow with the
+// square; past it a clear error asks for a smaller jaw or the force drive.
+constexpr size_t kMaxGraspedNodes = 400;
+
 }  // namespace softcut::sim

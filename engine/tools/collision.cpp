@@ -95,13 +95,14 @@ std::pair<int, Eigen::Vector3d> nearest_on(const ContactSurface& s, const std::v
 
 std::vector<SurfacePoint> surface_patch(const ContactSurface& s, const Eigen::Vector3d& center, double radius,
                                         bool contact_circle) {
-  // Faces that may hold a sample: within 2 radius of the centre (a sample
-  // lies within radius of the nearest point, which lies within radius).
+  // Faces that may hold a sample: within 2.5 radius of the centre (the
+  // nearest point lies within radius of it, a sample within radius of that,
+  // and a kept projection within radius / 2 of the sample).
   std::vector<int> cand;
   for (int f = 0; f < s.surface.faces.rows(); ++f) {
     const Eigen::Vector3d a = corner(s, f, 0), b = corner(s, f, 1), c = corner(s, f, 2);
     const Eigen::Vector3d m = (a + b + c) / 3;
-    const double reach = 2 * radius + std::sqrt(std::max({(a - m).squaredNorm(), (b - m).squaredNorm(), (c - m).squaredNorm()}));
+    const double reach = 2.5 * radius + std::sqrt(std::max({(a - m).squaredNorm(), (b - m).squaredNorm(), (c - m).squaredNorm()}));
     if ((m - center).squaredNorm() <= (1 + 1e-9) * reach * reach) cand.push_back(f);
   }
   std::vector<SurfacePoint> out;
@@ -122,23 +123,58 @@ std::vector<SurfacePoint> surface_patch(const ContactSurface& s, const Eigen::Ve
   if (!(n.norm() > 0)) return out;
   n.normalize();
   const Eigen::Vector3d t1 = n.unitOrthogonal(), t2 = n.cross(t1);
+  // Only surface that faces the jaw as the nearest face does (within 60
+  // degrees): not the walls of a cut, nor the back of a thin body.
+  auto facing = [&](int f) {
+    const Eigen::Vector3d m = (corner(s, f, 1) - corner(s, f, 0)).cross(corner(s, f, 2) - corner(s, f, 0));
+    return m.norm() > 0 && m.normalized().dot(n) >= 0.5;
+  };
   constexpr double kPi = 3.14159265358979323846;
   for (const auto& [rho, count] : {std::pair{0.5, 6}, std::pair{1.0, 12}})
     for (int k = 0; k < count; ++k) {
       const double th = 2 * kPi * (k + 0.5 * (count == 12)) / count;
       const Eigen::Vector3d x = q0 + rho * disc * (std::cos(th) * t1 + std::sin(th) * t2);
       const auto [f, q] = nearest_on(s, cand, x);
-      if (f >= 0 && (q - x).norm() <= 0.5 * disc) add(f, q);
+      if (f >= 0 && (q - x).norm() <= 0.5 * disc && facing(f)) add(f, q);
     }
   // And every surface node on the patch: on a mesh finer than the pattern
   // the jaw holds all the tissue under it, not 19 points of it.
   for (int v : s.surface.nodes)
-    if ((s.positions.row(v).transpose() - q0).norm() <= disc) {
+    if ((s.positions.row(v).transpose() - q0).norm() <= disc && s.normals.row(v).dot(n) >= 0.5 &&
+        std::abs((s.positions.row(v).transpose() - q0).dot(n)) <= 0.5 * disc) {
       SurfacePoint p;
       p.nodes = {v, v, v};
       p.weights = Eigen::Vector3d(1, 0, 0);
       out.push_back(p);
     }
+  return out;
+}
+
+SurfacePoint nearest_surface_point(const Eigen::MatrixX3d& x, const mesh::Surface& surf, const Eigen::Vector3d& p,
+                                   const SurfacePoint& prefer, const std::vector<int>& faces) {
+  auto shared = [&](int f) {
+    int n = 0;
+    for (int k = 0; k < 3; ++k)
+      for (int j = 0; j < 3; ++j) n += prefer.weights(j) != 0 && surf.faces(f, k) == prefer.nodes[size_t(j)];
+    return n;
+  };
+  int best = -1, best_shared = -1;
+  double best_d = std::numeric_limits<double>::infinity();
+  Eigen::Vector3d best_q = p;
+  const int nf = faces.empty() ? int(surf.faces.rows()) : int(faces.size());
+  for (int i = 0; i < nf; ++i) {
+    const int f = faces.empty() ? i : faces[size_t(i)];
+    const Eigen::Vector3d a = x.row(surf.faces(f, 0)), b = x.row(surf.faces(f, 1)), c = x.row(surf.faces(f, 2));
+    const Eigen::Vector3d q = closest_point_on_triangle(p, a, b, c);
+    const double d = (q - p).norm(), tol = 1e-12 * std::max({(b - a).norm(), (c - a).norm(), 1e-300});
+    const int sh = shared(f);
+    if (d < best_d - tol || (d <= best_d + tol && sh > best_shared)) best = f, best_d = d, best_q = q, best_shared = sh;
+  }
+  SurfacePoint out;
+  if (best < 0) return prefer;
+  for (int k = 0; k < 3; ++k) out.nodes[size_t(k)] = surf.faces(best, k);
+  out.weights = barycentric(best_q, x.row(out.nodes[0]).transpose(), x.row(out.nodes[1]).transpose(),
+                            x.row(out.nodes[2]).transpose());
   return out;
 }
 

@@ -36,8 +36,11 @@ struct SurfacePoint {
 // pattern of points over the disc of that radius in the tangent plane there
 // (rings at radius / 2 and radius, 6 and 12 points), each moved to the
 // nearest surface point; samples that land more than radius / 2 away (past
-// the body's edge) are dropped; then every surface node within `radius` of
-// the nearest point (weight 1 on itself). So the patch covers the jaw's area
+// the body's edge) or on a face turned more than 60 degrees from the nearest
+// face (a cut's wall, the back of a thin body) are dropped; then every
+// surface node within `radius` of the nearest point, within radius / 2 of
+// its tangent plane and with its normal within 60 degrees of that face's
+// (weight 1 on itself). So the patch covers the jaw's area
 // whatever the mesh: on coarse meshes the pattern spreads it over the
 // triangles, on fine ones the jaw holds all the nodes under it (a load
 // spread over an area, which converges as the mesh is refined), and a jaw
@@ -48,6 +51,12 @@ struct SurfacePoint {
 // in: its contact area), a single point when it just touches.
 std::vector<SurfacePoint> surface_patch(const ContactSurface& s, const Eigen::Vector3d& center, double radius,
                                         bool contact_circle = false);
+
+// The point of `surf` nearest to p (x: node positions), as a SurfacePoint;
+// among faces as near (to 1e-12 relative) the one sharing most nodes with
+// `prefer` (nodes with nonzero weight). `faces` limits the search (empty: all).
+SurfacePoint nearest_surface_point(const Eigen::MatrixX3d& x, const mesh::Surface& surf, const Eigen::Vector3d& p,
+                                   const SurfacePoint& prefer, const std::vector<int>& faces = {});
 
 // Surface nodes whose deformed position lies within `radius` of the segment
 // a-b (a capsule: the scalpel's contact), sorted by id. When none does (an

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include <Eigen/Geometry>
 
@@ -157,6 +158,32 @@ void update_tool(const ToolSpec& spec, ToolState& st, double t, const ContactSur
     st.pressure = st.total_force.norm() / (spec.blade_length * 2.0 * spec.radius);
     st.touch_pressure = st.pressure, st.touch_time = t;
   }
+}
+
+void rebind_grip(ToolState& st, const Eigen::MatrixX3d& x, const mesh::Surface& surf) {
+  if (st.grip.empty()) return;
+  // Faces near the grip: within its extent plus each face's size.
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  std::vector<Eigen::Vector3d> at;
+  for (const SurfacePoint& p : st.grip) {
+    at.push_back(p.at(x));
+    lo = lo.cwiseMin(at.back()), hi = hi.cwiseMax(at.back());
+  }
+  std::vector<int> faces;
+  for (int f = 0; f < surf.faces.rows(); ++f) {
+    Eigen::Vector3d flo = x.row(surf.faces(f, 0)).transpose(), fhi = flo;
+    for (int k = 1; k < 3; ++k) flo = flo.cwiseMin(x.row(surf.faces(f, k)).transpose()), fhi = fhi.cwiseMax(x.row(surf.faces(f, k)).transpose());
+    const double slack = (fhi - flo).norm() + 1e-12;
+    if (((flo.array() - slack) <= hi.array()).all() && ((fhi.array() + slack) >= lo.array()).all()) faces.push_back(f);
+  }
+  st.nodes.clear();
+  for (size_t i = 0; i < st.grip.size(); ++i) {
+    st.grip[i] = nearest_surface_point(x, surf, at[i], st.grip[i], faces);
+    st.nodes.insert(st.nodes.end(), st.grip[i].nodes.begin(), st.grip[i].nodes.end());
+  }
+  std::sort(st.nodes.begin(), st.nodes.end());
+  st.nodes.erase(std::unique(st.nodes.begin(), st.nodes.end()), st.nodes.end());
+  st.forces.assign(st.nodes.size(), Eigen::Vector3d::Zero());
 }
 
 bool is_implicit_spring(const ToolSpec& spec) {

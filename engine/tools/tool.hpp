@@ -118,6 +118,13 @@ void blade_edge(const ToolSpec& spec, const Eigen::Vector3d& center, Eigen::Vect
 // contact on `s`, sets nodes and forces. Deterministic.
 void update_tool(const ToolSpec& spec, ToolState& st, double t, const ContactSurface& s);
 
+// After a cut changed the mesh (nodes appended, tets split, the nodes of one
+// side duplicated): binds each grip point anew to the face of `surf` nearest
+// to where it is now (x: current node positions, nnode x 3, m), among equally
+// near faces the one sharing most of its old nodes, so no point ties the two
+// lips together; offsets are kept, `nodes` recomputed. No-op without a grip.
+void rebind_grip(ToolState& st, const Eigen::MatrixX3d& x, const mesh::Surface& surf);
+
 // A grasper spring solved within the frame by the simulation (its forces from
 // update_tool() are only last frame's explicit estimate).
 bool is_implicit_spring(const ToolSpec& spec);

@@ -86,6 +86,31 @@ TEST_SUITE("sim/model") {
     }
   }
 
+  TEST_CASE("reading an interior node the hybrid model does not solve is an error, not a stale zero") {
+    auto spec = softcut::test::cantilever_spec(softcut::test::scratch_dir("sim_model_unsolved"), 0.1);
+    const sim::Model m = sim::compile(spec);  // logs the surface only
+    REQUIRE(!m.solver->interior_valid());
+    REQUIRE(!m.partition.interior.empty());
+    sim::State s = sim::make_state(m);
+    sim::step(m, s);
+    const int inner = m.partition.interior[0], surface = m.partition.surface[0];
+    CHECK_NOTHROW(sim::check_solved(m, s, surface, "probe"));
+    const std::string expected = "probe: node " + std::to_string(inner) + " lies inside the nonoperational region";
+    CHECK_THROWS_WITH_AS(sim::check_solved(m, s, inner, "probe"), doctest::Contains(expected.c_str()), softcut::Error);
+    // An expectation's bounds on it make the model solve it every frame.
+    sim::ExpectationSpec e;
+    e.name = "inner";
+    e.bounds = true;
+    e.nodes = sim::NodeSelector::list({inner});
+    e.max = 1.0;
+    spec.expectations.push_back(e);
+    const sim::Model solved = sim::compile(spec);
+    CHECK(solved.solver->interior_valid());
+    sim::State t = sim::make_state(solved);
+    sim::step(solved, t);
+    CHECK_NOTHROW(sim::check_solved(solved, t, inner, "probe"));
+  }
+
   TEST_CASE("materials: presets, overrides, later entries win") {
     auto spec = softcut::test::cantilever_spec(softcut::test::scratch_dir("sim_model_materials"));
     sim::MaterialAssignment liver;

@@ -300,9 +300,30 @@ TEST_SUITE("sim/springs") {
     CHECK(patch[2] <= 0.15 * single[2]);
   }
 
+  TEST_CASE("a jaw that would hold too many nodes is a clear error, not hours of solves") {
+    sim::ScenarioSpec spec;
+    spec.name = "slab";
+    spec.mesh.generator = "box";
+    spec.mesh.options = {{"max.x", 0.04}, {"max.y", 0.04}, {"max.z", 0.01}, {"nx", 24}, {"ny", 24}, {"nz", 2}};
+    spec.fixed = sim::NodeSelector::box(V(-1, -1, -1), V(1, 1, 0));
+    spec.solver.backend = sim::parse_backend("monolithic");
+    spec.outputs.dir = softcut::test::scratch_dir("sim_springs_huge");
+    tools::ToolSpec g;
+    g.name = "jaw";
+    g.kind = tools::ToolSpec::Kind::grasper;
+    g.drive = tools::ToolSpec::Drive::spring;
+    g.radius = 0.05;  // the whole top face: 625 nodes
+    g.stiffness = 10.0;
+    g.path = tools::Path::fixed_at(V(0.02, 0.02, 0.01));
+    spec.tools.push_back(g);
+    const sim::Model m = sim::compile(spec);
+    sim::State s = sim::make_state(m);
+    CHECK_THROWS_WITH_AS(sim::step(m, s), doctest::Contains("more than the 400 their exact solve allows"), softcut::Error);
+  }
+
   TEST_CASE("a fixed grasped node takes no spring force") {
     auto spec = grasp_spec("sim_springs_fixed", "direct");
-    spec.tools[0].path = tools::Path::fixed_at(V(0.0, 0.01, 0.02));  // on the clamped face, next to x = 0.02
+    spec.tools[0].path = tools::Path::fixed_at(V(0.002, 0.01, 0.02));  // on the top face by the clamped end
     spec.tools[0].radius = 0.021;
     spec.tools[0].stiffness = 10.0;
     const sim::Model m = sim::compile(spec);
