@@ -150,6 +150,14 @@ std::vector<SurfacePoint> surface_patch(const ContactSurface& s, const Eigen::Ve
   return out;
 }
 
+std::vector<int> point_nodes(const std::vector<SurfacePoint>& points) {
+  std::vector<int> nodes;
+  for (const SurfacePoint& p : points) nodes.insert(nodes.end(), p.nodes.begin(), p.nodes.end());
+  std::sort(nodes.begin(), nodes.end());
+  nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
+  return nodes;
+}
+
 SurfacePoint nearest_surface_point(const Eigen::MatrixX3d& x, const mesh::Surface& surf, const Eigen::Vector3d& p,
                                    const SurfacePoint& prefer, const std::vector<int>& faces) {
   auto shared = [&](int f) {

@@ -52,6 +52,9 @@ struct SurfacePoint {
 std::vector<SurfacePoint> surface_patch(const ContactSurface& s, const Eigen::Vector3d& center, double radius,
                                         bool contact_circle = false);
 
+// The nodes a set of surface points is bound to, sorted, each once.
+std::vector<int> point_nodes(const std::vector<SurfacePoint>& points);
+
 // The point of `surf` nearest to p (x: node positions), as a SurfacePoint;
 // among faces as near (to 1e-12 relative) the one sharing most nodes with
 // `prefer` (nodes with nonzero weight). `faces` limits the search (empty: all).

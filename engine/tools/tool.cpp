@@ -98,14 +98,9 @@ void update_tool(const ToolSpec& spec, ToolState& st, double t, const ContactSur
     const bool probe = spec.kind == ToolSpec::Kind::probe;
     st.grip = surface_patch(s, st.tip, spec.radius, probe);
     st.engaged = !st.grip.empty();
-    st.nodes.clear();
+    st.nodes = point_nodes(st.grip);
     st.offsets.clear();
-    for (const SurfacePoint& p : st.grip) {
-      st.nodes.insert(st.nodes.end(), p.nodes.begin(), p.nodes.end());
-      st.offsets.push_back(p.at(s.positions) - st.tip);
-    }
-    std::sort(st.nodes.begin(), st.nodes.end());
-    st.nodes.erase(std::unique(st.nodes.begin(), st.nodes.end()), st.nodes.end());
+    for (const SurfacePoint& p : st.grip) st.offsets.push_back(p.at(s.positions) - st.tip);
   }
   const size_t k = st.nodes.size();
   if (k == 0) return;
@@ -176,13 +171,8 @@ void rebind_grip(ToolState& st, const Eigen::MatrixX3d& x, const mesh::Surface& 
     const double slack = (fhi - flo).norm() + 1e-12;
     if (((flo.array() - slack) <= hi.array()).all() && ((fhi.array() + slack) >= lo.array()).all()) faces.push_back(f);
   }
-  st.nodes.clear();
-  for (size_t i = 0; i < st.grip.size(); ++i) {
-    st.grip[i] = nearest_surface_point(x, surf, at[i], st.grip[i], faces);
-    st.nodes.insert(st.nodes.end(), st.grip[i].nodes.begin(), st.grip[i].nodes.end());
-  }
-  std::sort(st.nodes.begin(), st.nodes.end());
-  st.nodes.erase(std::unique(st.nodes.begin(), st.nodes.end()), st.nodes.end());
+  for (size_t i = 0; i < st.grip.size(); ++i) st.grip[i] = nearest_surface_point(x, surf, at[i], st.grip[i], faces);
+  st.nodes = point_nodes(st.grip);
   st.forces.assign(st.nodes.size(), Eigen::Vector3d::Zero());
 }
 

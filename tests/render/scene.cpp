@@ -34,6 +34,18 @@ Eigen::Vector3d tet_centroid(const mesh::TetMesh& m, int t) {
   return c / 4.0;
 }
 
+// Cut-face flags (4 ntet) marking every tet face that lies in the plane x = 0.
+std::vector<char> faces_at_x0(const mesh::TetMesh& m) {
+  std::vector<char> cut(size_t(4 * m.num_tets()), 0);
+  for (int t = 0; t < m.num_tets(); ++t)
+    for (int f = 0; f < 4; ++f) {
+      bool on = true;
+      for (int k = 0; k < 3; ++k) on &= m.node(m.tets(t, mesh::kTetFaces[f][k])).x() == 0.0;
+      cut[size_t(4 * t + f)] = on;
+    }
+  return cut;
+}
+
 }  // namespace
 
 TEST_SUITE("render/scene") {
@@ -94,14 +106,7 @@ TEST_SUITE("render/scene") {
   TEST_CASE("cut faces take the cut colour") {
     const mesh::TetMesh m = box(3, 2, 2);
     SceneContent c;
-    c.cut_faces.assign(size_t(4 * m.num_tets()), 0);
-    // Mark every tet face lying in the plane x = 0 (the boundary there).
-    for (int t = 0; t < m.num_tets(); ++t)
-      for (int f = 0; f < 4; ++f) {
-        bool on = true;
-        for (int k = 0; k < 3; ++k) on &= m.node(m.tets(t, mesh::kTetFaces[f][k])).x() == 0.0;
-        c.cut_faces[size_t(4 * t + f)] = on;
-      }
+    c.cut_faces = faces_at_x0(m);  // every tet face in the plane x = 0 (the boundary there), marked cut
     const render::Scene sc = render::extract_scene(m, m.nodes, c, {});
     CHECK(sc.tissue_faces_cut == 2 * 2 * 2);
     int red = 0;
@@ -122,13 +127,7 @@ TEST_SUITE("render/scene") {
       c.operational[size_t(t)] = tet_centroid(m, t).x() < 0.5;
       c.tet_group[size_t(t)] = tet_centroid(m, t).y() < 0.5 ? 0 : 6;  // 6 cycles to palette entry 1 of 5
     }
-    c.cut_faces.assign(size_t(4 * m.num_tets()), 0);
-    for (int t = 0; t < m.num_tets(); ++t)  // the face x = 0 marked cut
-      for (int f = 0; f < 4; ++f) {
-        bool on = true;
-        for (int k = 0; k < 3; ++k) on &= m.node(m.tets(t, mesh::kTetFaces[f][k])).x() == 0.0;
-        c.cut_faces[size_t(4 * t + f)] = on;
-      }
+    c.cut_faces = faces_at_x0(m);  // every tet face in the plane x = 0 (the boundary there), marked cut
     RenderSettings s;
     s.style = render::Style::clinical;
     const auto& pal = s.palette;
@@ -173,13 +172,7 @@ TEST_SUITE("render/scene") {
     const mesh::TetMesh m = box(3, 2, 2);
     SceneContent c;
     CHECK(render::extract_scene(m, m.nodes, c, {}).outline.vertices() == 0);  // nothing cut
-    c.cut_faces.assign(size_t(4 * m.num_tets()), 0);
-    for (int t = 0; t < m.num_tets(); ++t)  // the square x = 0, 2 x 2 cells, marked cut
-      for (int f = 0; f < 4; ++f) {
-        bool on = true;
-        for (int k = 0; k < 3; ++k) on &= m.node(m.tets(t, mesh::kTetFaces[f][k])).x() == 0.0;
-        c.cut_faces[size_t(4 * t + f)] = on;
-      }
+    c.cut_faces = faces_at_x0(m);  // every tet face in the plane x = 0 (the boundary there), marked cut
     const render::Scene sc = render::extract_scene(m, m.nodes, c, {});
     // The rim is the square's perimeter: 4 sides of 2 segments, 2 vertices each.
     REQUIRE(sc.outline.vertices() == 16);
