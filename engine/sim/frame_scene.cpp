@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cstdio>
 
+#include "sim/step.hpp"
+
 
 namespace softcut::sim {
 
@@ -36,8 +38,7 @@ render::SceneContent scene_content(const Model& m, const State& s) {
     double fmax = 0;
     for (const ActiveLoad& l : s.loads) {
       if (!l.enabled || l.nodes.empty()) continue;
-      const double mag = tools::evaluate(l.spec.magnitude, s.time) * l.scale;
-      const double per_node = l.spec.per_node ? mag : mag / double(l.nodes.size());
+      const double per_node = load_per_node(l, s.time);
       Eigen::Vector3d total = Eigen::Vector3d::Zero(), centroid = Eigen::Vector3d::Zero();
       for (size_t k = 0; k < l.nodes.size(); ++k) {
         total += per_node * l.directions.row(Eigen::Index(k)).transpose();

@@ -8,15 +8,19 @@
 
 namespace softcut::sim {
 
+double load_per_node(const ActiveLoad& l, double t) {
+  const double mag = tools::evaluate(l.spec.magnitude, t) * l.scale;
+  return l.spec.per_node ? mag : mag / double(l.nodes.size());
+}
+
 Eigen::MatrixX3d load_forces(const Model& m, const State& s, double t) {
   Eigen::MatrixX3d f = Eigen::MatrixX3d::Zero(current_mesh(m, s).num_nodes(), 3);
   for (const auto& l : s.loads) {
     if (!l.enabled) continue;
-    const double mag = tools::evaluate(l.spec.magnitude, t) * l.scale;
-    if (!std::isfinite(mag))
+    const double per_node = load_per_node(l, t);
+    if (!std::isfinite(per_node))
       fail(l.spec.where.empty() ? "" : l.spec.where + ": ", "load '", l.spec.name, "': magnitude is not finite at t = ",
            t, " s");
-    const double per_node = l.spec.per_node ? mag : mag / double(l.nodes.size());
     for (size_t k = 0; k < l.nodes.size(); ++k) f.row(l.nodes[k]) += per_node * l.directions.row(Eigen::Index(k));
   }
   return f;

@@ -12,5 +12,8 @@ void step(const Model& m, State& s);
 
 // Nodal forces (nnode x 3) of the loads at time t (no tools).
 Eigen::MatrixX3d load_forces(const Model& m, const State& s, double t);
+// The force magnitude each node of a load gets at time t, N (its ramp times
+// its scale, split over its nodes unless per_node). Not checked for finiteness.
+double load_per_node(const ActiveLoad& l, double t);
 
 }  // namespace softcut::sim

@@ -3,6 +3,7 @@
 #include <doctest/doctest.h>
 
 #include <array>
+#include <optional>
 #include <random>
 
 #include "core/error.hpp"
@@ -32,6 +33,25 @@ std::unique_ptr<OperationalSolver> tight_cg() {
   solve::CgOptions o;
   o.tolerance = 1e-14;
   return std::make_unique<CgSolver>(o);
+}
+
+// A crack: one set-1 node (drawn from rng) gets a twin, appended last, used
+// by every other one of its operational tets. Nullopt when that moves none
+// or all of them (no crack). c must have operational nodes.
+std::optional<mesh::TetMesh> crack_one_node(const HybridCase& c, std::mt19937& rng) {
+  const int v = c.partition.operational[rng() % c.partition.operational.size()];
+  mesh::TetMesh cut = c.mesh;
+  cut.nodes.conservativeResize(c.mesh.num_nodes() + 1, 3);
+  cut.nodes.row(c.mesh.num_nodes()) = c.mesh.nodes.row(v);
+  int moved = 0, uses = 0;
+  for (int t : c.partition.operational_tets)
+    for (int k = 0; k < 4; ++k)
+      if (cut.tets(t, k) == v && (uses++ % 2)) {
+        cut.tets(t, k) = c.mesh.num_nodes();
+        ++moved;
+      }
+  if (moved == 0 || moved == uses) return std::nullopt;
+  return cut;
 }
 
 }  // namespace
@@ -253,19 +273,9 @@ TEST_SUITE("hybrid/update") {
       const HybridCase c = test::random_case(rng, 1 + trial % 2);
       if (c.partition.operational.empty()) continue;
       const Model model = precompute(c.mesh, c.material, c.partition, {});
-      // Give one set-1 node a twin used by half of its operational tets.
-      const int v = c.partition.operational[rng() % c.partition.operational.size()];
-      mesh::TetMesh cut = c.mesh;
-      cut.nodes.conservativeResize(c.mesh.num_nodes() + 1, 3);
-      cut.nodes.row(c.mesh.num_nodes()) = c.mesh.nodes.row(v);
-      int moved = 0, uses = 0;
-      for (int t : c.partition.operational_tets)
-        for (int k = 0; k < 4; ++k)
-          if (cut.tets(t, k) == v && (uses++ % 2)) {
-            cut.tets(t, k) = c.mesh.num_nodes();
-            ++moved;
-          }
-      if (moved == 0 || moved == uses) continue;
+      const std::optional<mesh::TetMesh> crack = crack_one_node(c, rng);
+      if (!crack) continue;
+      const mesh::TetMesh& cut = *crack;
       ++cracked;
       State state = make_state(model, tight_cg());
       auto loads = test::random_loads(c.partition, rng, 3);
@@ -313,20 +323,10 @@ TEST_SUITE("hybrid/update") {
         CHECK(test::relative_error(state.u, ref, c.partition.interior) <= 1e-8);
         ++checked;
       }
-      // A crack: one set-1 node gets a twin used by half of its operational tets.
       if (c.partition.operational.empty()) continue;
-      const int v = c.partition.operational[rng() % c.partition.operational.size()];
-      mesh::TetMesh cut = c.mesh;
-      cut.nodes.conservativeResize(c.mesh.num_nodes() + 1, 3);
-      cut.nodes.row(c.mesh.num_nodes()) = c.mesh.nodes.row(v);
-      int moved = 0, uses = 0;
-      for (int t : c.partition.operational_tets)
-        for (int k = 0; k < 4; ++k)
-          if (cut.tets(t, k) == v && (uses++ % 2)) {
-            cut.tets(t, k) = c.mesh.num_nodes();
-            ++moved;
-          }
-      if (moved == 0 || moved == uses) continue;
+      const std::optional<mesh::TetMesh> crack = crack_one_node(c, rng);
+      if (!crack) continue;
+      const mesh::TetMesh& cut = *crack;
       set_operational_system(state, rebuild_operational_system(model, cut, c.material, c.partition.operational_tets));
       update(model, state, {}, with_interior(true));
       std::vector<char> fixed = c.fixed_mask;
