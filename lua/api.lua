@@ -92,7 +92,9 @@ api.functions = {
       .. "mesh's node sets), surface_nodes (sorted 0-based ids).",
     returns = "Mesh", one_of = { { "file", "generate" } }, fields = {
       F("file", "string", "mesh file relative to the scenario (.msh, .node/.ele, .mesh, .vtk, .vtu)"),
-      F("generate", "string", "generator name", { values = { "box", "cylinder", "tube", "band", "ligament", "upper_leg" } }),
+      F("generate", "string", "generator name: structured (box .. upper_leg) or an organ shape meshed by CGAL "
+        .. "(liver, kidney, knee_ligament; docs/meshing.md)",
+        { values = { "box", "cylinder", "tube", "band", "ligament", "upper_leg", "liver", "kidney", "knee_ligament" } }),
       F("options", "table", "generator options by name: numbers, or 3-vectors for corners/centers") },
     example = 's:mesh{ generate = "box", options = { min = {0, 0, 0}, max = {0.1, 0.04, 0.04}, nx = 10, ny = 4, nz = 4 } }' },
   { name = "Scenario:material", summary = "Assigns a material to a set of tets (all tets when no region "

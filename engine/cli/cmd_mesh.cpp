@@ -14,7 +14,10 @@
 #include "mesh/io/mesh_io.hpp"
 #include "mesh/quality.hpp"
 #include "mesh/surface.hpp"
+#include "mesh/mesher/organs.hpp"
+#include "mesh/mesher/volume_shape.hpp"
 #include "mesh/volume/label_volume.hpp"
+#include "sim/mesh_source.hpp"
 
 namespace softcut::cli {
 namespace {
@@ -56,11 +59,18 @@ const char* kGenerateUsage =
     "             --twist DEG (90)  --flare F (1.6, end/middle width)\n"
     "  ligament   the paper's knee ligament: a band of ~615 nodes, ~1900 tets\n"
     "  upper_leg  the paper's upper leg: a tube of ~785 nodes, ~2550 tets (accepts --hole-nodes)\n"
+    "  liver, kidney, knee_ligament\n"
+    "             smooth organ shapes meshed by CGAL Mesh_3 (docs/meshing.md):\n"
+    "             --target-tets N (5000) or --cell-size H (m)   --scale S (1)\n"
+    "             --fine-center X,Y,Z --fine-radius R --fine-ratio F (0.4): tets F x smaller near X,Y,Z\n"
+    "             --lesion-radius R (liver, 0.012 m)  --sliver-bound DEG (12)  --seed N (1)\n"
     "  volume     tets from a segmented NRRD label image (docs/label-volume.md):\n"
     "             softcut mesh generate volume IN.nrrd|IN.nhdr [--labels 1,2] [--smooth N]\n"
     "                                   [--unit m|cm|mm|um] OUT\n"
     "             --labels L,...  labels to mesh (default: every nonzero label)\n"
     "             --smooth N      Taubin smoothing passes over the outer surface (0)\n"
+    "             --mesher cgal   a smooth graded mesh by CGAL Mesh_3 instead of voxel cubes:\n"
+    "                             --cell-size H (m; 2 voxels)  --sliver-bound DEG (12)\n"
     "             --unit U        length unit of the file (default: its 'space units', else mm)\n"
     "\n"
     "options for box, cylinder, tube, band, ligament, upper_leg:\n"
@@ -372,9 +382,12 @@ int cmd_generate(const Args& args) {
   if (wants_help(args)) return std::fputs(kGenerateUsage, stdout), 0;
   const std::string kind = args[1];
   static const char* kKinds[] = {"box", "cylinder", "tube", "band", "ligament", "upper_leg", "volume"};
-  if (std::find(std::begin(kKinds), std::end(kKinds), kind) == std::end(kKinds))
+  const auto& organs = organ_kinds();
+  const bool organ = std::find(organs.begin(), organs.end(), kind) != organs.end();
+  if (!organ && std::find(std::begin(kKinds), std::end(kKinds), kind) == std::end(kKinds))
     fail("mesh generate: unknown kind '", kind,
-         "' (use box, cylinder, tube, band, ligament, upper_leg or volume; see softcut mesh generate --help)");
+         "' (use box, cylinder, tube, band, ligament, upper_leg, liver, kidney, knee_ligament or volume;"
+         " see softcut mesh generate --help)");
   Options a = parse_options(args, 2, {}, "mesh generate");
   Diagnostics diag;
   TetMesh m;
@@ -396,11 +409,41 @@ int cmd_generate(const Args& args) {
     }
     VoxelMeshOptions vo;
     if (a.has("labels")) vo.labels = ints(a, "labels", 0);
-    if (a.has("smooth")) vo.smooth_iterations = to_int("smooth", a.get("smooth"));
-    if (vo.smooth_iterations < 0) fail("option --smooth: must be >= 0");
+    const std::string mesher = a.has("mesher") ? a.get("mesher") : "voxels";
+    if (mesher != "voxels" && mesher != "cgal") fail("option --mesher: expected voxels or cgal, got '", mesher, "'");
     const LabelVolume v = read_nrrd_labels(in, diag, ro);
-    m = mesh_label_volume(v, vo, diag);
     note = cat("volume ", v.size(0), " x ", v.size(1), " x ", v.size(2), " voxels from ", in);
+    if (mesher == "cgal") {
+      MesherOptions mo;
+      mo.cell_size = 2 * v.directions.colwise().norm().maxCoeff();
+      if (a.has("cell-size")) mo.cell_size = to_double("cell-size", a.get("cell-size"));
+      if (a.has("sliver-bound")) mo.sliver_bound_deg = to_double("sliver-bound", a.get("sliver-bound"));
+      MesherReport r;
+      m = mesh_shape(volume_shape(v, vo.labels), mo, &r);
+      note += cat("; CGAL Mesh_3, cell size ", mo.cell_size, " m, min dihedral ", std::round(r.min_dihedral_deg * 10) / 10, " deg");
+    } else {
+      if (a.has("smooth")) vo.smooth_iterations = to_int("smooth", a.get("smooth"));
+      if (vo.smooth_iterations < 0) fail("option --smooth: must be >= 0");
+      m = mesh_label_volume(v, vo, diag);
+    }
+  } else if (organ) {
+    // The scenario generator's options, spelled --target-tets, --fine-center X,Y,Z, ...
+    if (a.positional.size() != 1) fail("mesh generate ", kind, ": expected exactly one OUT file after the options");
+    sim::MeshSource src;
+    src.generator = kind;
+    for (const auto& [key, value] : a.named) {
+      std::string name = key;
+      std::replace(name.begin(), name.end(), '-', '_');
+      if (name == "fine_center") {
+        const auto c = doubles(a, key, 3);
+        src.options["fine_center.x"] = c[0], src.options["fine_center.y"] = c[1], src.options["fine_center.z"] = c[2];
+      } else {
+        src.options[name] = to_double(key, a.get(key));
+      }
+    }
+    const sim::LoadedMesh loaded = sim::load_mesh_source(src, diag);
+    m = loaded.mesh;
+    note = loaded.description;
   } else {
     if (a.positional.size() != 1) fail("mesh generate ", kind, ": expected exactly one OUT file after the options");
     if (kind == "box" && (a.named.count("target-tets") || a.named.count("target-nodes")))

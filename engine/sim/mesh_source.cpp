@@ -1,5 +1,6 @@
 #include "sim/mesh_source.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -7,6 +8,7 @@
 #include "mesh/generate/cylinder.hpp"
 #include "mesh/generate/presets.hpp"
 #include "mesh/io/mesh_io.hpp"
+#include "mesh/mesher/organs.hpp"
 
 namespace softcut::sim {
 
@@ -139,8 +141,21 @@ LoadedMesh generate(const std::string& gen, const std::map<std::string, double>&
       check_fits(mesh::band_size(r.along, r.across, r.through));
       out.mesh = mesh::generate_band(r);
     }
+  } else if (std::find(mesh::organ_kinds().begin(), mesh::organ_kinds().end(), gen) != mesh::organ_kinds().end()) {
+    mesh::OrganOptions g;
+    o.integer("target_tets", g.target_tets), o.num("cell_size", g.cell_size), o.num("scale", g.scale);
+    o.vec("fine_center", g.fine_center), o.num("fine_radius", g.fine_radius), o.num("fine_ratio", g.fine_ratio);
+    if (gen == "liver") o.num("lesion_radius", g.lesion_radius);
+    o.num("sliver_bound", g.sliver_bound_deg), o.integer("seed", g.seed);
+    o.finish();
+    if (run) {
+      mesh::MesherReport r;
+      out.mesh = mesh::generate_organ(gen, g, max_tets, &r);
+      out.description = cat("generator ", gen, " (CGAL Mesh_3: ", r.tets, " tets, min dihedral ", std::round(r.min_dihedral_deg * 10) / 10, " deg)");
+    }
   } else {
-    fail(what, ": unknown generator '", gen, "' (use box, cylinder, tube, band, ligament or upper_leg)");
+    fail(what, ": unknown generator '", gen,
+         "' (use box, cylinder, tube, band, ligament, upper_leg, liver, kidney or knee_ligament)");
   }
   if (names) *names = o.known();
   return out;

@@ -21,7 +21,8 @@ struct LoadedMesh {
 constexpr double kNoTetLimit = 2147483647.0;  // int ids
 
 // Generators: box, cylinder, tube, band, ligament (band preset), upper_leg
-// (tube preset). Options are the generator's option names; vectors as
+// (tube preset), and the CGAL-meshed organs liver, kidney, knee_ligament
+// (mesh/mesher/organs.hpp). Options are the generator's option names; vectors as
 // name.x / name.y / name.z. Throws naming the source and the bad option.
 // A mesh over `max_tets` tetrahedra is refused: a generator's before it is
 // allocated (the sandbox's bound on what a few bytes of script may ask for),

@@ -63,6 +63,23 @@ TEST_SUITE("cli/cmd_mesh") {
     CHECK(mesh::read_mesh(dir / "v.vtu", d).num_tets() == 6 * 36);
   }
 
+  TEST_CASE("generate an organ and mesh a label volume with CGAL, options spelled as on the command line") {
+    const fs::path dir = test::scratch_dir("cmd_mesh_cgal");
+    Diagnostics d;
+    REQUIRE(cli::cmd_mesh({"generate", "kidney", "--target-tets", "2000", "--fine-center", "0,0,0.02", "--fine-radius",
+                           "0.02", (dir / "k.vtu").string()}) == 0);
+    const mesh::TetMesh k = mesh::read_mesh(dir / "k.vtu", d);
+    CHECK(std::abs(k.num_tets() - 2000) <= 400);
+    CHECK(k.labels.maxCoeff() == 2);
+    const std::string organ = (test::data_dir() / "volume" / "organ.nhdr").string();
+    REQUIRE(cli::cmd_mesh({"generate", "volume", organ, "--mesher", "cgal", (dir / "v.vtu").string()}) == 0);
+    CHECK(mesh::read_mesh(dir / "v.vtu", d).num_tets() > 0);
+    CHECK(error_of({"generate", "liver", "--fine-center", "1,2", "x.vtu"}).find("expected 3 comma-separated") != std::string::npos);
+    CHECK(error_of({"generate", "liver", "--lobes", "3", "x.vtu"}).find("unknown option 'lobes'") != std::string::npos);
+    CHECK(error_of({"generate", "volume", organ, "--mesher", "tetgen", "x.vtu"}).find("expected voxels or cgal") != std::string::npos);
+    CHECK(error_of({"generate", "volume", organ, "--mesher", "cgal", "--smooth", "2", "x.vtu"}).find("unknown option --smooth") != std::string::npos);
+  }
+
   TEST_CASE("bad input: one-line reasons") {
     CHECK(error_of({"frob"}).find("unknown subcommand 'frob'") != std::string::npos);
     CHECK(error_of({"generate", "sphere", "x.vtu"}).find("unknown kind 'sphere'") != std::string::npos);

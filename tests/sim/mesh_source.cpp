@@ -37,6 +37,25 @@ TEST_SUITE("sim/mesh_source") {
     for (int n : hole) CHECK(lm.mesh.nodes.row(n).head<2>().norm() == doctest::Approx(0.012));
   }
 
+  TEST_CASE("the organ generators mesh through CGAL with graded options and name what they made") {
+    sim::MeshSource src;
+    src.generator = "liver";
+    src.options = {{"target_tets", 2500}, {"fine_center.x", 0.03}, {"fine_center.z", 0.045}, {"fine_radius", 0.02},
+                   {"lesion_radius", 0.01}, {"seed", 3}};
+    softcut::Diagnostics diag;
+    const auto lm = sim::load_mesh_source(src, diag);
+    CHECK(std::abs(lm.mesh.num_tets() - 2500) <= 500);
+    CHECK(lm.mesh.labels.maxCoeff() == 2);
+    CHECK(lm.description.find("generator liver (CGAL Mesh_3: " + std::to_string(lm.mesh.num_tets()) + " tets, min dihedral") == 0);
+    // The lesion option is the liver's alone; option names are checked before meshing.
+    src.generator = "kidney";
+    CHECK_THROWS_WITH_AS(sim::load_mesh_source(src, diag), doctest::Contains("unknown option 'lesion_radius'"), softcut::Error);
+    src.options = {{"target_tets", 1e6}};
+    CHECK_THROWS_WITH_AS(sim::load_mesh_source(src, diag, 2e5), doctest::Contains("over this run's limit of 200000"),
+                         softcut::Error);
+    CHECK(sim::generator_options("knee_ligament").size() == 10);
+  }
+
   TEST_CASE("bad sources are refused naming the option") {
     using softcut::Error;
     softcut::Diagnostics diag;

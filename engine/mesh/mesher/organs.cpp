@@ -1,0 +1,130 @@
+#include "mesh/mesher/organs.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace softcut::mesh {
+
+namespace {
+
+using V = Eigen::Vector3d;
+
+// Approximate signed distances, m (negative inside), good enough to blend
+// with: exact on the surface, of the right size near it.
+double ellipsoid(const V& p, const V& c, const V& r) { return ((p - c).cwiseQuotient(r).norm() - 1) * r.minCoeff(); }
+double sphere(const V& p, const V& c, double r) { return (p - c).norm() - r; }
+// Smooth union / intersection with a blend of width k (polynomial smooth min).
+double smin(double a, double b, double k) {
+  const double h = std::max(k - std::abs(a - b), 0.0) / k;
+  return std::min(a, b) - h * h * k / 4;
+}
+double smax(double a, double b, double k) { return -smin(-a, -b, k); }
+
+double liver(const V& p) {
+  double d = smin(ellipsoid(p, {0.025, 0, 0}, {0.075, 0.065, 0.045}),        // right lobe
+                  ellipsoid(p, {-0.06, 0.02, 0.012}, {0.06, 0.045, 0.02}), 0.03);  // left lobe
+  d = smax(d, -(p.z() + 0.022), 0.015);                                           // flattened underside
+  return smax(d, -ellipsoid(p, {-0.015, -0.065, 0.02}, {0.012, 0.03, 0.03}), 0.008);  // front notch
+}
+
+double kidney(const V& p) {
+  V q = p;
+  q.y() += 0.006 * (p.x() / 0.055) * (p.x() / 0.055);  // the bean's bend
+  const double d = ellipsoid(q, {0, 0, 0}, {0.055, 0.03, 0.024});
+  return smax(d, -sphere(q, {0, 0.036, 0}, 0.017), 0.008);  // hilum
+}
+
+constexpr double kLigamentLength = 0.035;
+double knee_ligament(const V& p) {
+  const double t = std::clamp(p.z() / kLigamentLength, 0.0, 1.0), u = 2 * t - 1;
+  const double a = 0.005 * (1 + 0.6 * u * u), b = 0.002 * (1 + 0.3 * u * u);  // flare 1.6 to the insertions
+  const double th = M_PI / 2 * t, c = std::cos(th), s = std::sin(th);         // 90 degree twist
+  const double x = c * p.x() + s * p.y(), y = -s * p.x() + c * p.y();
+  const double section = (std::hypot(x / a, y / b) - 1) * b;
+  const double slab = std::abs(p.z() - kLigamentLength / 2) - kLigamentLength / 2;
+  return smax(section, slab, 0.001);
+}
+
+}  // namespace
+
+const std::vector<std::string>& organ_kinds() {
+  static const std::vector<std::string> kinds = {"liver", "kidney", "knee_ligament"};
+  return kinds;
+}
+
+LabeledShape organ_shape(const std::string& kind, const OrganOptions& o) {
+  const std::string name = "generator " + kind;
+  if (!(o.scale > 0 && o.scale < 1e3)) fail(name, ": scale must be in (0, 1000), got ", o.scale);
+  if (!(o.lesion_radius >= 0 && o.lesion_radius <= 0.03)) fail(name, ": lesion_radius must be in [0, 0.03] m, got ", o.lesion_radius);
+  const double s = o.scale, lesion = o.lesion_radius;
+  LabeledShape out;
+  out.name = name;
+  if (kind == "liver") {
+    out.bounds = Eigen::AlignedBox3d(V(-0.13, -0.08, -0.035), V(0.11, 0.075, 0.05));
+    out.labels = lesion > 0 ? std::vector<int>{1, 2} : std::vector<int>{1};
+    out.label = [s, lesion](const V& p) {
+      const V q = p / s;
+      if (liver(q) >= 0) return 0;
+      return sphere(q, {0.035, -0.005, 0.02}, lesion) < 0 ? 2 : 1;
+    };
+  } else if (kind == "kidney") {
+    out.bounds = Eigen::AlignedBox3d(V(-0.06, -0.04, -0.03), V(0.06, 0.04, 0.03));
+    out.labels = {1, 2};
+    out.label = [s](const V& p) {
+      const double d = kidney(p / s);
+      return d >= 0 ? 0 : d > -0.006 ? 1 : 2;
+    };
+  } else if (kind == "knee_ligament") {
+    out.bounds = Eigen::AlignedBox3d(V(-0.01, -0.01, -0.001), V(0.01, 0.01, kLigamentLength + 0.001));
+    out.labels = {1};
+    out.label = [s](const V& p) { return knee_ligament(p / s) < 0 ? 1 : 0; };
+  } else {
+    fail(name, ": unknown organ (use liver, kidney or knee_ligament)");
+  }
+  out.bounds = Eigen::AlignedBox3d(out.bounds.min() * s, out.bounds.max() * s);
+  return out;
+}
+
+MesherOptions organ_mesher_options(const LabeledShape& s, const OrganOptions& o) {
+  MesherOptions m;
+  m.fine_center = o.fine_center;
+  m.fine_radius = o.fine_radius;
+  m.sliver_bound_deg = o.sliver_bound_deg;
+  m.seed = o.seed;
+  if (o.fine_radius != 0 && !(o.fine_ratio > 0.05 && o.fine_ratio <= 1))
+    fail(s.name, ": fine_ratio must be in (0.05, 1], got ", o.fine_ratio);
+  const auto set_size = [&](double h) { m.cell_size = h, m.fine_size = o.fine_ratio * h; };
+  if (o.target_tets > 0) {
+    if (o.cell_size != 0) fail(s.name, ": give target_tets or cell_size, not both");
+    // The estimate scales as h^-3 when cell and fine sizes scale together.
+    set_size(s.bounds.sizes().maxCoeff() / 10);
+    set_size(m.cell_size * std::cbrt(estimate_tets(s, m) / o.target_tets));
+  } else {
+    set_size(o.cell_size);
+  }
+  estimate_tets(s, m);  // checks the options
+  return m;
+}
+
+TetMesh generate_organ(const std::string& kind, const OrganOptions& o, double max_tets, MesherReport* report) {
+  const LabeledShape shape = organ_shape(kind, o);
+  MesherOptions m = organ_mesher_options(shape, o);
+  const auto refuse = [&](double tets) {
+    if (tets > max_tets)
+      fail(shape.name, ": about ", std::llround(tets), " tetrahedra, over this run's limit of ", std::llround(max_tets),
+           "; ask for fewer (softcut run/check --max-tets N raises the limit, --trust lifts it)");
+  };
+  const double estimate = estimate_tets(shape, m);
+  refuse(estimate);
+  TetMesh mesh = mesh_shape(shape, m, report);
+  if (o.target_tets > 0 && std::abs(mesh.num_tets() - o.target_tets) > 0.2 * o.target_tets) {
+    const double f = std::cbrt(double(mesh.num_tets()) / o.target_tets);
+    m.cell_size *= f, m.fine_size *= f;
+    refuse(estimate_tets(shape, m) * mesh.num_tets() / estimate);  // the first mesh calibrates the estimate
+    mesh = mesh_shape(shape, m, report);
+  }
+  refuse(mesh.num_tets());
+  return mesh;
+}
+
+}  // namespace softcut::mesh
