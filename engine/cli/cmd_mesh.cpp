@@ -63,7 +63,8 @@ const char* kGenerateUsage =
     "             smooth organ shapes meshed by CGAL Mesh_3 (docs/meshing.md):\n"
     "             --target-tets N (5000) or --cell-size H (m)   --scale S (1)\n"
     "             --fine-center X,Y,Z --fine-radius R --fine-ratio F (0.4): tets F x smaller near X,Y,Z\n"
-    "             --lesion-radius R (liver, 0.012 m)  --sliver-bound DEG (12)  --seed N (1)\n"
+    "             --lesion-radius R (liver, 0.012 m)  --lesion-center X,Y,Z (liver, 0.035,-0.005,0.02)\n"
+    "             --sliver-bound DEG (12)  --seed N (1)\n"
     "  volume     tets from a segmented NRRD label image (docs/label-volume.md):\n"
     "             softcut mesh generate volume IN.nrrd|IN.nhdr [--labels 1,2] [--smooth N]\n"
     "                                   [--unit m|cm|mm|um] OUT\n"
@@ -434,9 +435,9 @@ int cmd_generate(const Args& args) {
     for (const auto& [key, value] : a.named) {
       std::string name = key;
       std::replace(name.begin(), name.end(), '-', '_');
-      if (name == "fine_center") {
+      if (name == "fine_center" || name == "lesion_center") {
         const auto c = doubles(a, key, 3);
-        src.options["fine_center.x"] = c[0], src.options["fine_center.y"] = c[1], src.options["fine_center.z"] = c[2];
+        src.options[name + ".x"] = c[0], src.options[name + ".y"] = c[1], src.options[name + ".z"] = c[2];
       } else {
         src.options[name] = to_double(key, a.get(key));
       }

@@ -145,12 +145,16 @@ LoadedMesh generate(const std::string& gen, const std::map<std::string, double>&
     mesh::OrganOptions g;
     o.integer("target_tets", g.target_tets), o.num("cell_size", g.cell_size), o.num("scale", g.scale);
     o.vec("fine_center", g.fine_center), o.num("fine_radius", g.fine_radius), o.num("fine_ratio", g.fine_ratio);
-    if (gen == "liver") o.num("lesion_radius", g.lesion_radius);
+    if (gen == "liver") o.num("lesion_radius", g.lesion_radius), o.vec("lesion_center", g.lesion_center);
     o.num("sliver_bound", g.sliver_bound_deg), o.integer("seed", g.seed);
     o.finish();
     if (run) {
       mesh::MesherReport r;
-      out.mesh = mesh::generate_organ(gen, g, max_tets, &r);
+      try {
+        out.mesh = mesh::generate_organ(gen, g, max_tets, &r);
+      } catch (const Error& e) {
+        fail(what, ": ", e.what());  // where the scenario asked for it
+      }
       out.description = cat("generator ", gen, " (CGAL Mesh_3: ", r.tets, " tets, min dihedral ", std::round(r.min_dihedral_deg * 10) / 10, " deg)");
     }
   } else {

@@ -223,6 +223,9 @@ eq(('abcabc'):match('(b)c', 3), 'b') eq(#('a'):rep(5e5):match('^a*', 2), 499999)
         R"(generate = "cylinder", options = { rings = 300, layers = 1000 })",
         R"(generate = "tube", options = { target_tets = 1e9 })",
         R"(generate = "ligament", options = { along = 1000, across = 1000, through = 100 })",
+        R"(generate = "liver", options = { target_tets = 1e9 })",
+        R"(generate = "kidney", options = { target_tets = 0, cell_size = 1e-5 })",
+        R"(generate = "knee_ligament", options = { target_tets = 0, cell_size = 0.001, fine_radius = 1, fine_ratio = 0.06 })",
     };
     for (const std::string r : requests) {
       CAPTURE(r);

@@ -127,6 +127,9 @@ TEST_SUITE("mesh/mesher/organs") {
     o = {};
     o.fine_radius = 0.01, o.fine_ratio = 0;
     CHECK_THROWS_WITH_AS(generate_organ("liver", o, 2e5), doctest::Contains("fine_ratio must be in"), Error);
+    o = {};
+    o.lesion_center = Eigen::Vector3d(0.025, 0, 0.04);  // 5 mm under the dome's top: the 12 mm lesion breaks out
+    CHECK_THROWS_WITH_AS(generate_organ("liver", o, 2e5), doctest::Contains("the lesion (lesion_center, lesion_radius) must lie inside"), Error);
     CHECK_THROWS_WITH_AS(generate_organ("spleen", {}, 2e5), doctest::Contains("generator spleen: unknown organ"), Error);
   }
 }

@@ -54,6 +54,7 @@ TEST_SUITE("sim/mesh_source") {
     CHECK_THROWS_WITH_AS(sim::load_mesh_source(src, diag, 2e5), doctest::Contains("over this run's limit of 200000"),
                          softcut::Error);
     CHECK(sim::generator_options("knee_ligament").size() == 10);
+    CHECK(sim::generator_options("liver").size() == 14);  // and lesion_radius, lesion_center
   }
 
   TEST_CASE("bad sources are refused naming the option") {

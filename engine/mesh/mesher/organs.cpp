@@ -21,10 +21,9 @@ double smin(double a, double b, double k) {
 double smax(double a, double b, double k) { return -smin(-a, -b, k); }
 
 double liver(const V& p) {
-  double d = smin(ellipsoid(p, {0.025, 0, 0}, {0.075, 0.065, 0.045}),        // right lobe
+  const double d = smin(ellipsoid(p, {0.025, 0, 0}, {0.075, 0.065, 0.045}),        // right lobe
                   ellipsoid(p, {-0.06, 0.02, 0.012}, {0.06, 0.045, 0.02}), 0.03);  // left lobe
-  d = smax(d, -(p.z() + 0.022), 0.015);                                           // flattened underside
-  return smax(d, -ellipsoid(p, {-0.015, -0.065, 0.02}, {0.012, 0.03, 0.03}), 0.008);  // front notch
+  return smax(d, -(p.z() + 0.022), 0.015);  // flattened underside
 }
 
 double kidney(const V& p) {
@@ -57,15 +56,18 @@ LabeledShape organ_shape(const std::string& kind, const OrganOptions& o) {
   if (!(o.scale > 0 && o.scale < 1e3)) fail(name, ": scale must be in (0, 1000), got ", o.scale);
   if (!(o.lesion_radius >= 0 && o.lesion_radius <= 0.03)) fail(name, ": lesion_radius must be in [0, 0.03] m, got ", o.lesion_radius);
   const double s = o.scale, lesion = o.lesion_radius;
+  const V lesion_at = o.lesion_center;
+  if (kind == "liver" && lesion > 0 && !(lesion_at.allFinite() && liver(lesion_at) < -lesion))
+    fail(name, ": the lesion (lesion_center, lesion_radius) must lie inside the liver");
   LabeledShape out;
   out.name = name;
   if (kind == "liver") {
     out.bounds = Eigen::AlignedBox3d(V(-0.13, -0.08, -0.035), V(0.11, 0.075, 0.05));
     out.labels = lesion > 0 ? std::vector<int>{1, 2} : std::vector<int>{1};
-    out.label = [s, lesion](const V& p) {
+    out.label = [s, lesion, lesion_at](const V& p) {
       const V q = p / s;
       if (liver(q) >= 0) return 0;
-      return sphere(q, {0.035, -0.005, 0.02}, lesion) < 0 ? 2 : 1;
+      return sphere(q, lesion_at, lesion) < 0 ? 2 : 1;
     };
   } else if (kind == "kidney") {
     out.bounds = Eigen::AlignedBox3d(V(-0.06, -0.04, -0.03), V(0.06, 0.04, 0.03));

@@ -3,7 +3,8 @@
 // and subtractions of ellipsoids; lengths in m, at scale 1):
 //   liver          0.19 x 0.13 x 0.08: a domed right lobe, a thin left lobe,
 //                  a flattened underside; label 1, a spherical lesion label 2
-//                  under the right lobe's top (lesion_radius 0: none)
+//                  under the right lobe's dome (lesion_radius 0: none); the
+//                  dome's top is near (0.025, 0, 0.045)
 //   kidney         0.11 long, bean-shaped with a hilum; cortex label 1 (the
 //                  outer 6 mm), medulla label 2
 //   knee_ligament  0.035 long along +z from z = 0, an elliptic section 10 x 4
@@ -28,6 +29,7 @@ struct OrganOptions {
   double fine_radius = 0;
   double fine_ratio = 0.4;
   double lesion_radius = 0.012;     // m at scale 1 (liver only)
+  Eigen::Vector3d lesion_center{0.035, -0.005, 0.02};  // m at scale 1 (liver only; must lie inside)
   double sliver_bound_deg = 12;
   unsigned seed = 1;
 };
