@@ -72,6 +72,8 @@ local Frame = {}
 ---@field background? number[] RGB in [0, 1]
 ---@field style? string clinical: tissue coloured by material (each distinct E, nu in order of first use, so a lesion shows); paper: the paper's colours (operational light grey, nonoperational dark blue)
 ---@field tissue_colors? number[][] clinical style: RGB in [0, 1] per material group, cycled (default: parenchyma red-brown, a pale lesion tone, ...)
+---@field cut_color? number[] RGB in [0, 1] of cut faces (clinical: a cut face is its tissue's colour tinted 40 % toward it, so the cut shows what it exposed)
+---@field show_inclusions? boolean clinical style: boundaries between materials inside the organ (a lesion) drawn faintly through the surface, as an ultrasound overlay would show them
 
 softcut = {}
 softcut.select = {}
@@ -171,6 +173,7 @@ function Scenario:load(args) end
 ---@field stiffness? number total spring stiffness (drive spring) (N/m)
 ---@field start? number in contact from this time (s)
 ---@field stop? number until this time (default: the end) (s)
+---@field shaft? number[] drawing only: direction from the tip to the handle (default: against `direction`, else back along the way the tip came to its first contact, else the camera's up)
 ---A probe: a sphere tip on a path that pokes the surface it touches, with a ramp-driven force (`force`, spread over the circle the sphere presses into the surface; it acts only while the sphere reaches the surface, so let the path follow the dent) or a spring of total `stiffness` pushing the contact nodes to the tip's surface.
 ---@param args Scenario_probe_args
 function Scenario:probe(args) end
@@ -185,6 +188,7 @@ function Scenario:probe(args) end
 ---@field start? number closes at the first frame from this time that touches (s)
 ---@field stop? number opens at this time (default: never) (s)
 ---@field implicit? boolean spring solved exactly within each frame (false: explicit, lags a frame and needs stiffness x compliance < 1)
+---@field shaft? number[] drawing only: direction from the jaws to the handle (default: back along the way the jaws came to the tissue, else the camera's up)
 ---A grasper: closes at `start` (or the first frame after it that touches) on the patch of surface under its jaw (facing it, within the jaw radius), points spread over it and bound to their triangles' nodes (so no single node is pulled into a spike), drags them along its path with a spring of total `stiffness` (or a force toward the tip), opens at `stop`.
 ---@param args Scenario_grasper_args
 function Scenario:grasper(args) end
@@ -202,6 +206,7 @@ function Scenario:grasper(args) end
 ---@field stiffness? number total spring stiffness (drive spring) (N/m)
 ---@field start? number in contact from this time (s)
 ---@field stop? number until this time (default: the end) (s)
+---@field shaft? number[] drawing only: direction from the edge to the handle (default: against `direction`, else back along the way the blade came to the tissue, else the camera's up)
 ---A scalpel: a blade edge of `length` along `axis`, centred on its path, that presses the surface within `radius` of the edge like a probe (`force` ramp or spring `stiffness`). Contact pressure = |contact force| / (length x 2 radius). From the frame it reaches `cut_pressure` the tissue yields (no force) and the surface the edge sweeps between frames is cut, in the operational region only, from where the blade entered the tissue; a cut reaching the interface stops there with a warning. Start the path above the surface: a blade inside the tissue that is not cutting is an error. See docs/outputs.md (Cutting).
 ---@param args Scenario_scalpel_args
 function Scenario:scalpel(args) end

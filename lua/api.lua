@@ -68,7 +68,11 @@ api.structs = {
         .. "lesion shows); paper: the paper's colours (operational light grey, nonoperational dark blue)",
         { values = { "clinical", "paper" }, default = "clinical" }),
       F("tissue_colors", "vec3[]", "clinical style: RGB in [0, 1] per material group, cycled (default: "
-        .. "parenchyma red-brown, a pale lesion tone, ...)") } },
+        .. "parenchyma red-brown, a pale lesion tone, ...)"),
+      F("cut_color", "vec3", "RGB in [0, 1] of cut faces (clinical: a cut face is its tissue's colour tinted 40 % "
+        .. "toward it, so the cut shows what it exposed)", { default = { 0.72, 0.16, 0.24 } }),
+      F("show_inclusions", "boolean", "clinical style: boundaries between materials inside the organ (a lesion) "
+        .. "drawn faintly through the surface, as an ultrasound overlay would show them", { default = true }) } },
 }
 
 api.functions = {
@@ -147,7 +151,9 @@ api.functions = {
       F("direction", "vec3", "force direction (default: into the surface)"),
       F("stiffness", "number", "total spring stiffness (drive spring)", { unit = "N/m", gt = 0 }),
       F("start", "number", "in contact from this time", { unit = "s", ge = 0, default = 0 }),
-      F("stop", "number", "until this time (default: the end)", { unit = "s", ge = 0 }) },
+      F("stop", "number", "until this time (default: the end)", { unit = "s", ge = 0 }),
+      F("shaft", "vec3", "drawing only: direction from the tip to the handle (default: against `direction`, else "
+        .. "back along the way the tip came to its first contact, else the camera's up)") },
     example = 's:probe{ name = "tip", path = softcut.path.polyline{ times = {0, 1}, points = {{0.05, 0.02, 0.05}, {0.05, 0.02, 0.04}} },\n         radius = 0.004, stiffness = 200 }' },
   { name = "Scenario:grasper", summary = "A grasper: closes at `start` (or the first frame after it that touches) "
       .. "on the patch of surface under its jaw (facing it, within the jaw radius), points spread over it and bound to their "
@@ -163,7 +169,9 @@ api.functions = {
       F("start", "number", "closes at the first frame from this time that touches", { unit = "s", ge = 0, default = 0 }),
       F("stop", "number", "opens at this time (default: never)", { unit = "s", ge = 0 }),
       F("implicit", "boolean", "spring solved exactly within each frame (false: explicit, lags a frame and "
-        .. "needs stiffness x compliance < 1)", { default = true }) },
+        .. "needs stiffness x compliance < 1)", { default = true }),
+      F("shaft", "vec3", "drawing only: direction from the jaws to the handle (default: back along the way the "
+        .. "jaws came to the tissue, else the camera's up)") },
     example = 's:grasper{ name = "jaw", path = softcut.path.catmull_rom{ times = {0, 1, 2}, points = {{0, 0, 0.03}, {0, 0, 0.045}, {0.01, 0, 0.05}} },\n           stiffness = 400 }' },
   { name = "Scenario:scalpel", summary = "A scalpel: a blade edge of `length` along `axis`, centred on its path, "
       .. "that presses the surface within `radius` of the edge like a probe (`force` ramp or spring `stiffness`). "
@@ -185,7 +193,9 @@ api.functions = {
       F("direction", "vec3", "force direction (default: into the surface)"),
       F("stiffness", "number", "total spring stiffness (drive spring)", { unit = "N/m", gt = 0 }),
       F("start", "number", "in contact from this time", { unit = "s", ge = 0, default = 0 }),
-      F("stop", "number", "until this time (default: the end)", { unit = "s", ge = 0 }) },
+      F("stop", "number", "until this time (default: the end)", { unit = "s", ge = 0 }),
+      F("shaft", "vec3", "drawing only: direction from the edge to the handle (default: against `direction`, "
+        .. "else back along the way the blade came to the tissue, else the camera's up)") },
     example = 's:scalpel{ name = "blade", path = softcut.path.polyline{ times = {0, 1}, points = {{0.05, 0.02, 0.045}, {0.05, 0.02, 0.02}} },\n          length = 0.05, axis = {0, 1, 0}, force = softcut.ramp.linear{ t1 = 0.3, to = 2 }, cut_pressure = 2e4 }' },
   { name = "Scenario:cutting", summary = "Cutter options (rarely needed; docs/cutting.md).", fields = {
       F("snap_fraction", "number", "crossings closer than this fraction of an edge to its end snap to the node",

@@ -164,7 +164,7 @@ local function tool(s, kind, args)
   local t = { name = unique_name(s, s._tools, kind, a.name), where = check.where(), kind = kind,
               drive = a.stiffness and "spring" or "force", path = M.as_path(a.path), radius = a.radius,
               force = a.force and M.scaled_ramp(a.force, 1) or nil, direction = a.direction, stiffness = a.stiffness,
-              start = a.start, stop = a.stop, implicit = a.implicit }
+              start = a.start, stop = a.stop, implicit = a.implicit, shaft = a.shaft }
   if a.stop and a.stop <= a.start then check.fail(kind, "stop = %g must be after start = %g", a.stop, a.start) end
   s._tools[#s._tools + 1] = t
 end
@@ -176,7 +176,7 @@ function Scenario:scalpel(args)
               drive = a.stiffness and "spring" or "force", path = M.as_path(a.path), radius = a.radius,
               force = a.force and M.scaled_ramp(a.force, 1) or nil, direction = a.direction, stiffness = a.stiffness,
               start = a.start, stop = a.stop, length = a.length, axis = a.axis, cut_pressure = a.cut_pressure,
-              back = a.back }
+              back = a.back, shaft = a.shaft }
   if a.stop and a.stop <= a.start then check.fail("scalpel", "stop = %g must be after start = %g", a.stop, a.start) end
   self._tools[#self._tools + 1] = t
 end

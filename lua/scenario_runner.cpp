@@ -182,6 +182,7 @@ sim::ScenarioSpec spec_from_table(lua_State* L, int s, const fs::path& source) {
     ts.blade_axis = get_vec3(L, t, "axis", ts.blade_axis);
     ts.cut_pressure = get_number(L, t, "cut_pressure", ts.cut_pressure);
     ts.blade_back = get_vec3(L, t, "back", ts.blade_back);
+    ts.shaft = get_vec3(L, t, "shaft", ts.shaft);
     spec.tools.push_back(ts);
   });
 
@@ -221,6 +222,8 @@ sim::ScenarioSpec spec_from_table(lua_State* L, int s, const fs::path& source) {
       rs.style = get_string(L, r, "style", "clinical") == "paper" ? sim::RenderSettings::Style::paper
                                                                  : sim::RenderSettings::Style::clinical;
       rs.tissue_colors = get_vec3s(L, r, "tissue_colors");
+      rs.cut_color = get_vec3(L, r, "cut_color", rs.cut_color);
+      rs.show_inclusions = get_bool(L, r, "show_inclusions", rs.show_inclusions);
     }
     lua_pop(L, 1);
   }

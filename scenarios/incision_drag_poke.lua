@@ -54,7 +54,7 @@ s:scalpel{
 }
 -- Grasper on the +y lip, 4 mm off the cut, dragging it open.
 s:grasper{
-  name = "jaw", radius = 0.002, stiffness = 400, start = 1.2,
+  name = "jaw", radius = 0.002, stiffness = 400, start = 1.2, shaft = { 0.2, 0.7, 1 },  -- drawn in from a port beyond the lip
   path = softcut.path.polyline{ times = { 1.2, 2.0 }, points = { { xc, yc + 0.004, top }, { xc, yc + 0.004 + P.drag, top + 0.004 } } },
 }
 -- Probe pressing the -y lip down over its contact circle. A force-driven
@@ -62,6 +62,7 @@ s:grasper{
 -- the dent it makes (4 mm over the ramp).
 s:probe{
   name = "tip", radius = 0.003, start = 1.6, force = softcut.ramp.smoothstep{ t0 = 1.6, t1 = 2.1, to = P.poke },
+  shaft = { 0.7, -0.1, 1 },  -- drawn in from a second port
   path = softcut.path.polyline{ times = { 1.6, 2.1 },
     points = { { xc - 0.006, yc - 0.0065, top + 0.001 }, { xc - 0.006, yc - 0.0065, top - 0.004 } } },
 }

@@ -171,7 +171,7 @@ FrameTimings& FrameTimings::operator+=(const FrameTimings& o) {
 struct Renderer::Impl {
   gpu::EglContext& ctx;
   GLuint surface_prog = 0, flat_prog = 0;
-  Batch tissue, tools, wire, outline, lines, arrows, ipoints, mpoints;
+  Batch tissue, inclusions, tools, wire, outline, lines, arrows, ipoints, mpoints;
   // Framebuffers: `ms` multisampled (when samples > 1), `single` the resolve
   // target and readback source (and draw target without MSAA).
   GLuint ms_fbo = 0, ms_color = 0, ms_depth = 0, fbo = 0, color = 0, depth = 0;
@@ -185,7 +185,7 @@ struct Renderer::Impl {
     ctx.make_current();
     surface_prog = link(kSurfaceVs, kSurfaceFs);
     flat_prog = link(kFlatVs, kFlatFs);
-    for (Batch* b : {&tissue, &tools, &wire, &outline, &lines, &arrows, &ipoints, &mpoints}) b->create();
+    for (Batch* b : {&tissue, &inclusions, &tools, &wire, &outline, &lines, &arrows, &ipoints, &mpoints}) b->create();
     glGetFloatv(GL_ALIASED_LINE_WIDTH_RANGE, line_range);
     check("renderer setup");
   }
@@ -198,7 +198,7 @@ struct Renderer::Impl {
     } catch (const Error&) {
       return;
     }
-    for (Batch* b : {&tissue, &tools, &wire, &outline, &lines, &arrows, &ipoints, &mpoints}) b->destroy();
+    for (Batch* b : {&tissue, &inclusions, &tools, &wire, &outline, &lines, &arrows, &ipoints, &mpoints}) b->destroy();
     glDeleteProgram(surface_prog);
     glDeleteProgram(flat_prog);
     free_targets();
@@ -276,6 +276,7 @@ struct Renderer::Impl {
     Timer timer;
     ensure_targets(scene.width, scene.height, scene.msaa_samples);
     tissue.set(scene.tissue);
+    inclusions.set(scene.inclusions);
     tools.set(scene.tools);
     wire.set(scene.wire);
     outline.set(scene.outline);
@@ -310,9 +311,11 @@ struct Renderer::Impl {
     // boundary stays closed through cuts: each side of a cut is a face), so
     // only back faces are culled, nothing visible: llvmpipe shades about half
     // the fragments it would otherwise.
-    // Order: tissue; then the lines and points (those drawn on top write no
-    // depth, so they show through tissue); then the tools, depth-tested
-    // against the tissue: an instrument is never covered by a point or line.
+    // Order: tissue; then the inclusions, blended over it without depth test
+    // or depth writes (their front faces only: one faint layer); then the
+    // lines and points (those drawn on top write no depth, so they show
+    // through tissue); then the tools, depth-tested against the tissue: an
+    // instrument is never covered by an inclusion, a point or a line.
     auto draw_surface = [&](const Batch& b) {
       if (!b.count) return;
       glUseProgram(surface_prog);
@@ -328,6 +331,20 @@ struct Renderer::Impl {
       glDisable(GL_CULL_FACE);
     };
     draw_surface(tissue);
+    if (inclusions.count) {
+      glUseProgram(surface_prog);
+      glEnable(GL_CULL_FACE);
+      glCullFace(GL_BACK);
+      glFrontFace(GL_CCW);
+      glDisable(GL_DEPTH_TEST);
+      glEnable(GL_BLEND);
+      glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE);  // the image keeps its alpha
+      glBindVertexArray(inclusions.vao);
+      glDrawArrays(GL_TRIANGLES, 0, inclusions.count);
+      glDisable(GL_BLEND);
+      glDisable(GL_CULL_FACE);
+      glEnable(GL_DEPTH_TEST);
+    }
     glUseProgram(flat_prog);
     draw_flat(wire, GL_LINES, scene.wire.size_px, scene.wire.on_top);
     draw_flat(outline, GL_LINES, scene.outline.size_px, scene.outline.on_top);

@@ -21,6 +21,10 @@ void check_settings(const RenderSettings& s) {
     fail("render: point_size_px, line_width_px and wire_width_px must be positive");
   if (s.style == Style::clinical && s.palette.tissue.empty())
     fail("render: the clinical style needs at least one tissue colour in the palette");
+  if (!(s.palette.cut_tint >= 0.0f && s.palette.cut_tint <= 1.0f))
+    fail("render: palette cut_tint = ", s.palette.cut_tint, " must lie in [0, 1]");
+  if (!(s.palette.inclusion_alpha > 0.0f && s.palette.inclusion_alpha <= 1.0f))
+    fail("render: palette inclusion_alpha = ", s.palette.inclusion_alpha, " must lie in (0, 1]");
 }
 
 void check_content(const mesh::TetMesh& m, const Eigen::MatrixX3d& x, const SceneContent& c) {
@@ -77,6 +81,7 @@ struct SceneExtractor::Topology {
   int nnode = -1;
   Eigen::MatrixX4i tets;  // (ntet x 4)
   std::vector<char> operational, cut_faces;
+  std::vector<int> tet_group;
 
   mesh::Surface surf;
   std::vector<unsigned char> kind;  // (nface) FaceKind
@@ -85,11 +90,13 @@ struct SceneExtractor::Topology {
   std::vector<std::array<int, 3>> edges;  // unique surface edges (lo node, hi node, first face); on demand
   std::vector<std::array<int, 2>> rim;    // edges between cut and uncut faces; with `edges`
   bool have_edges = false;
+  std::vector<std::array<int, 4>> inner;  // inner group boundary faces: 3 nodes outward from tet [3]; on demand
+  bool have_inner = false;
   int builds = 0;
 
   bool matches(const mesh::TetMesh& m, const SceneContent& c) const {
     return nnode == m.num_nodes() && tets.rows() == m.tets.rows() && tets == m.tets && operational == c.operational &&
-           cut_faces == c.cut_faces;
+           cut_faces == c.cut_faces && tet_group == c.tet_group;
   }
 
   void build(const mesh::TetMesh& m, const SceneContent& c) {
@@ -97,6 +104,7 @@ struct SceneExtractor::Topology {
     tets = m.tets;
     operational = c.operational;
     cut_faces = c.cut_faces;
+    tet_group = c.tet_group;
     surf = mesh::extract_surface(m);
     const int nface = int(surf.faces.rows());
     kind.assign(size_t(nface), kOperational);
@@ -120,6 +128,8 @@ struct SceneExtractor::Topology {
     edges.clear();
     rim.clear();
     have_edges = false;
+    inner.clear();
+    have_inner = false;
     ++builds;
   }
 
@@ -146,6 +156,40 @@ struct SceneExtractor::Topology {
     }
     have_edges = true;
   }
+  // The faces shared by two tets of different tissue groups, each once, as
+  // the face of the inclusion's tet: not of the commonest group, or of the
+  // higher group where neither is (so it is wound outward from the inclusion).
+  const std::vector<std::array<int, 4>>& inner_faces() {
+    if (have_inner) return inner;
+    have_inner = true;
+    if (tet_group.empty()) return inner;
+    std::vector<int> count(size_t(*std::max_element(tet_group.begin(), tet_group.end())) + 1, 0);
+    for (int g : tet_group) ++count[size_t(g)];
+    const int common = int(std::max_element(count.begin(), count.end()) - count.begin());
+    std::vector<std::array<int, 5>> faces;  // sorted nodes, tet, local face
+    faces.reserve(size_t(4 * tets.rows()));
+    for (int t = 0; t < int(tets.rows()); ++t)
+      for (int f = 0; f < 4; ++f) {
+        std::array<int, 3> v{tets(t, mesh::kTetFaces[f][0]), tets(t, mesh::kTetFaces[f][1]), tets(t, mesh::kTetFaces[f][2])};
+        std::sort(v.begin(), v.end());
+        faces.push_back({v[0], v[1], v[2], t, f});
+      }
+    std::sort(faces.begin(), faces.end());
+    for (size_t i = 0; i + 1 < faces.size(); ++i) {
+      const auto& a = faces[i];
+      const auto& b = faces[i + 1];
+      if (a[0] != b[0] || a[1] != b[1] || a[2] != b[2]) continue;
+      const int ga = tet_group[size_t(a[3])], gb = tet_group[size_t(b[3])];
+      if (ga == gb) continue;
+      const bool a_inside = gb == common || (ga != common && ga > gb);
+      const auto& in = a_inside ? a : b;
+      inner.push_back({tets(in[3], mesh::kTetFaces[in[4]][0]), tets(in[3], mesh::kTetFaces[in[4]][1]),
+                       tets(in[3], mesh::kTetFaces[in[4]][2]), in[3]});
+      ++i;
+    }
+    return inner;
+  }
+
   const std::vector<std::array<int, 3>>& surface_edges() {
     build_edges();
     return edges;
@@ -195,18 +239,24 @@ Scene SceneExtractor::extract(const mesh::TetMesh& m, const Eigen::MatrixX3d& x,
     if (!x.row(v).allFinite()) fail("render: the position of node ", v, " is not finite (did the solve diverge?)");
   const int nface = int(surf.faces.rows());
   const Rgba kind_color[3] = {pal.operational, pal.nonoperational, pal.cut};
-  // A face's colour: cut faces the cut colour; else its region's (paper) or
-  // its tet's tissue group's (clinical).
+  // A face's colour. paper: its region's, cut faces the cut colour.
+  // clinical: its tet's tissue group's; a cut face that colour drawn
+  // cut_tint of the way toward the cut colour, so the cut shows which tissue
+  // it exposed (a lesion's cut face stays pale) and still reads as a wound.
   auto face_color = [&](int f) -> Rgba {
     const unsigned char k = topo.kind[size_t(f)];
-    if (k == kCut || settings.style == Style::paper) return kind_color[k];
+    if (settings.style == Style::paper) return kind_color[k];
     const int g = content.tet_group.empty() ? 0 : content.tet_group[size_t(surf.face_tet(f))];
-    return pal.tissue[size_t(g) % pal.tissue.size()];
+    const Rgba& tissue = pal.tissue[size_t(g) % pal.tissue.size()];
+    if (k != kCut) return tissue;
+    return Rgba((1.0f - pal.cut_tint) * tissue + pal.cut_tint * pal.cut);
   };
 
   // Shading normals: per corner, the area-weighted mean of the normals of the
   // faces around that node that bend by less than the crease angle from this
-  // face, so smooth tissue looks smooth and box edges and cut rims stay sharp.
+  // face and lie on the same side of a cut (both cut faces or both not), so
+  // smooth tissue looks smooth and box edges and an incision's lips stay
+  // sharp however flat the cut meets the surface.
   std::vector<Eigen::Vector3d> area_normal(static_cast<size_t>(nface)), unit_normal(static_cast<size_t>(nface));
   for (int f = 0; f < nface; ++f) {
     const Eigen::Vector3d a = x.row(surf.faces(f, 0)), b = x.row(surf.faces(f, 1)), c = x.row(surf.faces(f, 2));
@@ -227,7 +277,9 @@ Scene SceneExtractor::extract(const mesh::TetMesh& m, const Eigen::MatrixX3d& x,
       if (!flat)
         for (int i = topo.start[size_t(v)]; i < topo.start[size_t(v) + 1]; ++i) {
           const int g = topo.adj[size_t(i)];
-          if (g != f && unit_normal[size_t(g)].dot(nf) >= cos_crease) sum += area_normal[size_t(g)];
+          if (g != f && (topo.kind[size_t(g)] == kCut) == (topo.kind[size_t(f)] == kCut) &&
+              unit_normal[size_t(g)].dot(nf) >= cos_crease)
+            sum += area_normal[size_t(g)];
         }
       const double len = sum.norm();
       n[k] = len > 0 ? Eigen::Vector3d(sum / len) : Eigen::Vector3d::UnitZ();  // degenerate face
@@ -243,6 +295,30 @@ Scene SceneExtractor::extract(const mesh::TetMesh& m, const Eigen::MatrixX3d& x,
       scene.outline.add(x.row(a).transpose(), pal.outline);
       scene.outline.add(x.row(b).transpose(), pal.outline);
     }
+
+  // Inclusions (a lesion) seen through the tissue: their boundary faces in
+  // their tissue colour, faint, with per-node normals smoothed over them.
+  if (settings.style == Style::clinical && settings.show_inclusions && !content.tet_group.empty()) {
+    const auto& inner = topo_->inner_faces();
+    std::vector<Eigen::Vector3d> node_normal(size_t(m.num_nodes()), Eigen::Vector3d::Zero());
+    for (const auto& f : inner) {
+      const Eigen::Vector3d a = x.row(f[0]), b = x.row(f[1]), c = x.row(f[2]);
+      for (int k = 0; k < 3; ++k) node_normal[size_t(f[k])] += (b - a).cross(c - a);
+    }
+    scene.inclusions.reserve(int(inner.size()));
+    for (const auto& f : inner) {
+      Rgba color = pal.tissue[size_t(content.tet_group[size_t(f[3])]) % pal.tissue.size()];
+      color[3] = pal.inclusion_alpha;
+      Eigen::Vector3d p[3], n[3];
+      for (int k = 0; k < 3; ++k) {
+        if (!x.row(f[k]).allFinite()) fail("render: the position of node ", f[k], " is not finite");
+        p[k] = x.row(f[k]);
+        const double len = node_normal[size_t(f[k])].norm();
+        n[k] = len > 0 ? Eigen::Vector3d(node_normal[size_t(f[k])] / len) : Eigen::Vector3d::UnitZ();
+      }
+      scene.inclusions.add(p[0], p[1], p[2], n[0], n[1], n[2], color);
+    }
+  }
 
   // Wireframe: each surface edge once, coloured after its first face.
   scene.wire.size_px = settings.wire_width_px;

@@ -22,11 +22,13 @@ struct Palette {
   Rgba operational{0.80f, 0.80f, 0.78f, 1.0f};
   Rgba nonoperational{0.12f, 0.20f, 0.55f, 1.0f};
   Rgba cut{0.72f, 0.16f, 0.24f, 1.0f};
+  float cut_tint = 0.4f;  // clinical: how far a cut face's tissue colour goes toward `cut`, 0..1
   Rgba outline{0.45f, 0.05f, 0.10f, 1.0f};  // the incision's rim on the surface
   Rgba arrow{1.00f, 0.55f, 0.10f, 1.0f};    // load arrows
   Rgba manipulated{0.10f, 0.85f, 0.20f, 1.0f};
   Rgba interface_nodes{1.00f, 0.78f, 0.10f, 1.0f};
   Rgba tool{0.70f, 0.72f, 0.76f, 1.0f};
+  float inclusion_alpha = 0.45f;  // clinical: opacity of inclusions seen through the tissue, (0, 1]
   Rgba background{0.20f, 0.22f, 0.26f, 1.0f};
   // Clinical style, per tissue group: parenchyma red-brown, then a pale
   // lesion/fat tone, then further tissues.
@@ -44,6 +46,8 @@ struct RenderSettings {
   Style style = Style::paper;
   bool wireframe = false;          // draw the surface edges over the shading
   bool incision_outline = true;    // outline where cut faces meet the outer surface (visible when closed)
+  bool show_inclusions = true;     // clinical: tissue-group boundaries inside the organ (a lesion) seen
+                                   // faintly through the surface, as an ultrasound overlay would show them
   bool show_interface = true;      // interface ("common") nodes as points
   bool interface_on_top = true;    // ... visible through the surface (they are mostly inside)
   double crease_angle_deg = 40.0;  // normals are smoothed across edges flatter than this; 0: flat
@@ -84,6 +88,10 @@ struct Scene {
   Rgba background;
   Triangles tissue;  // boundary faces of the tet mesh, one triangle each
   Triangles tools;
+  // Inner boundaries between tissue groups, each face once, wound outward
+  // from the inclusion (the tet not of the commonest group), in its colour
+  // with alpha palette.inclusion_alpha; drawn blended over the tissue.
+  Triangles inclusions;
   Primitives wire;         // surface edges (lines), when wireframe is on
   Primitives outline;      // the incision's rim (lines): edges between cut and uncut surface faces
   Primitives force_lines;  // manipulated node -> line_end (lines)

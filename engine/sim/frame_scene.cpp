@@ -9,6 +9,16 @@
 
 namespace softcut::sim {
 
+Eigen::Vector3d shaft_axis(const tools::ToolSpec& spec, const tools::ToolState& ts, const Eigen::Vector3d& up) {
+  if (spec.shaft.squaredNorm() > 0) return spec.shaft.normalized();
+  if (spec.kind != tools::ToolSpec::Kind::grasper && spec.direction.squaredNorm() > 0)
+    return -spec.direction.normalized();
+  if (ts.touched && ts.approach.squaredNorm() > 0) return ts.approach;
+  const Eigen::Vector3d back = ts.start_tip - ts.tip;
+  if (!ts.touched && ts.has_start && back.norm() > spec.radius) return back.normalized();
+  return up.normalized();
+}
+
 render::SceneContent scene_content(const Model& m, const State& s) {
   const RenderSettings& rs = m.spec.outputs.render;
   render::SceneContent c;
@@ -59,12 +69,11 @@ render::SceneContent scene_content(const Model& m, const State& s) {
     if (rs.show_forces)
       for (int n : ts.nodes) c.manipulated.push_back({n, ts.tip});
     if (spec.kind == tools::ToolSpec::Kind::scalpel) {
-      // Blade behind its edge: against the pressing direction when one is
-      // given (the blade then lies in the cut plane), else toward `up`.
+      // Blade behind its edge toward the shaft (against the pressing
+      // direction when one is given: the blade then lies in the cut plane).
       render::ScalpelShape b;
       b.edge_a = ts.blade_a, b.edge_b = ts.blade_b;
-      const Eigen::Vector3d up = spec.direction.squaredNorm() > 0 ? Eigen::Vector3d(-spec.direction.normalized())
-                                                                  : Eigen::Vector3d(rs.up.normalized());
+      const Eigen::Vector3d up = shaft_axis(spec, ts, rs.up);
       const double h = std::max(0.25 * spec.blade_length, 2 * spec.radius);
       // The back of the blade: `up` made normal to the edge. An edge along
       // `up` (a stab) has no such direction: the blade then stands on any
@@ -83,16 +92,13 @@ render::SceneContent scene_content(const Model& m, const State& s) {
     } else if (spec.kind == tools::ToolSpec::Kind::probe) {
       render::ProbeShape p;
       p.tip = ts.tip;
-      // The shaft comes from where the probe pushes from: against its force
-      // direction when one is given, else from `up`.
-      p.axis = spec.direction.squaredNorm() > 0 ? Eigen::Vector3d(-spec.direction.normalized())
-                                                : Eigen::Vector3d(rs.up.normalized());
+      p.axis = shaft_axis(spec, ts, rs.up);
       p.radius = spec.radius;
       p.length = 20 * spec.radius;
       c.tools.push_back(p);
     } else {
       render::GrasperShape g;
-      g.axis = -rs.up.normalized();
+      g.axis = -shaft_axis(spec, ts, rs.up);
       g.hinge = g.axis.unitOrthogonal();
       g.jaw_length = 4 * spec.radius;
       g.jaw_width = 1.5 * spec.radius;
@@ -120,6 +126,8 @@ render::RenderSettings render_settings(const Model& m, const State& s) {
   o.msaa_samples = r.msaa_samples;
   o.wireframe = r.wireframe;
   o.show_interface = r.show_interface;
+  o.show_inclusions = r.show_inclusions;
+  o.palette.cut = {float(r.cut_color.x()), float(r.cut_color.y()), float(r.cut_color.z()), 1.0f};
   o.palette.background = {float(r.background.x()), float(r.background.y()), float(r.background.z()), 1.0f};
   o.style = r.style == RenderSettings::Style::paper ? render::Style::paper : render::Style::clinical;
   if (!r.tissue_colors.empty()) {

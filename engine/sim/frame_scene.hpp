@@ -14,6 +14,13 @@ namespace softcut::sim {
 // (probe: ball-tipped rod; grasper: jaws, closed while engaged).
 render::SceneContent scene_content(const Model& m, const State& s);
 
+// The unit direction a tool's shaft is drawn along, from its tip toward the
+// handle: spec.shaft if given; a probe's or scalpel's against its force
+// direction if given; else back along its approach (the way it came to its
+// first contact, or, before one, from its first active frame's tip) once that
+// is longer than its radius; else `up`.
+Eigen::Vector3d shaft_axis(const tools::ToolSpec& spec, const tools::ToolState& ts, const Eigen::Vector3d& up);
+
 // m.spec.outputs.render at the state's time (turntable azimuth applied).
 render::RenderSettings render_settings(const Model& m, const State& s);
 

@@ -95,6 +95,8 @@ void check_spec(const ScenarioSpec& s) {
     fail("outputs.render: azimuth_deg and orbit_deg_per_s must be finite");
   if (!r.background.allFinite() || r.background.minCoeff() < 0 || r.background.maxCoeff() > 1)
     fail("outputs.render: background components must lie in [0, 1]");
+  if (!r.cut_color.allFinite() || r.cut_color.minCoeff() < 0 || r.cut_color.maxCoeff() > 1)
+    fail("outputs.render: cut_color must be RGB in [0, 1]");
   if (r.tissue_colors.size() > 256) fail("outputs.render: at most 256 tissue colours, got ", r.tissue_colors.size());
   for (size_t i = 0; i < r.tissue_colors.size(); ++i)
     if (!r.tissue_colors[i].allFinite() || r.tissue_colors[i].minCoeff() < 0 || r.tissue_colors[i].maxCoeff() > 1)

@@ -106,6 +106,8 @@ struct RenderSettings {
   enum class Style { clinical, paper };
   Style style = Style::clinical;
   std::vector<Eigen::Vector3d> tissue_colors;  // RGB in [0, 1] per material group; empty: the default palette
+  Eigen::Vector3d cut_color = Eigen::Vector3d(0.72, 0.16, 0.24);  // RGB in [0, 1]: cut faces (clinical: their tint)
+  bool show_inclusions = true;  // clinical: tissue-group boundaries inside the organ (a lesion) drawn faintly
   bool wireframe = false;
   bool show_interface = false;  // interface nodes as points (a debugging view)
   bool show_forces = true;     // manipulated nodes and their force lines

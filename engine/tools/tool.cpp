@@ -24,6 +24,7 @@ void check_tool(const ToolSpec& t, const std::string& where) {
   if (!(t.radius > 0) || !std::isfinite(t.radius)) fail(w, ": radius must be > 0 m, got ", t.radius);
   check_path(t.path, w + " path");
   if (!t.direction.allFinite()) fail(w, ": direction must be finite");
+  if (!t.shaft.allFinite()) fail(w, ": shaft must be finite");
   if (!(t.active_until >= t.active_from) || std::isnan(t.active_from))
     fail(w, ": active_until (", t.active_until, " s) must not be before active_from (", t.active_from, " s)");
   if (t.kind == ToolSpec::Kind::scalpel) {
@@ -101,6 +102,12 @@ void update_tool(const ToolSpec& spec, ToolState& st, double t, const ContactSur
     st.nodes = point_nodes(st.grip);
     st.offsets.clear();
     for (const SurfacePoint& p : st.grip) st.offsets.push_back(p.at(s.positions) - st.tip);
+  }
+  if (!st.has_start) st.start_tip = st.tip, st.has_start = true;
+  if (st.engaged && !st.touched) {
+    st.touched = true;
+    const Eigen::Vector3d back = st.start_tip - st.tip;
+    st.approach = back.norm() > spec.radius ? Eigen::Vector3d(back.normalized()) : Eigen::Vector3d::Zero();
   }
   const size_t k = st.nodes.size();
   if (k == 0) return;

@@ -72,6 +72,12 @@ struct ToolSpec {
   // sweeps (a stab or a slice along its plane cuts its full area). Contact
   // and pressure stay those of the edge.
   Eigen::Vector3d blade_back = Eigen::Vector3d::Zero();
+
+  // Drawing only: the direction from the tip to the handle, any length > 0.
+  // Zero: probe and scalpel against `direction` when one is given, else (and
+  // for a grasper) back along the tool's approach (ToolState::approach), else
+  // the camera's up.
+  Eigen::Vector3d shaft = Eigen::Vector3d::Zero();
 };
 
 // Throws softcut::Error naming the tool (and `where`) for bad values.
@@ -109,6 +115,11 @@ struct ToolState {
   double touch_time = -1.0;        // that frame's time, s (-1: never touched)
   bool outside_seen = false;       // the edge lay outside the tissue at some frame since it became active
   int cut_events = 0;      // frames in which this blade changed the mesh
+  // Where the tool came from (drawing its shaft): the tip at its first active
+  // frame, and, from its first contact on, the unit vector from the tip at
+  // that contact back to start_tip (zero: it was within a radius of it).
+  Eigen::Vector3d start_tip = Eigen::Vector3d::Zero(), approach = Eigen::Vector3d::Zero();
+  bool has_start = false, touched = false;
 };
 
 // Scalpel: end points of the blade edge with its centre at `center`.

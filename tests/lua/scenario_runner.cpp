@@ -242,12 +242,20 @@ return s
     req.scenario = write_scenario("runner_scalpel_spec", std::string(kBoxHead) + R"(
 s:operational{ box = { min = {0.02, -1, -1}, max = {0.08, 1, 1} } }
 s:scalpel{ name = "blade", length = 0.03, axis = {0, 0, 2}, radius = 0.002, cut_pressure = 5e3, back = {0, 0.01, 0},
-  path = softcut.path.fixed{ 0.05, 0.02, 0.05 }, stiffness = 50, start = 0.1, stop = 0.4 }
+  path = softcut.path.fixed{ 0.05, 0.02, 0.05 }, stiffness = 50, start = 0.1, stop = 0.4, shaft = {0, 1, 1} }
+s:grasper{ name = "jaw", path = softcut.path.fixed{ 0, 0, 0.05 }, stiffness = 5, shaft = {1, 0, 1} }
+s:probe{ name = "tip", path = softcut.path.fixed{ 0, 0, 0.05 }, stiffness = 5, shaft = {-1, 0, 1} }
 s:cutting{ snap_fraction = 0.2, min_dihedral = 12 }
+s:output{ render = { show_inclusions = false, cut_color = {0.5, 0.1, 0.2} } }
 return s
 )");
     const softcut::sim::ScenarioSpec spec = softcut::lua::load_scenario_spec(req);
-    REQUIRE(spec.tools.size() == 1);
+    REQUIRE(spec.tools.size() == 3);
+    CHECK(spec.tools[0].shaft == Eigen::Vector3d(0, 1, 1));  // drawing only: each tool's shaft
+    CHECK(spec.tools[1].shaft == Eigen::Vector3d(1, 0, 1));
+    CHECK(spec.tools[2].shaft == Eigen::Vector3d(-1, 0, 1));
+    CHECK_FALSE(spec.outputs.render.show_inclusions);
+    CHECK(spec.outputs.render.cut_color == Eigen::Vector3d(0.5, 0.1, 0.2));
     const softcut::tools::ToolSpec& t = spec.tools[0];
     CHECK(t.kind == softcut::tools::ToolSpec::Kind::scalpel);
     CHECK(t.drive == softcut::tools::ToolSpec::Drive::spring);

@@ -219,6 +219,40 @@ TEST_SUITE("render/renderer") {
     CHECK(same_color(rgb(img, pixel_of(covered, b.mesh.node(inside))), green));  // the other still shows
   }
 
+  TEST_CASE("an inclusion shows faintly through the tissue in the clinical style only") {
+    Block b;
+    b.content.tet_group.resize(size_t(b.mesh.num_tets()));
+    for (int t = 0; t < b.mesh.num_tets(); ++t) {  // a stiff core: the middle cells, well inside
+      const Eigen::Vector3d c = tet_centroid(b.mesh, t);
+      b.content.tet_group[size_t(t)] = std::abs(c.x() - 0.05) < 0.017 && std::abs(c.y() - 0.03) < 0.015 && c.z() < 0.027;
+    }
+    RenderSettings s;
+    s.width = 160;
+    s.height = 120;
+    s.style = render::Style::clinical;
+    s.palette.tissue = {{0.6f, 0.2f, 0.2f, 1}, {0.1f, 0.9f, 0.3f, 1}};  // a green core, for the test
+    const Eigen::Vector3d core(0.05, 0.03, 0.014);  // seen through the tissue in front of it
+    auto at = [&](const RenderSettings& rs) {
+      const render::Scene sc = render::extract_scene(b.mesh, b.mesh.nodes, b.content, rs);
+      return std::make_pair(int(sc.inclusions.count()), rgb(shared_renderer().draw(sc), pixel_of(sc, core)));
+    };
+    const auto [n, ghost] = at(s);
+    CHECK(n > 0);
+    RenderSettings off = s;
+    off.show_inclusions = false;
+    const auto [n_off, plain] = at(off);
+    CHECK(n_off == 0);
+    CHECK(ghost.y() > plain.y() + 40);  // the green core tints the tissue in front of it
+    CHECK(ghost.x() < plain.x());
+    const Eigen::Vector2i corner = pixel_of(render::extract_scene(b.mesh, b.mesh.nodes, b.content, s),
+                                            Eigen::Vector3d(0.005, 0.005, 0.04));
+    CHECK(rgb(shared_renderer().draw(render::extract_scene(b.mesh, b.mesh.nodes, b.content, s)), corner) ==
+          rgb(shared_renderer().draw(render::extract_scene(b.mesh, b.mesh.nodes, b.content, off)), corner));  // elsewhere unchanged
+    RenderSettings paper = s;
+    paper.style = render::Style::paper;
+    CHECK(at(paper).first == 0);
+  }
+
   TEST_CASE("wireframe and multisampling change edge pixels only") {
     Block b;
     RenderSettings s;

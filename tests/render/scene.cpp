@@ -103,6 +103,29 @@ TEST_SUITE("render/scene") {
     CHECK(tilted > 0);
   }
 
+  TEST_CASE("normals are never smoothed across an incision's rim however flat the bend") {
+    const mesh::TetMesh m = box(2, 2, 2);
+    RenderSettings s;
+    s.crease_angle_deg = 100;  // would smooth the 90 degree edges, the rim of the x = 0 face among them
+    SceneContent c;
+    auto x0_corner_normals = [&](const render::Scene& sc, bool cut_faces) {
+      double worst = 0;  // largest |n.x| at an x = 0 corner of an uncut face
+      for (int i = 0; i < sc.tissue.count(); ++i) {
+        const bool on_x0 = centroid(sc.tissue, i).x() == doctest::Approx(0.0);
+        for (int k = 0; k < 3; ++k) {
+          const Eigen::Vector3f n = sc.tissue.normals[size_t(3 * i + k)];
+          if (on_x0 && cut_faces) CHECK((n - Eigen::Vector3f(-1, 0, 0)).norm() < 1e-6f);
+          if (!on_x0 && sc.tissue.positions[size_t(3 * i + k)].x() == 0.0f)
+            worst = std::max(worst, double(std::abs(n.x())));
+        }
+      }
+      return worst;
+    };
+    CHECK(x0_corner_normals(render::extract_scene(m, m.nodes, c, s), false) > 0.3);  // smoothed over the edge
+    c.cut_faces = faces_at_x0(m);  // the x = 0 side is now a cut face
+    CHECK(x0_corner_normals(render::extract_scene(m, m.nodes, c, s), true) < 1e-6);
+  }
+
   TEST_CASE("cut faces take the cut colour") {
     const mesh::TetMesh m = box(3, 2, 2);
     SceneContent c;
@@ -118,7 +141,7 @@ TEST_SUITE("render/scene") {
     CHECK(red == 8);
   }
 
-  TEST_CASE("clinical style colours tissue by group, cycling the palette, cut faces still cut, paper by region") {
+  TEST_CASE("clinical style colours tissue by group, cycling the palette, cut faces tinted, paper by region") {
     const mesh::TetMesh m = box(4, 2, 2);
     SceneContent c;
     c.operational.resize(size_t(m.num_tets()));
@@ -137,8 +160,9 @@ TEST_SUITE("render/scene") {
     for (int i = 0; i < sc.tissue.count(); ++i) {
       const Eigen::Vector3d p = centroid(sc.tissue, i);
       const render::Rgba got = sc.tissue.colors[size_t(3 * i)], old = paper.tissue.colors[size_t(3 * i)];
-      if (p.x() == doctest::Approx(0.0)) {
-        CHECK(got == pal.cut);
+      if (p.x() == doctest::Approx(0.0)) {  // cut: its group's colour cut_tint of the way to the cut colour
+        const render::Rgba tissue = p.y() < 0.5 ? pal.tissue[0] : pal.tissue[1];
+        CHECK((got - ((1 - pal.cut_tint) * tissue + pal.cut_tint * pal.cut)).norm() < 1e-6f);
         CHECK(old == pal.cut);
       } else if (p.y() < 0.49 || p.y() > 0.51) {  // faces of one group (not on y = 0.5)
         CHECK(got == (p.y() < 0.5 ? pal.tissue[0] : pal.tissue[1]));
@@ -149,6 +173,41 @@ TEST_SUITE("render/scene") {
     CHECK_THROWS_WITH_AS(render::extract_scene(m, m.nodes, c, s), doctest::Contains("tet 3 has tissue group -1"), Error);
     c.tet_group.resize(5);
     CHECK_THROWS_WITH_AS(render::extract_scene(m, m.nodes, c, s), doctest::Contains("tissue groups have 5 entries"), Error);
+  }
+
+  TEST_CASE("inclusions: each inner boundary face between tissue groups once, wound out of the inclusion") {
+    const mesh::TetMesh m = box(4, 4, 4);
+    RenderSettings s;
+    s.style = render::Style::clinical;
+    SceneContent c;
+    const Eigen::Vector3d mid(0.5, 0.5, 0.5);
+    for (const int inside : {1, 0}) {  // the core is the rarer group whichever its number
+      CAPTURE(inside);
+      c.tet_group.resize(size_t(m.num_tets()));
+      for (int t = 0; t < m.num_tets(); ++t)
+        c.tet_group[size_t(t)] = (tet_centroid(m, t) - mid).cwiseAbs().maxCoeff() < 0.25 ? inside : 1 - inside;
+      const render::Scene sc = render::extract_scene(m, m.nodes, c, s);
+      REQUIRE(sc.inclusions.count() == 6 * 4 * 2);  // the 2 x 2 x 2 core's sides, 2 triangles per square
+      for (int i = 0; i < sc.inclusions.count(); ++i) {
+        const Eigen::Vector3d g = centroid(sc.inclusions, i);
+        CHECK((g - mid).cwiseAbs().maxCoeff() == doctest::Approx(0.25));
+        const Eigen::Vector3d a = sc.inclusions.positions[size_t(3 * i)].cast<double>();
+        const Eigen::Vector3d n = (sc.inclusions.positions[size_t(3 * i + 1)].cast<double>() - a)
+                                      .cross(sc.inclusions.positions[size_t(3 * i + 2)].cast<double>() - a);
+        CHECK(n.dot(g - mid) > 0);  // outward from the core
+        render::Rgba want = s.palette.tissue[size_t(inside)];
+        want[3] = s.palette.inclusion_alpha;
+        CHECK(sc.inclusions.colors[size_t(3 * i)] == want);
+      }
+    }
+    RenderSettings off = s;
+    off.show_inclusions = false;
+    CHECK(render::extract_scene(m, m.nodes, c, off).inclusions.count() == 0);
+    CHECK(render::extract_scene(m, m.nodes, c, {}).inclusions.count() == 0);  // the paper style has none
+    c.tet_group.assign(size_t(m.num_tets()), 2);
+    CHECK(render::extract_scene(m, m.nodes, c, s).inclusions.count() == 0);  // one group: nothing inside
+    s.palette.inclusion_alpha = 0;
+    CHECK_THROWS_WITH_AS(render::extract_scene(m, m.nodes, c, s), doctest::Contains("inclusion_alpha"), Error);
   }
 
   TEST_CASE("load arrows: a shaft ending at the node and a two-stroke head pointing back along it") {

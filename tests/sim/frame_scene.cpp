@@ -217,4 +217,58 @@ TEST_SUITE("sim/frame_scene") {
       if (axis.z() == 0) CHECK(back.normalized().dot(V(0, 0, 1)) == doctest::Approx(1.0));
     }
   }
+
+  TEST_CASE("a shaft follows shaft, else against the push, else back along the approach, else up") {
+    tools::ToolSpec spec;
+    spec.radius = 0.002;
+    tools::ToolState ts;
+    const V up(0, 0, 2);
+    CHECK(sim::shaft_axis(spec, ts, up) == V(0, 0, 1));  // nothing known yet
+    ts.has_start = true, ts.start_tip = V(0.01, 0, 0.01), ts.tip = V(0.01, 0, 0.0095);
+    CHECK(sim::shaft_axis(spec, ts, up) == V(0, 0, 1));  // moved less than a radius
+    ts.tip = V(0, 0, 0);  // on its way in: trails back to where it started
+    CHECK((sim::shaft_axis(spec, ts, up) - V(1, 0, 1).normalized()).norm() < 1e-15);
+    ts.touched = true, ts.approach = V(0, -1, 0);  // from the first contact on, the approach is kept
+    CHECK(sim::shaft_axis(spec, ts, up) == V(0, -1, 0));
+    spec.direction = V(0, 0, -3);  // a probe pushing down: the shaft is behind the push
+    CHECK(sim::shaft_axis(spec, ts, up) == V(0, 0, 1));
+    spec.kind = tools::ToolSpec::Kind::grasper;  // a grasper pulls along `direction`: not its shaft
+    CHECK(sim::shaft_axis(spec, ts, up) == V(0, -1, 0));
+    spec.shaft = V(3, 0, 4);  // given: it wins
+    CHECK(sim::shaft_axis(spec, ts, up) == V(0.6, 0, 0.8));
+    spec.shaft = V(std::nan(""), 0, 0);
+    spec.path = tools::Path::fixed_at(V::Zero());
+    spec.force = tools::Ramp::constant_value(0.1);
+    CHECK_THROWS_WITH_AS(tools::check_tool(spec, "s.lua:3"), doctest::Contains("shaft must be finite"), softcut::Error);
+  }
+
+  TEST_CASE("a grasper coming in at an angle is drawn along its approach and keeps it while it drags") {
+    auto spec = softcut::test::cantilever_spec(softcut::test::scratch_dir("sim_frame_scene_approach"), 0.6);
+    spec.loads.clear();
+    tools::ToolSpec g;
+    g.name = "jaw";
+    g.kind = tools::ToolSpec::Kind::grasper;
+    g.drive = tools::ToolSpec::Drive::spring;
+    g.stiffness = 50;
+    g.radius = 0.003;
+    // In from the upper right at 45 degrees to the top face (z = 0.02), then dragged along y.
+    const V start(0.09, 0.01, 0.042), touch(0.07, 0.01, 0.022);
+    g.path = tools::Path::polyline({0.0, 0.2, 0.3, 0.6}, {start, touch, touch, touch + V(0, 0.01, 0.002)});
+    spec.tools = {g};
+    const sim::Model m = sim::compile(spec);
+    sim::State s = sim::make_state(m);
+    const V in = (start - touch).normalized();
+    for (int k = 0; k < 7; ++k) {  // t = 0 .. 0.6 s: in, touch at 0.2 s, hold, drag
+      sim::step(m, s);
+      const auto c = sim::scene_content(m, s);
+      REQUIRE(c.tools.size() == 1);
+      const V shaft = -std::get<softcut::render::GrasperShape>(c.tools[0]).axis;  // the jaws point against it
+      CAPTURE(s.time);
+      CHECK(s.tools[0].engaged == (s.time > 0.15));
+      if (k == 0) CHECK(shaft == V(0, 0, 1));  // not moved yet: the camera's up
+      else CHECK((shaft - in).norm() < 1e-12);  // trailing on the way in, then the approach kept while dragging
+    }
+    REQUIRE(s.tools[0].engaged);
+    CHECK(s.tools[0].touched);
+  }
 }
