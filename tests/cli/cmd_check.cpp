@@ -117,7 +117,7 @@ TEST_SUITE("cli/cmd_check") {
     std::ofstream(s) << text.replace(text.find("max = 1.02 * P.lift"), 19, "max = 0.9 * P.lift");
     const auto r = run_cli("check --backend cpu " + s.string());
     CHECK(r.status == 1);
-    CHECK(contains(r.output, "liver_retraction.lua:48: expect 'edge lifted' failed: mean uz of 4 nodes at t = 2 s is "));
+    CHECK(contains(r.output, "liver_retraction.lua:54: expect 'edge lifted' failed: mean uz of 6 nodes at t = 2 s is "));
     const fs::path dir = s.parent_path();
     std::ofstream(dir / "broken.lua") << "local s = softcut.scenario{ duration = 1 }\ns:mesh{ generate = 'box' }\ns:material{ youngs = 1 }\n";
     const auto b = run_cli("check --backend cpu " + dir.string());
