@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <map>
 #include <numbers>
 
 #include "mesh/surface.hpp"
@@ -163,9 +164,11 @@ struct SceneExtractor::Topology {
     if (have_inner) return inner;
     have_inner = true;
     if (tet_group.empty()) return inner;
-    std::vector<int> count(size_t(*std::max_element(tet_group.begin(), tet_group.end())) + 1, 0);
-    for (int g : tet_group) ++count[size_t(g)];
-    const int common = int(std::max_element(count.begin(), count.end()) - count.begin());
+    std::map<int, int> count;  // group -> tets (groups are any ids >= 0, so not a vector)
+    for (int g : tet_group) ++count[g];
+    const int common = std::max_element(count.begin(), count.end(), [](const auto& a, const auto& b) {
+                         return a.second < b.second;
+                       })->first;
     std::vector<std::array<int, 5>> faces;  // sorted nodes, tet, local face
     faces.reserve(size_t(4 * tets.rows()));
     for (int t = 0; t < int(tets.rows()); ++t)

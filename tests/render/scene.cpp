@@ -204,6 +204,8 @@ TEST_SUITE("render/scene") {
     off.show_inclusions = false;
     CHECK(render::extract_scene(m, m.nodes, c, off).inclusions.count() == 0);
     CHECK(render::extract_scene(m, m.nodes, c, {}).inclusions.count() == 0);  // the paper style has none
+    for (int& g : c.tet_group) g = g == 1 ? 1 << 30 : g;  // any group ids: a huge one costs nothing
+    CHECK(render::extract_scene(m, m.nodes, c, s).inclusions.count() == 6 * 4 * 2);
     c.tet_group.assign(size_t(m.num_tets()), 2);
     CHECK(render::extract_scene(m, m.nodes, c, s).inclusions.count() == 0);  // one group: nothing inside
     s.palette.inclusion_alpha = 0;
