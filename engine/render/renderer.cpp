@@ -316,35 +316,31 @@ struct Renderer::Impl {
     // lines and points (those drawn on top write no depth, so they show
     // through tissue); then the tools, depth-tested against the tissue: an
     // instrument is never covered by an inclusion, a point or a line.
-    auto draw_surface = [&](const Batch& b) {
+    // faint: blended over what is drawn, without depth test or polygon offset.
+    auto draw_surface = [&](const Batch& b, bool faint) {
       if (!b.count) return;
       glUseProgram(surface_prog);
       glEnable(GL_CULL_FACE);
       glCullFace(GL_BACK);
       glFrontFace(GL_CCW);
-      glEnable(GL_POLYGON_OFFSET_FILL);  // pushes faces back so their edges win the depth test
-      glPolygonOffset(1.0f, 1.0f);
-      glEnable(GL_DEPTH_TEST);
+      if (faint) {
+        glDisable(GL_DEPTH_TEST);
+        glEnable(GL_BLEND);
+        glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE);  // the image keeps its alpha
+      } else {
+        glEnable(GL_POLYGON_OFFSET_FILL);  // pushes faces back so their edges win the depth test
+        glPolygonOffset(1.0f, 1.0f);
+        glEnable(GL_DEPTH_TEST);
+      }
       glBindVertexArray(b.vao);
       glDrawArrays(GL_TRIANGLES, 0, b.count);
       glDisable(GL_POLYGON_OFFSET_FILL);
-      glDisable(GL_CULL_FACE);
-    };
-    draw_surface(tissue);
-    if (inclusions.count) {
-      glUseProgram(surface_prog);
-      glEnable(GL_CULL_FACE);
-      glCullFace(GL_BACK);
-      glFrontFace(GL_CCW);
-      glDisable(GL_DEPTH_TEST);
-      glEnable(GL_BLEND);
-      glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE);  // the image keeps its alpha
-      glBindVertexArray(inclusions.vao);
-      glDrawArrays(GL_TRIANGLES, 0, inclusions.count);
       glDisable(GL_BLEND);
       glDisable(GL_CULL_FACE);
       glEnable(GL_DEPTH_TEST);
-    }
+    };
+    draw_surface(tissue, false);
+    draw_surface(inclusions, true);
     glUseProgram(flat_prog);
     draw_flat(wire, GL_LINES, scene.wire.size_px, scene.wire.on_top);
     draw_flat(outline, GL_LINES, scene.outline.size_px, scene.outline.on_top);
@@ -352,7 +348,7 @@ struct Renderer::Impl {
     draw_flat(lines, GL_LINES, scene.force_lines.size_px, scene.force_lines.on_top);
     draw_flat(arrows, GL_LINES, scene.arrows.size_px, scene.arrows.on_top);
     draw_flat(mpoints, GL_POINTS, scene.manipulated_points.size_px, scene.manipulated_points.on_top);
-    draw_surface(tools);
+    draw_surface(tools, false);
     glBindVertexArray(0);
     if (samples > 1)
       glBlitNamedFramebuffer(ms_fbo, fbo, 0, 0, width, height, 0, 0, width, height, GL_COLOR_BUFFER_BIT, GL_NEAREST);

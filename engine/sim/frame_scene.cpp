@@ -68,37 +68,37 @@ render::SceneContent scene_content(const Model& m, const State& s) {
     if (!spec.enabled || s.time < spec.active_from || s.time > spec.active_until) continue;
     if (rs.show_forces)
       for (int n : ts.nodes) c.manipulated.push_back({n, ts.tip});
+    const Eigen::Vector3d shaft = shaft_axis(spec, ts, rs.up);
     if (spec.kind == tools::ToolSpec::Kind::scalpel) {
       // Blade behind its edge toward the shaft (against the pressing
       // direction when one is given: the blade then lies in the cut plane).
       render::ScalpelShape b;
       b.edge_a = ts.blade_a, b.edge_b = ts.blade_b;
-      const Eigen::Vector3d up = shaft_axis(spec, ts, rs.up);
       const double h = std::max(0.25 * spec.blade_length, 2 * spec.radius);
-      // The back of the blade: `up` made normal to the edge. An edge along
-      // `up` (a stab) has no such direction: the blade then stands on any
-      // normal to its edge (it is drawn from both sides), not on a line.
+      // The back of the blade: the shaft made normal to the edge. An edge
+      // along the shaft (a stab) has no such direction: the blade then stands
+      // on any normal to its edge (it is drawn from both sides), not on a line.
       const Eigen::Vector3d edge = ts.blade_b - ts.blade_a;
-      Eigen::Vector3d back = up;
+      Eigen::Vector3d back = shaft;
       if (edge.squaredNorm() > 0) {
         const Eigen::Vector3d e = edge.normalized();
-        back = up - up.dot(e) * e;
+        back = shaft - shaft.dot(e) * e;
         back = back.norm() > 0.1 ? Eigen::Vector3d(back.normalized()) : Eigen::Vector3d(e.unitOrthogonal());
       }
       b.spine = spec.blade_back.squaredNorm() > 0 ? ts.blade_c : Eigen::Vector3d(ts.blade_b + h * back);
-      b.handle_end = b.spine + 0.5 * (ts.blade_b - ts.blade_a) + 2.5 * h * up;
+      b.handle_end = b.spine + 0.5 * (ts.blade_b - ts.blade_a) + 2.5 * h * shaft;
       b.handle_radius = 0.12 * h;
       c.tools.push_back(b);
     } else if (spec.kind == tools::ToolSpec::Kind::probe) {
       render::ProbeShape p;
       p.tip = ts.tip;
-      p.axis = shaft_axis(spec, ts, rs.up);
+      p.axis = shaft;
       p.radius = spec.radius;
       p.length = 20 * spec.radius;
       c.tools.push_back(p);
     } else {
       render::GrasperShape g;
-      g.axis = -shaft_axis(spec, ts, rs.up);
+      g.axis = -shaft;
       g.hinge = g.axis.unitOrthogonal();
       g.jaw_length = 4 * spec.radius;
       g.jaw_width = 1.5 * spec.radius;

@@ -233,15 +233,8 @@ TEST_SUITE("sim/cutting (pieces cut free)") {
   TEST_CASE("an implicit grasper holding the end that is cut free is ignored from then on - one warning") {
     auto spec = free_cut_spec("cut_free_grasp", "cpu", 0.03, 0.1, 0.0812);
     spec.tools.pop_back();  // no probe
-    tools::ToolSpec g;
-    g.name = "jaw";
-    g.kind = tools::ToolSpec::Kind::grasper;
-    g.drive = tools::ToolSpec::Drive::spring;
-    g.stiffness = 20.0;  // N/m
-    g.radius = 0.0045;
     const V p(0.1, 0.01, 0.02);
-    g.path = tools::Path::polyline({0.0, 0.5}, {p, p + V(0, 0, 2e-4)});
-    spec.tools.push_back(g);
+    spec.tools.push_back(softcut::test::spring_grasper(20.0, 0.0045, tools::Path::polyline({0.0, 0.5}, {p, p + V(0, 0, 2e-4)})));
     const sim::Model m = sim::compile(spec);
     sim::State s = sim::make_state(m);
     CHECK(run_and_check_free_piece(m, s) >= 5);
@@ -264,15 +257,8 @@ TEST_SUITE("sim/cutting (pieces cut free)") {
     for (int b = 0; b < 2; ++b) {
       auto spec = free_cut_spec(std::string("cut_grip_") + backends[b], backends[b], 0.03, 0.07, 0.0512, true);
       spec.tools.pop_back();  // no probe
-      tools::ToolSpec g;
-      g.name = "jaw";
-      g.kind = tools::ToolSpec::Kind::grasper;
-      g.drive = tools::ToolSpec::Drive::spring;
-      g.stiffness = 20.0;
-      g.radius = 0.004;
       const V p(0.0512, 0.01, 0.02);
-      g.path = tools::Path::polyline({0.0, 1.3}, {p, p + V(0, 0, 2e-4)});
-      spec.tools.push_back(g);
+      spec.tools.push_back(softcut::test::spring_grasper(20.0, 0.004, tools::Path::polyline({0.0, 1.3}, {p, p + V(0, 0, 2e-4)})));
       const sim::Model m = sim::compile(spec);
       sim::State& s = runs[b];
       s = sim::make_state(m);

@@ -41,6 +41,19 @@ inline sim::ScenarioSpec cantilever_spec(const std::filesystem::path& out, doubl
   return s;
 }
 
+// A spring-driven grasper named "jaw" of total `stiffness` (N/m) and jaw
+// `radius` (m) on `path` (implicit, closing on first contact).
+inline tools::ToolSpec spring_grasper(double stiffness, double radius, tools::Path path) {
+  tools::ToolSpec g;
+  g.name = "jaw";
+  g.kind = tools::ToolSpec::Kind::grasper;
+  g.drive = tools::ToolSpec::Drive::spring;
+  g.stiffness = stiffness;
+  g.radius = radius;
+  g.path = std::move(path);
+  return g;
+}
+
 // A box bar from the origin to `size` (m), 10 x 4 x 4 cells, of one material
 // (`young` Pa, Poisson 0.4), operational between x = op_lo and op_hi across
 // the whole section, fixed at x = 0 and, when `both_ends`, at x = size.x.

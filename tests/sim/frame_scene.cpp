@@ -166,14 +166,7 @@ TEST_SUITE("sim/frame_scene") {
     // leaves the tissue well short of the tip, and the jaws stay with the tissue.
     auto spec = softcut::test::cantilever_spec(softcut::test::scratch_dir("sim_frame_scene_jaw"), 0.3);
     spec.loads.clear();
-    tools::ToolSpec g;
-    g.name = "jaw";
-    g.kind = tools::ToolSpec::Kind::grasper;
-    g.drive = tools::ToolSpec::Drive::spring;
-    g.stiffness = 0.2;
-    g.radius = 0.004;
-    g.path = tools::Path::polyline({0.0, 0.2}, {V(0.07, 0.01, 0.02), V(0.07, 0.01, 0.03)});
-    spec.tools = {g};
+    spec.tools = {softcut::test::spring_grasper(0.2, 0.004, tools::Path::polyline({0.0, 0.2}, {V(0.07, 0.01, 0.02), V(0.07, 0.01, 0.03)}))};
     const sim::Model m = sim::compile(spec);
     sim::State s = sim::make_state(m);
     for (int k = 0; k < 3; ++k) sim::step(m, s);
@@ -245,16 +238,9 @@ TEST_SUITE("sim/frame_scene") {
   TEST_CASE("a grasper coming in at an angle is drawn along its approach and keeps it while it drags") {
     auto spec = softcut::test::cantilever_spec(softcut::test::scratch_dir("sim_frame_scene_approach"), 0.6);
     spec.loads.clear();
-    tools::ToolSpec g;
-    g.name = "jaw";
-    g.kind = tools::ToolSpec::Kind::grasper;
-    g.drive = tools::ToolSpec::Drive::spring;
-    g.stiffness = 50;
-    g.radius = 0.003;
     // In from the upper right at 45 degrees to the top face (z = 0.02), then dragged along y.
     const V start(0.09, 0.01, 0.042), touch(0.07, 0.01, 0.022);
-    g.path = tools::Path::polyline({0.0, 0.2, 0.3, 0.6}, {start, touch, touch, touch + V(0, 0.01, 0.002)});
-    spec.tools = {g};
+    spec.tools = {softcut::test::spring_grasper(50, 0.003, tools::Path::polyline({0.0, 0.2, 0.3, 0.6}, {start, touch, touch, touch + V(0, 0.01, 0.002)}))};
     const sim::Model m = sim::compile(spec);
     sim::State s = sim::make_state(m);
     const V in = (start - touch).normalized();

@@ -30,15 +30,8 @@ sim::ScenarioSpec gpu_spec(const std::string& backend) {
   auto spec = softcut::test::cantilever_spec(softcut::test::scratch_dir("sim_solver_" + backend), 0.4, 0.02);
   spec.solver.backend = sim::parse_backend(backend);
   spec.solver.cg_tolerance = 1e-10;
-  tools::ToolSpec g;
-  g.name = "jaw";
-  g.kind = tools::ToolSpec::Kind::grasper;
-  g.drive = tools::ToolSpec::Drive::spring;
-  g.radius = 0.011;
-  g.stiffness = 20.0;
   const V p(0.07, 0.01, 0.02);
-  g.path = tools::Path::polyline({0.0, 0.4}, {p, p + V(0, 0.002, 0.004)});
-  spec.tools.push_back(g);
+  spec.tools.push_back(softcut::test::spring_grasper(20.0, 0.011, tools::Path::polyline({0.0, 0.4}, {p, p + V(0, 0.002, 0.004)})));
   return spec;
 }
 

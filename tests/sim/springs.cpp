@@ -56,15 +56,8 @@ sim::ScenarioSpec grasp_spec(const std::string& scratch, const std::string& back
   auto spec = softcut::test::cantilever_spec(softcut::test::scratch_dir(scratch), 0.3);
   spec.loads[0].magnitude = tools::Ramp::constant_value(0.01);
   spec.solver.backend = sim::parse_backend(backend);
-  tools::ToolSpec g;
-  g.name = "jaw";
-  g.kind = tools::ToolSpec::Kind::grasper;
-  g.drive = tools::ToolSpec::Drive::spring;
-  g.radius = 0.011;
   const V p(0.07, 0.01, 0.02);
-  g.path = tools::Path::polyline({0.0, 0.1}, {p, p + V(0, 0, 3e-3)});
-  g.stiffness = 1.0;  // set per test
-  spec.tools.push_back(g);
+  spec.tools.push_back(softcut::test::spring_grasper(1.0, 0.011, tools::Path::polyline({0.0, 0.1}, {p, p + V(0, 0, 3e-3)})));  // stiffness set per test
   return spec;
 }
 
@@ -258,14 +251,8 @@ TEST_SUITE("sim/springs") {
       spec.timeline.duration = 0.1;
       spec.timeline.frame_rate = 10.0;
       spec.outputs.dir = softcut::test::scratch_dir("sim_springs_patch");
-      tools::ToolSpec g;
-      g.name = "jaw";
-      g.kind = tools::ToolSpec::Kind::grasper;
-      g.drive = tools::ToolSpec::Drive::spring;
-      g.radius = radius;
-      g.stiffness = 1e5;  // stiff: the grip goes onto its target
-      g.path = tools::Path::polyline({0.0, 0.1}, {center, center + V(0, 0, 2e-3)});
-      spec.tools.push_back(g);
+      // Stiff: the grip goes onto its target.
+      spec.tools.push_back(softcut::test::spring_grasper(1e5, radius, tools::Path::polyline({0.0, 0.1}, {center, center + V(0, 0, 2e-3)})));
       const sim::Model m = sim::compile(spec);
       sim::State s = sim::make_state(m);
       for (int i = 0; i < m.num_frames; ++i) sim::step(m, s);
@@ -308,14 +295,8 @@ TEST_SUITE("sim/springs") {
     spec.fixed = sim::NodeSelector::box(V(-1, -1, -1), V(1, 1, 0));
     spec.solver.backend = sim::parse_backend("monolithic");
     spec.outputs.dir = softcut::test::scratch_dir("sim_springs_huge");
-    tools::ToolSpec g;
-    g.name = "jaw";
-    g.kind = tools::ToolSpec::Kind::grasper;
-    g.drive = tools::ToolSpec::Drive::spring;
-    g.radius = 0.05;  // the whole top face: 625 nodes
-    g.stiffness = 10.0;
-    g.path = tools::Path::fixed_at(V(0.02, 0.02, 0.01));
-    spec.tools.push_back(g);
+    // Its jaw radius covers the whole top face: 625 nodes.
+    spec.tools.push_back(softcut::test::spring_grasper(10.0, 0.05, tools::Path::fixed_at(V(0.02, 0.02, 0.01))));
     const sim::Model m = sim::compile(spec);
     sim::State s = sim::make_state(m);
     CHECK_THROWS_WITH_AS(sim::step(m, s), doctest::Contains("more than the 400 their exact solve allows"), softcut::Error);
