@@ -104,7 +104,6 @@ MesherOptions organ_mesher_options(const LabeledShape& s, const OrganOptions& o)
   } else {
     set_size(o.cell_size);
   }
-  estimate_tets(s, m);  // checks the options
   return m;
 }
 

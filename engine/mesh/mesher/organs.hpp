@@ -40,7 +40,8 @@ const std::vector<std::string>& organ_kinds();
 // The implicit shape of `kind` (throws naming the kind for an unknown one).
 LabeledShape organ_shape(const std::string& kind, const OrganOptions& o);
 
-// The mesher options that meet o.target_tets (or use o.cell_size).
+// The mesher options that meet o.target_tets (or use o.cell_size); not
+// checked here: estimate_tets and mesh_shape refuse bad ones, naming the shape.
 MesherOptions organ_mesher_options(const LabeledShape& s, const OrganOptions& o);
 
 // Meshes `kind`; when target_tets is set and the result is more than 20 %
