@@ -143,6 +143,7 @@ LoadedMesh generate(const std::string& gen, const std::map<std::string, double>&
     }
   } else if (std::find(mesh::organ_kinds().begin(), mesh::organ_kinds().end(), gen) != mesh::organ_kinds().end()) {
     mesh::OrganOptions g;
+    if (opts.count("cell_size") && !opts.count("target_tets")) g.target_tets = 0;  // a cell size alone sizes the mesh
     o.integer("target_tets", g.target_tets), o.num("cell_size", g.cell_size), o.num("scale", g.scale);
     o.vec("fine_center", g.fine_center), o.num("fine_radius", g.fine_radius), o.num("fine_ratio", g.fine_ratio);
     if (gen == "liver") o.num("lesion_radius", g.lesion_radius), o.vec("lesion_center", g.lesion_center);

@@ -53,6 +53,13 @@ TEST_SUITE("sim/mesh_source") {
     src.options = {{"target_tets", 1e6}};
     CHECK_THROWS_WITH_AS(sim::load_mesh_source(src, diag, 2e5), doctest::Contains("over this run's limit of 200000"),
                          softcut::Error);
+    // A cell size alone sizes the mesh (target_tets then defaults to off); both together are refused.
+    src.options = {{"cell_size", 0.012}};
+    const auto sized = sim::load_mesh_source(src, diag);
+    CHECK(sized.mesh.num_tets() > 100);
+    src.options = {{"cell_size", 0.012}, {"target_tets", 2000}};
+    CHECK_THROWS_WITH_AS(sim::load_mesh_source(src, diag), doctest::Contains("give target_tets or cell_size, not both"),
+                         softcut::Error);
     CHECK(sim::generator_options("knee_ligament").size() == 10);
     CHECK(sim::generator_options("liver").size() == 14);  // and lesion_radius, lesion_center
   }
