@@ -1,12 +1,14 @@
 // softcut bench hybrid: the paper's Tables 2-5 for the hybrid condensed model
-// on generated models of the paper's sizes and on a scaling series of boxes,
-// with the same frame solved monolithically in the same run as the baseline.
+// on generated models of the paper's sizes, a scaling series of boxes and
+// CGAL livers (organ-shaped, large curved surfaces), with the same frame
+// solved monolithically in the same run as the baseline.
 #include <unistd.h>
 
 #include <algorithm>
 #include <filesystem>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <random>
 #include <sstream>
 
@@ -22,6 +24,7 @@
 #include "hybrid/update.hpp"
 #include "mesh/generate/box.hpp"
 #include "mesh/generate/presets.hpp"
+#include "mesh/mesher/organs.hpp"
 #include "mesh/surface.hpp"
 
 namespace softcut::cli {
@@ -36,6 +39,13 @@ struct BenchModel {
   std::vector<int> fixed;
   std::vector<char> op_mask;
   int paper = -1;  // 0 ligament, 1 upper leg, -1 none
+  Storage storage = Storage::automatic;
+};
+
+// A model by name, built only when it is run (--only skips the others' meshing).
+struct ModelEntry {
+  std::string name;
+  std::function<BenchModel()> make;
   Storage storage = Storage::automatic;
 };
 
@@ -90,6 +100,22 @@ BenchModel box(int n, int op_tets) {
   for (int v = 0; v < b.mesh.num_nodes(); ++v)
     if (b.mesh.nodes(v, 0) == 0) b.fixed.push_back(v);
   b.op_mask = sphere_with_tets(b.mesh, Eigen::Vector3d(0.05, 0.025, 0.05), op_tets);
+  return b;
+}
+
+// A CGAL liver of about `tets` tets (the organ mesher's, as `softcut mesh
+// generate liver --target-tets N`; its tet count is within ~20 % of N), held
+// at the flattened underside of its right lobe (z <= -19 mm, as
+// scenarios/liver_retraction.lua), operational region of `op_tets` tets
+// under the right lobe's dome.
+BenchModel liver(int tets, int op_tets) {
+  mesh::OrganOptions o;
+  o.target_tets = tets;
+  BenchModel b{"liver", mesh::generate_organ("liver", o, 4.0 * tets), {}, {}, -1};
+  for (int v = 0; v < b.mesh.num_nodes(); ++v)
+    if (b.mesh.nodes(v, 2) <= -0.019) b.fixed.push_back(v);
+  const int c = nearest_surface_node(b.mesh, Eigen::Vector3d(0.025, 0, 0.045));
+  b.op_mask = sphere_with_tets(b.mesh, b.mesh.node(c), op_tets);
   return b;
 }
 
@@ -373,32 +399,33 @@ int bench_hybrid(const Args& args) {
       return 0;
     } else usage_fail("bench hybrid: unknown option '", args[i], "' (usage: softcut bench hybrid [--quick] [--only MODEL] [--storage dense|product|factor|automatic] [--json FILE] [--md FILE])");
   }
-  std::vector<BenchModel> models;
-  models.push_back(ligament());
-  models.push_back(upper_leg());
+  std::vector<ModelEntry> models;
+  models.push_back({"ligament", ligament});
+  models.push_back({"upper_leg", upper_leg});
   for (int n : quick ? std::vector<int>{8, 12} : std::vector<int>{8, 12, 16, 21})
-    models.push_back(box(n, n >= 12 ? 5000 : 1500));
+    models.push_back({cat("box_", 12 * n * n * n), [n] { return box(n, n >= 12 ? 5000 : 1500); }});
+  for (int k : quick ? std::vector<int>{8} : std::vector<int>{8, 30, 100})
+    models.push_back({cat("liver_", k, "k"), [k] { return liver(1000 * k, k > 8 ? 5000 : 1500); }});
 
   std::string json = cat("{\"benchmark\": \"hybrid\", \"quick\": ", quick ? "true" : "false", ", \"threads\": ",
                          thread_policy().threads, ", \"models\": [");
   std::string t2, t3, t45, t5;
   if (storage == Storage::automatic)  // the paper models also in the paper's dense storage and in factor storage
     for (int k : {1, 0})
-      for (Storage st : {Storage::factor, Storage::dense}) {
-        BenchModel f = models[size_t(k)];
-        f.name += cat("_", to_string(st));
-        f.storage = st;
-        models.insert(models.begin() + 2, f);
-      }
+      for (Storage st : {Storage::factor, Storage::dense})
+        models.insert(models.begin() + 2, {cat(models[size_t(k)].name, "_", to_string(st)), models[size_t(k)].make, st});
   if (!only.empty()) {
     std::string names;
-    for (const BenchModel& b : models) names += (names.empty() ? "" : ", ") + b.name;
-    models.erase(std::remove_if(models.begin(), models.end(), [&](const BenchModel& b) { return b.name != only; }),
+    for (const ModelEntry& e : models) names += (names.empty() ? "" : ", ") + e.name;
+    models.erase(std::remove_if(models.begin(), models.end(), [&](const ModelEntry& e) { return e.name != only; }),
                  models.end());
     if (models.empty()) usage_fail("bench hybrid: --only ", only, ": no such model (models: ", names, ")");
   }
   for (size_t k = 0; k < models.size(); ++k) {
-    const Result r = run_model(models[k], quick, storage);
+    BenchModel b = models[k].make();
+    b.name = models[k].name;
+    b.storage = models[k].storage;
+    const Result r = run_model(b, quick, storage);
     json += (k ? ", " : "") + r.json;
     t2 += r.table_row, t3 += r.precompute_row, t45 += r.update_row, t5 += r.poke_rows;
   }

@@ -30,11 +30,14 @@ ColumnCache::~ColumnCache() {
 }
 
 std::shared_ptr<NodeColumns> ColumnCache::compute(int pos, solve::SolveWorkspace& ws) const {
-  // Unit right-hand sides on the node's DOFs: surface position p is K22 node
-  // p (surface nodes come first in the K22 order).
-  Eigen::MatrixXd E = Eigen::MatrixXd::Zero(3 * Eigen::Index(model_.nonop_nodes.size()), 3);
-  for (int a = 0; a < 3; ++a) E(3 * Eigen::Index(pos) + a, a) = 1.0;
-  const Eigen::MatrixXd X = model_.K22.solve(E, ws);
+  // K22^-1 on unit right-hand sides at the node's DOFs (surface position p
+  // is K22 node p: surface nodes come first in the K22 order). The forward
+  // half walks only the elimination-tree path of those DOFs, so a column
+  // costs about one backward solve, not a whole solve.
+  const int dofs[3] = {3 * pos, 3 * pos + 1, 3 * pos + 2};
+  Eigen::MatrixXd Y, X;
+  model_.K22.forward_unit_into(dofs, Y, ws);
+  model_.K22.backward_into(Y, X, ws);
   auto c = std::make_shared<NodeColumns>();
   c->Kstar_inv = X.topRows(3 * Eigen::Index(model_.ns()));
   c->KI2_K22inv = model_.KI2 * X;

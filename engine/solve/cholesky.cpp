@@ -1,5 +1,8 @@
 #include "solve/cholesky.hpp"
 
+#include <algorithm>
+#include <vector>
+
 #include "core/binary_io.hpp"
 #include "core/error.hpp"
 
@@ -153,6 +156,126 @@ void Cholesky::backward_into(const Eigen::VectorXd& y, Eigen::VectorXd& x, Solve
   x.resize(y.size());
   for (Eigen::Index k = 0; k < y.size(); ++k) x[perm ? perm[k] : k] = t[k];
 }
+
+void Cholesky::backward_into(const Eigen::MatrixXd& Y, Eigen::MatrixXd& X, SolveWorkspace& ws) const {
+  if (!llt_) fail("Cholesky::backward called before factor()");
+  if (Y.rows() != rows_) fail("Cholesky::backward: vectors of size ", Y.rows(), " for a ", rows_, "-row factor");
+  const cholmod_factor* L = llt_->raw();
+  if (!L->is_ll) fail("Cholesky::backward: the factor is not LL' (an LDL' factor would need D)");
+  X.resize(Y.rows(), Y.cols());
+  if (Y.cols() == 0) return;
+  const int* perm = static_cast<const int*>(L->Perm);
+  if (!L->is_super) {
+    cholmod_dense in = dense_view(Y.data(), Y.rows(), Y.cols());
+    cholmod_dense* out = cholmod_solve(CHOLMOD_Lt, llt_->raw(), &in, &ws.common());
+    if (!out) fail("Cholesky::backward: CHOLMOD failed (status ", ws.common().status, "; out of memory?)");
+    const Eigen::Map<const Eigen::MatrixXd> t(static_cast<const double*>(out->x), Y.rows(), Y.cols());
+    for (Eigen::Index k = 0; k < Y.rows(); ++k) X.row(perm ? perm[k] : k) = t.row(k);
+    cholmod_free_dense(&out, &ws.common());
+    return;
+  }
+  // Supernodes from the root down (layout as in forward_unit_into): each
+  // block of L is read once, and its below-diagonal part as dot products
+  // with the few right-hand sides (a BLAS product would first copy the
+  // block into its own layout: twice the memory traffic for 3 columns).
+  const int* super = static_cast<const int*>(L->super);
+  const int* pi = static_cast<const int*>(L->pi);
+  const int* px = static_cast<const int*>(L->px);
+  const int* Ls = static_cast<const int*>(L->s);
+  const double* Lx = static_cast<const double*>(L->x);
+  Eigen::MatrixXd T = Y, G;
+  for (int s = int(L->nsuper) - 1; s >= 0; --s) {
+    const int nscol = super[s + 1] - super[s], below = pi[s + 1] - pi[s] - nscol;
+    const Eigen::Map<const Eigen::MatrixXd, 0, Eigen::OuterStride<>> block(Lx + px[s], nscol + below, nscol,
+                                                                          Eigen::OuterStride<>(nscol + below));
+    auto t = T.middleRows(super[s], nscol);
+    if (below > 0) {
+      G.resize(below, T.cols());
+      for (int i = 0; i < below; ++i) G.row(i) = T.row(Ls[pi[s] + nscol + i]);
+      t.noalias() -= block.bottomRows(below).transpose().lazyProduct(G);
+    }
+    // L11' t = t, by columns of L11 (contiguous), one dot product per column and right-hand side.
+    for (int c = nscol - 1; c >= 0; --c) {
+      const int len = nscol - c - 1;
+      for (Eigen::Index k = 0; k < t.cols(); ++k)
+        t(c, k) = (t(c, k) - block.col(c).segment(c + 1, len).dot(t.col(k).segment(c + 1, len))) / block(c, c);
+    }
+  }
+  for (Eigen::Index k = 0; k < Y.rows(); ++k) X.row(perm ? perm[k] : k) = T.row(k);
+}
+
+void Cholesky::forward_unit_into(std::span<const int> rows, Eigen::MatrixXd& Y, SolveWorkspace& ws) const {
+  if (!llt_) fail("Cholesky::forward called before factor()");
+  for (int r : rows)
+    if (r < 0 || r >= rows_) fail("Cholesky::forward: unit column at row ", r, " of a ", rows_, "-row factor");
+  const cholmod_factor* L = llt_->raw();
+  const Eigen::Index m = Eigen::Index(rows.size());
+  if (!L->is_super) {
+    Eigen::MatrixXd E = Eigen::MatrixXd::Zero(rows_, m);
+    for (Eigen::Index j = 0; j < m; ++j) E(rows[size_t(j)], j) = 1;
+    forward_into(E, Y, ws);
+    return;
+  }
+  // Supernode s holds columns super[s] .. super[s+1]-1 of L; its rows are
+  // Ls[pi[s] ..] (its own columns first), its values an nsrow x nscol
+  // column-major block at Lx[px[s]]. The parent of s is the supernode of its
+  // first row below the diagonal block; parents come after children.
+  const int* super = static_cast<const int*>(L->super);
+  const int* pi = static_cast<const int*>(L->pi);
+  const int* px = static_cast<const int*>(L->px);
+  const int* Ls = static_cast<const int*>(L->s);
+  const double* Lx = static_cast<const double*>(L->x);
+  const int* perm = static_cast<const int*>(L->Perm);
+  const int nsuper = int(L->nsuper);
+  auto supernode_of = [&](int col) { return int(std::upper_bound(super, super + nsuper + 1, col) - super) - 1; };
+
+  // Column of L where each unit vector lands after the permutation (P e_r = e_k with perm[k] = r).
+  std::vector<int> column(size_t(m), -1);
+  {
+    std::vector<int> wanted(size_t(rows_), -1);
+    for (Eigen::Index j = 0; j < m; ++j) wanted[size_t(rows[size_t(j)])] = int(j);
+    for (int k = 0; k < rows_; ++k) {
+      const int j = wanted[size_t(perm ? perm[k] : k)];
+      if (j >= 0) column[size_t(j)] = k;
+    }
+    for (Eigen::Index j = 0; j < m; ++j) column[size_t(j)] = column[size_t(wanted[size_t(rows[size_t(j)])])];
+  }
+  std::vector<int> path;
+  std::vector<char> on(size_t(nsuper), 0);
+  for (int k : column)
+    for (int s = supernode_of(k); !on[size_t(s)];) {
+      on[size_t(s)] = 1;
+      path.push_back(s);
+      const int nscol = super[s + 1] - super[s], nsrow = pi[s + 1] - pi[s];
+      if (nsrow == nscol) break;
+      s = supernode_of(Ls[pi[s] + nscol]);
+    }
+  std::sort(path.begin(), path.end());
+
+  Y.setZero(rows_, m);
+  for (Eigen::Index j = 0; j < m; ++j) Y(column[size_t(j)], j) = 1;
+  // Each supernode on the path, right-looking: V = its rows of Y (its own
+  // first); column c of its block, read once, finishes V's row c and
+  // updates every row below it; then V goes back to Y's rows.
+  Eigen::MatrixXd V;
+  for (int s : path) {
+    const int nscol = super[s + 1] - super[s], nsrow = pi[s + 1] - pi[s];
+    const double* block = Lx + px[s];
+    V.resize(nsrow, m);
+    for (int i = 0; i < nsrow; ++i) V.row(i) = Y.row(Ls[pi[s] + i]);
+    for (int c = 0; c < nscol; ++c) {
+      const int len = nsrow - c - 1;
+      const Eigen::Map<const Eigen::VectorXd> below(block + size_t(c) * size_t(nsrow) + c + 1, len);
+      for (Eigen::Index k = 0; k < m; ++k) {
+        const double v = V(c, k) /= block[size_t(c) * size_t(nsrow) + c];
+        if (v != 0) V.col(k).tail(len) -= v * below;
+      }
+    }
+    for (int i = 0; i < nsrow; ++i) Y.row(Ls[pi[s] + i]) = V.row(i);
+  }
+}
+
+bool Cholesky::supernodal() const { return llt_ && llt_->raw()->is_super; }
 
 Eigen::MatrixXd Cholesky::solve(const Eigen::SparseMatrix<double>& B) const {
   return solve(Eigen::MatrixXd(B));

@@ -7,6 +7,7 @@
 #include <Eigen/SparseCore>
 #include <limits>
 #include <memory>
+#include <span>
 #include <string>
 
 namespace softcut {
@@ -66,6 +67,16 @@ class Cholesky {
   // so A^-1 b = backward(forward(b)) and (A^-1)(i, j) = forward(e_i) . forward(e_j).
   void forward_into(const Eigen::MatrixXd& B, Eigen::MatrixXd& Y, SolveWorkspace& ws) const;
   void backward_into(const Eigen::VectorXd& y, Eigen::VectorXd& x, SolveWorkspace& ws) const;
+  // backward for a few columns at once (a supernodal factor is read once,
+  // by dot products with the columns; not thread-safe against itself only
+  // through `ws`, which it does not use then).
+  void backward_into(const Eigen::MatrixXd& Y, Eigen::MatrixXd& X, SolveWorkspace& ws) const;
+  // forward(E) for unit columns E = [e_rows[0] e_rows[1] ...]: walks only
+  // the supernodes on the elimination-tree paths from those rows to the root
+  // (the rest of Y is exactly zero), so it costs a small part of a whole
+  // forward solve on a large factor. Same Y as forward_into up to rounding;
+  // a simplicial factor (small systems) takes forward_into.
+  void forward_unit_into(std::span<const int> rows, Eigen::MatrixXd& Y, SolveWorkspace& ws) const;
 
   // Nonzeros of the factor L (CHOLMOD's count after the symbolic analysis).
   double factor_nonzeros() const { return lnz_; }
@@ -82,6 +93,8 @@ class Cholesky {
 
   int rows() const { return rows_; }
   bool factored() const { return bool(llt_); }
+  // CHOLMOD chose a supernodal factor (large or dense systems), else simplicial.
+  bool supernodal() const;
 
  private:
   class Llt;  // Eigen's decomposition with access to its cholmod_factor

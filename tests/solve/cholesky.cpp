@@ -3,6 +3,7 @@
 #include <doctest/doctest.h>
 
 #include <Eigen/Dense>
+#include <vector>
 
 #include "core/error.hpp"
 #include "spd_fixtures.hpp"
@@ -26,6 +27,43 @@ TEST_SUITE("solve/cholesky") {
       CHECK((chol.solve(B) - X).norm() <= 1e-10 * X.norm());
       const Eigen::SparseMatrix<double> Bs = B.sparseView();
       CHECK((chol.solve(Bs) - X).norm() <= 1e-10 * X.norm());
+    }
+  }
+
+  TEST_CASE("unit forward and many-column backward halves equal the solve on supernodal and simplicial factors") {
+    // n = 12: 5184 unknowns, which CHOLMOD factors supernodally; n = 3: simplicial.
+    for (const int n : {12, 3}) {
+      const Eigen::SparseMatrix<double> A = test::grid_spd(n, 11);
+      const solve::Cholesky chol(A, "test matrix");
+      CHECK(chol.supernodal() == (n == 12));
+      solve::SolveWorkspace ws;
+      for (const std::vector<int>& rows :
+           {std::vector<int>{0}, std::vector<int>{int(A.rows()) - 1, 5, 6, 7}, std::vector<int>{9, 9, 2},
+            std::vector<int>{}}) {
+        Eigen::MatrixXd E = Eigen::MatrixXd::Zero(A.rows(), Eigen::Index(rows.size()));
+        for (size_t j = 0; j < rows.size(); ++j) E(rows[j], Eigen::Index(j)) = 1;
+        Eigen::MatrixXd Yd, Yu, X;
+        chol.forward_into(E, Yd, ws);
+        chol.forward_unit_into(rows, Yu, ws);
+        REQUIRE(Yu.rows() == Yd.rows());
+        REQUIRE(Yu.cols() == Yd.cols());
+        CHECK((Yu - Yd).norm() <= 1e-14 * std::max(1.0, Yd.norm()));
+        chol.backward_into(Yu, X, ws);
+        const Eigen::MatrixXd Xs = chol.solve(E);
+        CHECK((X - Xs).norm() <= 1e-12 * std::max(1.0, Xs.norm()));
+      }
+      // backward on a dense block equals the vector backward, column by column
+      const Eigen::MatrixXd Y = Eigen::MatrixXd::Random(A.rows(), 3);
+      Eigen::MatrixXd X;
+      chol.backward_into(Y, X, ws);
+      for (Eigen::Index k = 0; k < 3; ++k) {
+        Eigen::VectorXd x;
+        chol.backward_into(Eigen::VectorXd(Y.col(k)), x, ws);
+        CHECK((X.col(k) - x).norm() <= 1e-12 * x.norm());
+      }
+      Eigen::MatrixXd Y2;
+      CHECK_THROWS_WITH_AS(chol.forward_unit_into(std::vector<int>{int(A.rows())}, Y2, ws),
+                           doctest::Contains("unit column at row"), softcut::Error);
     }
   }
 
