@@ -153,7 +153,7 @@ api.functions = {
       F("start", "number", "in contact from this time", { unit = "s", ge = 0, default = 0 }),
       F("stop", "number", "until this time (default: the end)", { unit = "s", ge = 0 }),
       F("shaft", "vec3", "drawing only: direction from the tip to the handle (default: against `direction`, else "
-        .. "back along the way the tip came to its first contact, else the camera's up)") },
+        .. "back along the way the tip came to its first contact, else the camera's up)", { nonzero = true }) },
     example = 's:probe{ name = "tip", path = softcut.path.polyline{ times = {0, 1}, points = {{0.05, 0.02, 0.05}, {0.05, 0.02, 0.04}} },\n         radius = 0.004, stiffness = 200 }' },
   { name = "Scenario:grasper", summary = "A grasper: closes at `start` (or the first frame after it that touches) "
       .. "on the patch of surface under its jaw (facing it, within the jaw radius), points spread over it and bound to their "
@@ -171,7 +171,7 @@ api.functions = {
       F("implicit", "boolean", "spring solved exactly within each frame (false: explicit, lags a frame and "
         .. "needs stiffness x compliance < 1)", { default = true }),
       F("shaft", "vec3", "drawing only: direction from the jaws to the handle (default: back along the way the "
-        .. "jaws came to the tissue, else the camera's up)") },
+        .. "jaws came to the tissue, else the camera's up)", { nonzero = true }) },
     example = 's:grasper{ name = "jaw", path = softcut.path.catmull_rom{ times = {0, 1, 2}, points = {{0, 0, 0.03}, {0, 0, 0.045}, {0.01, 0, 0.05}} },\n           stiffness = 400 }' },
   { name = "Scenario:scalpel", summary = "A scalpel: a blade edge of `length` along `axis`, centred on its path, "
       .. "that presses the surface within `radius` of the edge like a probe (`force` ramp or spring `stiffness`). "
@@ -195,7 +195,7 @@ api.functions = {
       F("start", "number", "in contact from this time", { unit = "s", ge = 0, default = 0 }),
       F("stop", "number", "until this time (default: the end)", { unit = "s", ge = 0 }),
       F("shaft", "vec3", "drawing only: direction from the edge to the handle (default: against `direction`, "
-        .. "else back along the way the blade came to the tissue, else the camera's up)") },
+        .. "else back along the way the blade came to the tissue, else the camera's up)", { nonzero = true }) },
     example = 's:scalpel{ name = "blade", path = softcut.path.polyline{ times = {0, 1}, points = {{0.05, 0.02, 0.045}, {0.05, 0.02, 0.02}} },\n          length = 0.05, axis = {0, 1, 0}, force = softcut.ramp.linear{ t1 = 0.3, to = 2 }, cut_pressure = 2e4 }' },
   { name = "Scenario:cutting", summary = "Cutter options (rarely needed; docs/cutting.md).", fields = {
       F("snap_fraction", "number", "crossings closer than this fraction of an edge to its end snap to the node",

@@ -163,6 +163,10 @@ function check.value(fname, f, v)
     end
   end
   if type(v) == "number" then check_range(fname, f, v) end
+  if f.nonzero and v[1] == 0 and v[2] == 0 and v[3] == 0 then
+    check.fail(fname, "field '%s' must be a nonzero vector (any length > 0; leave it out for the default), got {0, 0, 0}",
+      f.name)
+  end
   if f.type == "number[]" or f.type == "integer[]" then
     for _, x in ipairs(v) do check_range(fname, f, x) end
   end

@@ -63,6 +63,7 @@ local function range_text(f)
   if f.ge then parts[#parts + 1] = ">= " .. tostring(f.ge) end
   if f.lt then parts[#parts + 1] = "< " .. tostring(f.lt) end
   if f.le then parts[#parts + 1] = "<= " .. tostring(f.le) end
+  if f.nonzero then parts[#parts + 1] = "nonzero" end
   if f.values then parts[#parts + 1] = "one of " .. table.concat(f.values, ", ") end
   return table.concat(parts, ", ")
 end

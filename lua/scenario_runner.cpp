@@ -50,6 +50,19 @@ void each(lua_State* L, int idx, const char* key, Fn&& fn) {
   lua_pop(L, 1);
 }
 
+// The name, source position and region every region assignment (s:material,
+// s:prestress) carries.
+template <class Assignment>
+Assignment region_assignment(lua_State* L, int m) {
+  Assignment a;
+  a.name = get_string(L, m, "name");
+  a.where = get_string(L, m, "where");
+  push_field(L, m, "region");
+  a.tets = to_tet_selector(L, -1);
+  lua_pop(L, 1);
+  return a;
+}
+
 sim::ScenarioSpec spec_from_table(lua_State* L, int s, const fs::path& source) {
   sim::ScenarioSpec spec;
   const std::string where = get_string(L, s, "where");
@@ -72,12 +85,7 @@ sim::ScenarioSpec spec_from_table(lua_State* L, int s, const fs::path& source) {
   lua_pop(L, 2);
 
   each(L, s, "_materials", [&](int m) {
-    sim::MaterialAssignment a;
-    a.name = get_string(L, m, "name");
-    a.where = get_string(L, m, "where");
-    push_field(L, m, "region");
-    a.tets = to_tet_selector(L, -1);
-    lua_pop(L, 1);
+    auto a = region_assignment<sim::MaterialAssignment>(L, m);
     a.preset = get_string(L, m, "tissue");
     a.young = get_number(L, m, "young", 0.0);
     a.poisson = get_number(L, m, "poisson", -2.0);
@@ -85,12 +93,7 @@ sim::ScenarioSpec spec_from_table(lua_State* L, int s, const fs::path& source) {
   });
 
   each(L, s, "_prestress", [&](int m) {
-    sim::PrestressAssignment a;
-    a.name = get_string(L, m, "name");
-    a.where = get_string(L, m, "where");
-    push_field(L, m, "region");
-    a.tets = to_tet_selector(L, -1);
-    lua_pop(L, 1);
+    auto a = region_assignment<sim::PrestressAssignment>(L, m);
     const double xx = get_number(L, m, "xx", 0.0), yy = get_number(L, m, "yy", 0.0), zz = get_number(L, m, "zz", 0.0);
     const double yz = get_number(L, m, "yz", 0.0), zx = get_number(L, m, "zx", 0.0), xy = get_number(L, m, "xy", 0.0);
     a.strain << xx, xy, zx, xy, yy, yz, zx, yz, zz;

@@ -276,5 +276,18 @@ return s
 )");
     const std::string err = scenario_error(bad);
     CHECK(contains(err, bad.string() + ":8: scalpel: missing field 'cut_pressure'"));
+
+    // A zero shaft is refused where it is written (leaving it out means the default).
+    const fs::path zero = write_scenario("runner_shaft_zero", std::string(kBoxHead) + R"(
+s:grasper{ name = "jaw", path = softcut.path.fixed{ 0, 0, 0.05 }, stiffness = 5, shaft = {0, 0, 0} }
+return s
+)");
+    CHECK(contains(scenario_error(zero), zero.string() + ":8: grasper: field 'shaft' must be a nonzero vector"));
+    // A cut colour outside [0, 1] is refused, naming the setting.
+    const fs::path colour = write_scenario("runner_cut_color", std::string(kBoxHead) + R"(
+s:output{ render = { cut_color = {0.5, 1.5, 0.2} } }
+return s
+)");
+    CHECK(contains(scenario_error(colour), "outputs.render: cut_color must be RGB in [0, 1]"));
   }
 }
