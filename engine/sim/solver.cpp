@@ -1,5 +1,6 @@
 #include "sim/solver.hpp"
 
+#include <algorithm>
 #include <vector>
 
 #include "core/timer.hpp"
@@ -211,6 +212,14 @@ class HybridSolver final : public Solver {
 
   void unit_responses(const std::vector<int>& nodes, SolverRun& warm, Eigen::MatrixXd& out) const override {
     HybridRunState& rs = run_state(warm);
+    const hybrid::OperationalSystem& op = *rs.state.operational;
+    if (std::all_of(nodes.begin(), nodes.end(), [&](int n) {
+          return n >= 0 && size_t(n) < op.node_index.size() && op.node_index[size_t(n)] >= 0;
+        })) {
+      operational_unit_responses(nodes, rs, out);
+      return;
+    }
+    // A nonoperational surface node among them: each column through a whole update.
     if (!rs.unit) rs.unit = std::make_unique<hybrid::State>(hybrid::make_state(model_));
     hybrid::State& scratch = *rs.unit;
     if (scratch.operational != rs.state.operational) hybrid::set_operational_system(scratch, rs.state.operational);
@@ -233,6 +242,54 @@ class HybridSolver final : public Solver {
         hybrid::update(model_, scratch, std::span<const hybrid::Load>(&unit, 1), *rs.state.solver, opt);
         out.col(Eigen::Index(3 * j + a)) = fem::flatten(scratch.u) - u_zero;
       }
+  }
+
+  // Unit responses of operational and interface nodes (a grasp in the
+  // operational region, the usual case) in one batch, the same numbers as
+  // through update() up to rounding: x = A^-1 e per column (the operational
+  // system; the initial strains and P' cancel in a response), then the
+  // nonoperational rows of all columns at once from AI = the interface part
+  // of x: the surface by (K*^-1 P*) AI, and K22^-1 (-K2I AI) for the interior
+  // (and the surface in factor storage) as one multi-column solve. At 93k
+  // tets this takes a 37-node grasp's compliance from 3 s (111 whole updates,
+  // each with a K22 solve) to a fraction of it.
+  void operational_unit_responses(const std::vector<int>& nodes, HybridRunState& rs, Eigen::MatrixXd& out) const {
+    const hybrid::OperationalSystem& op = *rs.state.operational;
+    const Eigen::Index m3 = 3 * Eigen::Index(nodes.size()), ni3 = 3 * Eigen::Index(op.num_interface);
+    const Eigen::Index nn = std::max<Eigen::Index>(model_.num_nodes, Eigen::Index(op.node_index.size()));
+    out.setZero(3 * nn, m3);
+    Eigen::MatrixXd AI(ni3, m3);
+    Eigen::VectorXd b = Eigen::VectorXd::Zero(op.size()), x;
+    for (size_t j = 0; j < nodes.size(); ++j)
+      for (int a = 0; a < 3; ++a) {
+        const Eigen::Index c = 3 * Eigen::Index(j) + a, dof = 3 * Eigen::Index(op.node_index[size_t(nodes[j])]) + a;
+        b[dof] = 1;
+        x.setZero(op.size());  // each column from zero: no dependence on column order
+        check_solve_residual(rs.state.solver->solve(op, b, x).relative_residual, "operational solve");
+        b[dof] = 0;
+        for (size_t k = 0; k < op.nodes.size(); ++k)
+          out.block<3, 1>(3 * Eigen::Index(op.nodes[k]), c) = x.segment<3>(3 * Eigen::Index(k));
+        AI.col(c) = x.tail(ni3);
+      }
+    if (model_.nonop_nodes.empty() || ni3 == 0) return;
+    const auto& surface = model_.partition.surface;
+    const bool product = model_.has_Kstar_inv_Pstar();
+    if (product) {
+      const Eigen::MatrixXd As = model_.Kstar_inv_Pstar * AI;
+      for (size_t p = 0; p < surface.size(); ++p)
+        out.middleRows<3>(3 * Eigen::Index(surface[p])) = As.middleRows<3>(3 * Eigen::Index(p));
+    }
+    if (product && !need_interior_) return;
+    const Eigen::MatrixXd W = model_.K22.solve(Eigen::MatrixXd(-(model_.K2I * AI)));
+    if (!product)
+      for (size_t p = 0; p < surface.size(); ++p)
+        out.middleRows<3>(3 * Eigen::Index(surface[p])) = W.middleRows<3>(3 * Eigen::Index(p));
+    if (need_interior_) {
+      const auto& interior = model_.partition.interior;
+      const Eigen::Index off = 3 * Eigen::Index(surface.size());
+      for (size_t k = 0; k < interior.size(); ++k)
+        out.middleRows<3>(3 * Eigen::Index(interior[k])) = W.middleRows<3>(off + 3 * Eigen::Index(k));
+    }
   }
 
   void solve(const Eigen::MatrixX3d& forces, Eigen::MatrixX3d& u, SolverRun& warm,

@@ -50,6 +50,52 @@ std::pair<sim::Model, sim::Model> loaded_cpu_and_gpu_models() {
 }  // namespace
 
 TEST_SUITE("sim/solver") {
+  TEST_CASE("unit responses of operational nodes come in one batch equal to whole updates and to the monolithic solve") {
+    // Nodes of the operational box (x in [0.04, 0.06]) and one on the
+    // nonoperational surface: with the surface node the hybrid solver takes
+    // every column through a whole update, without it one batch.
+    for (const std::string storage : {"product", "factor"})
+      for (const bool vtu : {false, true}) {  // vtu: interior rows wanted too
+        CAPTURE(storage);
+        CAPTURE(vtu);
+        auto spec = softcut::test::cantilever_spec(softcut::test::scratch_dir("sim_solver_units"));
+        spec.solver.storage = softcut::hybrid::parse_storage(storage);
+        spec.outputs.vtu = vtu;
+        const sim::Model m = sim::compile(spec);
+        spec.solver.backend = sim::Backend::monolithic;
+        const sim::Model mono = sim::compile(spec);
+        std::vector<int> op, all;
+        for (int n = 0; n < m.mesh.num_nodes(); ++n) {
+          const auto set = m.partition.node_set[size_t(n)];
+          if ((set == softcut::hybrid::NodeSet::operational || set == softcut::hybrid::NodeSet::interface) && op.size() < 4)
+            op.push_back(n);
+        }
+        REQUIRE(op.size() == 4);
+        REQUIRE_FALSE(m.partition.surface.empty());
+        all = op;
+        all.push_back(m.partition.surface.front());
+        sim::SolverRun run, run_all, run_mono;
+        m.solver->start_run(run, nullptr);
+        m.solver->start_run(run_all, nullptr);
+        mono.solver->start_run(run_mono, nullptr);
+        Eigen::MatrixXd R, R_all, R_mono;
+        m.solver->unit_responses(op, run, R);
+        m.solver->unit_responses(all, run_all, R_all);
+        mono.solver->unit_responses(op, run_mono, R_mono);
+        REQUIRE(R.cols() == 12);
+        REQUIRE(R.rows() == R_all.rows());
+        const Eigen::MatrixXd R_loop = R_all.leftCols(12);
+        CHECK((R - R_loop).norm() <= 1e-12 * R_loop.norm());
+        // Against the whole-mesh solve on every node the hybrid solver reports
+        // (interior rows only when wanted; they stay zero otherwise).
+        for (int n = 0; n < m.mesh.num_nodes(); ++n) {
+          const bool interior = m.partition.node_set[size_t(n)] == softcut::hybrid::NodeSet::interior;
+          if (interior && !vtu) CHECK(R.middleRows<3>(3 * n).norm() == 0);
+          else CHECK((R.middleRows<3>(3 * n) - R_mono.middleRows<3>(3 * n)).norm() <= 1e-9 * R_mono.norm());
+        }
+      }
+  }
+
   TEST_CASE("a solve whose residual is not small is an error, never a result") {
     CHECK_NOTHROW(sim::check_solve_residual(0.0, "x"));
     CHECK_NOTHROW(sim::check_solve_residual(sim::kMaxRelativeResidual, "x"));
