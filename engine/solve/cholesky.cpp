@@ -287,6 +287,31 @@ namespace softcut::solve {
 
 namespace {
 
+// What forward_unit_into and backward_into read of a supernodal factor,
+// beyond cholmod_check_factor (which lets a first supernode start past 0, the
+// last end before n, or a row index equal n): the supernodes tile 0..n-1,
+// each one's rows start with its own columns, the rows below them increase
+// within 0..n-1, and its block fits in the value array.
+bool supernodes_well_formed(const cholmod_factor& L) {
+  const int* super = static_cast<const int*>(L.super);
+  const int* pi = static_cast<const int*>(L.pi);
+  const int* px = static_cast<const int*>(L.px);
+  const int* Ls = static_cast<const int*>(L.s);
+  const long n = long(L.n), nsuper = long(L.nsuper);
+  if (super[0] != 0 || super[nsuper] != n || pi[0] != 0 || px[0] != 0 || size_t(pi[nsuper]) > L.ssize ||
+      size_t(px[nsuper]) > L.xsize)
+    return false;
+  for (long s = 0; s < nsuper; ++s) {
+    const long nscol = long(super[s + 1]) - super[s], nsrow = long(pi[s + 1]) - pi[s];
+    if (nscol < 1 || nsrow < nscol || long(px[s + 1]) - px[s] < nsrow * nscol) return false;
+    for (long i = 0; i < nsrow; ++i) {
+      const long row = Ls[pi[s] + i];
+      if (i < nscol ? row != super[s] + i : (row >= n || row <= long(Ls[pi[s] + i - 1]))) return false;
+    }
+  }
+  return true;
+}
+
 // The factor's layout, as saved (CHOLMOD int version, real LL').
 struct FactorHeader {
   std::int64_t n = 0, minor = 0, is_super = 0, ordering = 0, is_monotonic = 0;
@@ -394,7 +419,7 @@ void Cholesky::load(BinaryReader& r) {
     L->minor = n;
     double lnz = 0;
     r.pod(lnz);
-    if (!cholmod_check_factor(L, &c))
+    if (!cholmod_check_factor(L, &c) || (L->is_super && !supernodes_well_formed(*L)))
       fail(what, ": the saved Cholesky factor is inconsistent (CHOLMOD status ", c.status, ")");
     llt->adopt(L);
     L = nullptr;

@@ -67,9 +67,8 @@ class Cholesky {
   // so A^-1 b = backward(forward(b)) and (A^-1)(i, j) = forward(e_i) . forward(e_j).
   void forward_into(const Eigen::MatrixXd& B, Eigen::MatrixXd& Y, SolveWorkspace& ws) const;
   void backward_into(const Eigen::VectorXd& y, Eigen::VectorXd& x, SolveWorkspace& ws) const;
-  // backward for a few columns at once (a supernodal factor is read once,
-  // by dot products with the columns; not thread-safe against itself only
-  // through `ws`, which it does not use then).
+  // backward for a few columns at once: a supernodal factor is read once,
+  // by dot products with the columns (`ws` is then not used).
   void backward_into(const Eigen::MatrixXd& Y, Eigen::MatrixXd& X, SolveWorkspace& ws) const;
   // forward(E) for unit columns E = [e_rows[0] e_rows[1] ...]: walks only
   // the supernodes on the elimination-tree paths from those rows to the root
