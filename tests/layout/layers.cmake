@@ -2,8 +2,8 @@
 # headers of its own folder and of earlier ones only. Run by ctest:
 #   cmake -DROOT=<source dir> [-DMIN_FILES=n] -P tests/layout/layers.cmake
 # Fails naming the file, the include and both stages. lua/ (bindings) sits
-# after sim/ and before cli/ (the application).
-set(order core solve mesh fem hybrid gpu cut tools render sim lua cli)
+# after sim/ and before cli/ (the application); bench/ (the benchmarks) last.
+set(order core solve mesh fem hybrid gpu cut tools render sim lua cli bench)
 if(NOT ROOT)
   message(FATAL_ERROR "layers.cmake: pass -DROOT=<source dir>")
 endif()
@@ -11,8 +11,8 @@ set(bad 0)
 set(checked 0)
 foreach(stage IN LISTS order)
   list(FIND order ${stage} rank)
-  if(stage STREQUAL "lua")
-    set(dir "${ROOT}/lua")
+  if(stage STREQUAL "lua" OR stage STREQUAL "bench")
+    set(dir "${ROOT}/${stage}")
   else()
     set(dir "${ROOT}/engine/${stage}")
   endif()

@@ -9,7 +9,7 @@
 #include <sstream>
 #include <thread>
 
-#include "cli/bench.hpp"
+#include "bench/bench.hpp"
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "core/timer.hpp"
@@ -19,7 +19,7 @@
 #include "solve/cg.hpp"
 #include "solve/cholesky.hpp"
 
-namespace softcut::cli {
+namespace softcut::bench {
 
 namespace {
 
@@ -210,4 +210,4 @@ int bench_assembly(const Args& args) {
   return 0;
 }
 
-}  // namespace softcut::cli
+}  // namespace softcut::bench

@@ -1,13 +1,14 @@
 #pragma once
-// Benchmark hook: time per cut step against the size of the operational
-// region. No CLI here; `softcut bench` (engine/cli) may call it.
+// Time per cut step against the size of the operational region, on a box
+// (cut::cut_step alone: no solve, no rebuild; `softcut bench cut` measures
+// whole cut frames).
 #include <vector>
 
 #include "cut/cutter.hpp"
 
-namespace softcut::cut {
+namespace softcut::bench {
 
-struct CutBenchResult {
+struct CutStepsResult {
   int cells = 0;              // box cells per axis
   int region_tets = 0;        // operational (cuttable) tets before cutting
   int region_tets_after = 0;  // ... after the whole cut
@@ -22,6 +23,6 @@ struct CutBenchResult {
 // `region_fraction` of its height operational, the rest locked behind the
 // interface; a slanted blade lowered through the whole operational part in
 // `steps` equal steps. Deterministic.
-CutBenchResult bench_cut(int cells, int steps, double region_fraction = 1.0, const CutOptions& opt = {});
+CutStepsResult cut_steps(int cells, int steps, double region_fraction = 1.0, const cut::CutOptions& opt = {});
 
-}  // namespace softcut::cut
+}  // namespace softcut::bench

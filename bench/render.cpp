@@ -11,12 +11,12 @@
 #include <tuple>
 #include <vector>
 
-#include "cli/bench.hpp"
+#include "bench/bench.hpp"
 #include "cli/run_support.hpp"
 #include "core/error.hpp"
 #include "scenario_runner.hpp"
 
-namespace softcut::cli {
+namespace softcut::bench {
 
 int bench_render(const Args& args) {
   int width = 640, height = 480, samples = 4, frames = -1;
@@ -35,11 +35,11 @@ int bench_render(const Args& args) {
                 "  with S MSAA samples (4), and compares the time per frame");
       return 0;
     } else if (a == "--size") {
-      std::tie(width, height) = parse_size(value(), "--size");
+      std::tie(width, height) = cli::parse_size(value(), "--size");
     } else if (a == "--msaa") {
-      samples = parse_count(value(), "--msaa");
+      samples = cli::parse_count(value(), "--msaa");
     } else if (a == "--frames") {
-      frames = parse_count(value(), "--frames");
+      frames = cli::parse_count(value(), "--frames");
     } else if (a.rfind("-", 0) == 0) {
       usage_fail("bench render: unknown option '", a, "' (see softcut bench render --help)");
     } else {
@@ -90,4 +90,4 @@ int bench_render(const Args& args) {
   return 0;
 }
 
-}  // namespace softcut::cli
+}  // namespace softcut::bench

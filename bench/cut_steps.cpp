@@ -1,4 +1,4 @@
-#include "cut/cut_bench.hpp"
+#include "bench/cut_steps.hpp"
 
 #include <algorithm>
 
@@ -6,18 +6,20 @@
 #include "core/timer.hpp"
 #include "mesh/generate/box.hpp"
 
-namespace softcut::cut {
+namespace softcut::bench {
 
-CutBenchResult bench_cut(int cells, int steps, double region_fraction, const CutOptions& opt) {
+using namespace cut;
+
+CutStepsResult cut_steps(int cells, int steps, double region_fraction, const CutOptions& opt) {
   if (cells < 1 || steps < 1 || !(region_fraction > 0 && region_fraction <= 1))
-    fail("bench_cut: need cells >= 1, steps >= 1 and region_fraction in (0, 1], got ", cells, ", ", steps,
+    fail("cut_steps: need cells >= 1, steps >= 1 and region_fraction in (0, 1], got ", cells, ", ", steps,
          ", ", region_fraction);
   mesh::BoxOptions box;
   box.nx = box.ny = box.nz = cells;
   box.jitter = 0.15;
   mesh::TetMesh m = mesh::generate_box(box);
   std::vector<char> cuttable(size_t(m.num_tets()), 0);
-  CutBenchResult r;
+  CutStepsResult r;
   r.cells = cells;
   r.steps = steps;
   for (int t = 0; t < m.num_tets(); ++t) {
@@ -51,4 +53,4 @@ CutBenchResult bench_cut(int cells, int steps, double region_fraction, const Cut
   return r;
 }
 
-}  // namespace softcut::cut
+}  // namespace softcut::bench

@@ -1,4 +1,4 @@
-// engine/cli/bench*.cpp through the real executable (SOFTCUT_BIN): every
+// bench/*.cpp through the real executable (SOFTCUT_BIN): every
 // benchmark at the smallest sizes its options allow, checking the rows it
 // writes (JSON parsed, counts against closed forms, the hybrid/cut results
 // against the monolithic solve of the same run) and that bad options fail
@@ -178,7 +178,7 @@ void check_rejected(const std::string& args, const std::string& part, int status
 
 }  // namespace
 
-TEST_SUITE("cli/bench") {
+TEST_SUITE("bench/bench") {
   TEST_CASE("the JSON reader of this suite rejects what it must") {
     CHECK(JsonParser(R"({"a": [1, -2.5e-3, true, null, "x"], "b": {}})").parse()["a"][1].number() == -2.5e-3);
     CHECK(JsonParser("[true]").parse()[0].b);

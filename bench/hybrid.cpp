@@ -12,7 +12,7 @@
 #include <random>
 #include <sstream>
 
-#include "cli/bench.hpp"
+#include "bench/bench.hpp"
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "core/threads.hpp"
@@ -27,7 +27,7 @@
 #include "mesh/mesher/organs.hpp"
 #include "mesh/surface.hpp"
 
-namespace softcut::cli {
+namespace softcut::bench {
 
 namespace {
 
@@ -464,4 +464,4 @@ int bench_hybrid(const Args& args) {
   return 0;
 }
 
-}  // namespace softcut::cli
+}  // namespace softcut::bench

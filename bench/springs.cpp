@@ -5,14 +5,14 @@
 #include <filesystem>
 #include <string>
 
-#include "cli/bench.hpp"
+#include "bench/bench.hpp"
 #include "cli/run_support.hpp"
 #include "core/error.hpp"
 #include "core/timer.hpp"
 #include "sim/model.hpp"
 #include "sim/step.hpp"
 
-namespace softcut::cli {
+namespace softcut::bench {
 
 namespace {
 
@@ -89,7 +89,7 @@ int bench_springs(const Args& args) {
                 "  the compliance cache, and without it (R: grasper radius in m, default 0.009: a grip on 17 nodes)");
       return 0;
     } else if (a == "--frames" && i + 1 < args.size()) {
-      frames = std::max(2, parse_count(args[++i], "bench springs: --frames"));
+      frames = std::max(2, cli::parse_count(args[++i], "bench springs: --frames"));
     } else if (a == "--radius" && i + 1 < args.size()) {
       const std::string& v = args[++i];
       size_t used = 0;
@@ -119,4 +119,4 @@ int bench_springs(const Args& args) {
   return 0;
 }
 
-}  // namespace softcut::cli
+}  // namespace softcut::bench

@@ -15,7 +15,7 @@
 
 #include <memory>
 
-#include "cli/bench.hpp"
+#include "bench/bench.hpp"
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "core/timer.hpp"
@@ -26,7 +26,7 @@
 #include "mesh/generate/box.hpp"
 #include "solve/cholesky.hpp"
 
-namespace softcut::cli {
+namespace softcut::bench {
 
 namespace {
 
@@ -342,4 +342,4 @@ int bench_cut(const Args& args) {
   return 0;
 }
 
-}  // namespace softcut::cli
+}  // namespace softcut::bench

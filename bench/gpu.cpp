@@ -6,7 +6,7 @@
 #include <cstdio>
 #include <sstream>
 
-#include "cli/bench.hpp"
+#include "bench/bench.hpp"
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "core/timer.hpp"
@@ -16,7 +16,7 @@
 #include "mesh/generate/box.hpp"
 #include "solve/cg.hpp"
 
-namespace softcut::cli {
+namespace softcut::bench {
 namespace {
 
 constexpr const char* kUsage =
@@ -169,4 +169,4 @@ int bench_gpu(const Args& args) {
   return 0;
 }
 
-}  // namespace softcut::cli
+}  // namespace softcut::bench
