@@ -127,6 +127,28 @@ cholmod_dense dense_view(const double* data, Eigen::Index rows, Eigen::Index col
   return d;
 }
 
+// CHOLMOD's supernodal factor (int, real LL') as arrays. Supernode s holds
+// columns super[s] .. super[s+1]-1 of L; its rows are Ls[pi[s] ..] (its own
+// columns first, then increasing), its values a rows(s) x cols(s)
+// column-major block at Lx[px[s]]. The parent of s is the supernode of its
+// first row below the diagonal block; parents come after children.
+struct Supernodes {
+  explicit Supernodes(const cholmod_factor& L)
+      : super(static_cast<const int*>(L.super)), pi(static_cast<const int*>(L.pi)),
+        px(static_cast<const int*>(L.px)), Ls(static_cast<const int*>(L.s)), Lx(static_cast<const double*>(L.x)),
+        count(int(L.nsuper)) {}
+  const int *super, *pi, *px, *Ls;
+  const double* Lx;
+  int count;
+  int cols(int s) const { return super[s + 1] - super[s]; }
+  int rows(int s) const { return pi[s + 1] - pi[s]; }
+  Eigen::Map<const Eigen::MatrixXd, 0, Eigen::OuterStride<>> block(int s) const {
+    return {Lx + px[s], rows(s), cols(s), Eigen::OuterStride<>(rows(s))};
+  }
+  // The supernode holding column `col`.
+  int of(int col) const { return int(std::upper_bound(super, super + count + 1, col) - super) - 1; }
+};
+
 }  // namespace
 
 void Cholesky::forward_into(const Eigen::MatrixXd& B, Eigen::MatrixXd& Y, SolveWorkspace& ws) const {
@@ -174,24 +196,19 @@ void Cholesky::backward_into(const Eigen::MatrixXd& Y, Eigen::MatrixXd& X, Solve
     cholmod_free_dense(&out, &ws.common());
     return;
   }
-  // Supernodes from the root down (layout as in forward_unit_into): each
-  // block of L is read once, and its below-diagonal part as dot products
-  // with the few right-hand sides (a BLAS product would first copy the
-  // block into its own layout: twice the memory traffic for 3 columns).
-  const int* super = static_cast<const int*>(L->super);
-  const int* pi = static_cast<const int*>(L->pi);
-  const int* px = static_cast<const int*>(L->px);
-  const int* Ls = static_cast<const int*>(L->s);
-  const double* Lx = static_cast<const double*>(L->x);
+  // Supernodes from the root down: each block of L is read once, and its
+  // below-diagonal part as dot products with the few right-hand sides (a
+  // BLAS product would first copy the block into its own layout: twice the
+  // memory traffic for 3 columns).
+  const Supernodes sn(*L);
   Eigen::MatrixXd T = Y, G;
-  for (int s = int(L->nsuper) - 1; s >= 0; --s) {
-    const int nscol = super[s + 1] - super[s], below = pi[s + 1] - pi[s] - nscol;
-    const Eigen::Map<const Eigen::MatrixXd, 0, Eigen::OuterStride<>> block(Lx + px[s], nscol + below, nscol,
-                                                                          Eigen::OuterStride<>(nscol + below));
-    auto t = T.middleRows(super[s], nscol);
+  for (int s = sn.count - 1; s >= 0; --s) {
+    const int nscol = sn.cols(s), below = sn.rows(s) - nscol;
+    const auto block = sn.block(s);
+    auto t = T.middleRows(sn.super[s], nscol);
     if (below > 0) {
       G.resize(below, T.cols());
-      for (int i = 0; i < below; ++i) G.row(i) = T.row(Ls[pi[s] + nscol + i]);
+      for (int i = 0; i < below; ++i) G.row(i) = T.row(sn.Ls[sn.pi[s] + nscol + i]);
       t.noalias() -= block.bottomRows(below).transpose().lazyProduct(G);
     }
     // L11' t = t, by columns of L11 (contiguous), one dot product per column and right-hand side.
@@ -216,18 +233,8 @@ void Cholesky::forward_unit_into(std::span<const int> rows, Eigen::MatrixXd& Y, 
     forward_into(E, Y, ws);
     return;
   }
-  // Supernode s holds columns super[s] .. super[s+1]-1 of L; its rows are
-  // Ls[pi[s] ..] (its own columns first), its values an nsrow x nscol
-  // column-major block at Lx[px[s]]. The parent of s is the supernode of its
-  // first row below the diagonal block; parents come after children.
-  const int* super = static_cast<const int*>(L->super);
-  const int* pi = static_cast<const int*>(L->pi);
-  const int* px = static_cast<const int*>(L->px);
-  const int* Ls = static_cast<const int*>(L->s);
-  const double* Lx = static_cast<const double*>(L->x);
+  const Supernodes sn(*L);
   const int* perm = static_cast<const int*>(L->Perm);
-  const int nsuper = int(L->nsuper);
-  auto supernode_of = [&](int col) { return int(std::upper_bound(super, super + nsuper + 1, col) - super) - 1; };
 
   // Column of L where each unit vector lands after the permutation (P e_r = e_k with perm[k] = r).
   std::vector<int> column(size_t(m), -1);
@@ -240,15 +247,15 @@ void Cholesky::forward_unit_into(std::span<const int> rows, Eigen::MatrixXd& Y, 
     }
     for (Eigen::Index j = 0; j < m; ++j) column[size_t(j)] = column[size_t(wanted[size_t(rows[size_t(j)])])];
   }
+  // The supernodes on the paths from those columns to the root, children first.
   std::vector<int> path;
-  std::vector<char> on(size_t(nsuper), 0);
+  std::vector<char> on(size_t(sn.count), 0);
   for (int k : column)
-    for (int s = supernode_of(k); !on[size_t(s)];) {
+    for (int s = sn.of(k); !on[size_t(s)];) {
       on[size_t(s)] = 1;
       path.push_back(s);
-      const int nscol = super[s + 1] - super[s], nsrow = pi[s + 1] - pi[s];
-      if (nsrow == nscol) break;
-      s = supernode_of(Ls[pi[s] + nscol]);
+      if (sn.rows(s) == sn.cols(s)) break;
+      s = sn.of(sn.Ls[sn.pi[s] + sn.cols(s)]);
     }
   std::sort(path.begin(), path.end());
 
@@ -259,19 +266,19 @@ void Cholesky::forward_unit_into(std::span<const int> rows, Eigen::MatrixXd& Y, 
   // updates every row below it; then V goes back to Y's rows.
   Eigen::MatrixXd V;
   for (int s : path) {
-    const int nscol = super[s + 1] - super[s], nsrow = pi[s + 1] - pi[s];
-    const double* block = Lx + px[s];
+    const int nsrow = sn.rows(s);
+    const auto block = sn.block(s);
+    const int* rows_of_s = sn.Ls + sn.pi[s];
     V.resize(nsrow, m);
-    for (int i = 0; i < nsrow; ++i) V.row(i) = Y.row(Ls[pi[s] + i]);
-    for (int c = 0; c < nscol; ++c) {
+    for (int i = 0; i < nsrow; ++i) V.row(i) = Y.row(rows_of_s[i]);
+    for (int c = 0; c < sn.cols(s); ++c) {
       const int len = nsrow - c - 1;
-      const Eigen::Map<const Eigen::VectorXd> below(block + size_t(c) * size_t(nsrow) + c + 1, len);
       for (Eigen::Index k = 0; k < m; ++k) {
-        const double v = V(c, k) /= block[size_t(c) * size_t(nsrow) + c];
-        if (v != 0) V.col(k).tail(len) -= v * below;
+        const double v = V(c, k) /= block(c, c);
+        if (v != 0) V.col(k).tail(len) -= v * block.col(c).tail(len);
       }
     }
-    for (int i = 0; i < nsrow; ++i) Y.row(Ls[pi[s] + i]) = V.row(i);
+    for (int i = 0; i < nsrow; ++i) Y.row(rows_of_s[i]) = V.row(i);
   }
 }
 
@@ -293,21 +300,17 @@ namespace {
 // each one's rows start with its own columns, the rows below them increase
 // within 0..n-1, and its block fits in the value array.
 bool supernodes_well_formed(const cholmod_factor& L) {
-  const int* super = static_cast<const int*>(L.super);
-  const int* pi = static_cast<const int*>(L.pi);
-  const int* px = static_cast<const int*>(L.px);
-  const int* Ls = static_cast<const int*>(L.s);
-  const long n = long(L.n), nsuper = long(L.nsuper);
-  if (super[0] != 0 || super[nsuper] != n || pi[0] != 0 || px[0] != 0 || size_t(pi[nsuper]) > L.ssize ||
-      size_t(px[nsuper]) > L.xsize)
+  const Supernodes sn(L);
+  const long n = long(L.n);
+  if (sn.super[0] != 0 || sn.super[sn.count] != n || sn.pi[0] != 0 || sn.px[0] != 0 ||
+      size_t(sn.pi[sn.count]) > L.ssize || size_t(sn.px[sn.count]) > L.xsize)
     return false;
-  for (long s = 0; s < nsuper; ++s) {
-    const long nscol = long(super[s + 1]) - super[s], nsrow = long(pi[s + 1]) - pi[s];
-    if (nscol < 1 || nsrow < nscol || long(px[s + 1]) - px[s] < nsrow * nscol) return false;
-    for (long i = 0; i < nsrow; ++i) {
-      const long row = Ls[pi[s] + i];
-      if (i < nscol ? row != super[s] + i : (row >= n || row <= long(Ls[pi[s] + i - 1]))) return false;
-    }
+  for (int s = 0; s < sn.count; ++s) {
+    const long nscol = sn.cols(s), nsrow = sn.rows(s);
+    if (nscol < 1 || nsrow < nscol || long(sn.px[s + 1]) - sn.px[s] < nsrow * nscol) return false;
+    const int* rows = sn.Ls + sn.pi[s];
+    for (long i = 0; i < nsrow; ++i)
+      if (i < nscol ? rows[i] != sn.super[s] + i : (rows[i] >= n || rows[i] <= rows[i - 1])) return false;
   }
   return true;
 }
