@@ -27,7 +27,7 @@ jobs=$(nproc)
 ./scripts/install-deps.sh --test
 
 if [ "$quick" = 1 ]; then
-  ./scripts/build.sh
+  ./scripts/build.sh --all
   cd build
   exec ctest --output-on-failure --parallel "$jobs" --timeout 900
 fi
