@@ -107,6 +107,7 @@ class CholmodSolver : public OperationalSolver {
   int solves_since_launch_ = 0;
   long refactors_ = 0, adopted_ = 0, fallbacks_ = 0;
   std::unique_ptr<Eigen::LLT<Eigen::MatrixXd>> dense_;  // systems of up to kDenseMax unknowns
+  Eigen::MatrixXd dense_inverse_;                        // their inverse (lower triangle read)
   solve::SolveWorkspace ws_;  // CHOLMOD's solve buffers, kept between frames
   Eigen::VectorXd r_;  // residual scratch
   long generation_ = -1;
