@@ -3,17 +3,24 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
+#include <map>
+
+#include "core/error.hpp"
 
 namespace softcut::mesh {
 
-Surface extract_surface(const TetMesh& m, const std::vector<char>& tet_mask) {
-  // Sort all faces by their sorted node triple; a face that appears once is on
-  // the boundary. O(F log F), no hashing, deterministic.
-  struct Key {
-    std::array<int, 3> sorted;
-    int tet, local;
-  };
-  std::vector<Key> keys;
+namespace {
+
+struct FaceKey {
+  std::array<int, 3> sorted;
+  int tet, local;
+};
+
+// Every face of the tets with tet_mask[t] != 0 (all tets when the mask is
+// empty), sorted by node triple, then tet: a face used by two tets comes out
+// as two neighbours. O(F log F), no hashing, deterministic.
+std::vector<FaceKey> sorted_faces(const TetMesh& m, const std::vector<char>& tet_mask) {
+  std::vector<FaceKey> keys;
   keys.reserve(size_t(m.num_tets()) * 4);
   for (int t = 0; t < m.num_tets(); ++t) {
     if (!tet_mask.empty() && !tet_mask[size_t(t)]) continue;
@@ -24,23 +31,21 @@ Surface extract_surface(const TetMesh& m, const std::vector<char>& tet_mask) {
       keys.push_back({v, t, f});
     }
   }
-  std::sort(keys.begin(), keys.end(), [](const Key& a, const Key& b) {
+  std::sort(keys.begin(), keys.end(), [](const FaceKey& a, const FaceKey& b) {
     return a.sorted != b.sorted ? a.sorted < b.sorted : a.tet < b.tet;
   });
-  std::vector<std::pair<int, int>> boundary;  // (tet, local face)
-  for (size_t i = 0; i < keys.size();) {
-    size_t j = i + 1;
-    while (j < keys.size() && keys[j].sorted == keys[i].sorted) ++j;
-    if (j - i == 1) boundary.emplace_back(keys[i].tet, keys[i].local);
-    i = j;
-  }
-  std::sort(boundary.begin(), boundary.end());
+  return keys;
+}
+
+// The surface of the given (tet, local face) pairs, in that order, each
+// oriented as the face of its tet.
+Surface surface_of(const TetMesh& m, const std::vector<std::pair<int, int>>& faces) {
   Surface s;
-  s.faces.resize(Eigen::Index(boundary.size()), 3);
-  s.face_tet.resize(Eigen::Index(boundary.size()));
+  s.faces.resize(Eigen::Index(faces.size()), 3);
+  s.face_tet.resize(Eigen::Index(faces.size()));
   std::vector<char> on(size_t(m.num_nodes()), 0);
-  for (size_t i = 0; i < boundary.size(); ++i) {
-    const auto [t, f] = boundary[i];
+  for (size_t i = 0; i < faces.size(); ++i) {
+    const auto [t, f] = faces[i];
     for (int k = 0; k < 3; ++k) {
       const int v = m.tets(t, kTetFaces[f][k]);
       s.faces(Eigen::Index(i), k) = v;
@@ -51,6 +56,48 @@ Surface extract_surface(const TetMesh& m, const std::vector<char>& tet_mask) {
   for (int v = 0; v < m.num_nodes(); ++v)
     if (on[size_t(v)]) s.nodes.push_back(v);
   return s;
+}
+
+}  // namespace
+
+Surface extract_surface(const TetMesh& m, const std::vector<char>& tet_mask) {
+  // A face that appears once is on the boundary.
+  const std::vector<FaceKey> keys = sorted_faces(m, tet_mask);
+  std::vector<std::pair<int, int>> boundary;  // (tet, local face)
+  for (size_t i = 0; i < keys.size();) {
+    size_t j = i + 1;
+    while (j < keys.size() && keys[j].sorted == keys[i].sorted) ++j;
+    if (j - i == 1) boundary.emplace_back(keys[i].tet, keys[i].local);
+    i = j;
+  }
+  std::sort(boundary.begin(), boundary.end());
+  return surface_of(m, boundary);
+}
+
+Surface group_boundaries(const TetMesh& m, const std::vector<int>& tet_group) {
+  if (tet_group.empty()) return surface_of(m, {});
+  if (int(tet_group.size()) != m.num_tets())
+    fail("group_boundaries: ", tet_group.size(), " group ids for ", m.num_tets(), " tets");
+  std::map<int, int> count;  // group -> tets (groups are any ids, so not a vector)
+  for (int g : tet_group) ++count[g];
+  const int common = std::max_element(count.begin(), count.end(), [](const auto& a, const auto& b) {
+                       return a.second < b.second;
+                     })->first;
+  const std::vector<FaceKey> keys = sorted_faces(m, {});
+  std::vector<std::pair<int, int>> inner;  // (tet, local face) of the inclusion's side
+  for (size_t i = 0; i + 1 < keys.size(); ++i) {
+    const FaceKey& a = keys[i];
+    const FaceKey& b = keys[i + 1];
+    if (a.sorted != b.sorted) continue;
+    const int ga = tet_group[size_t(a.tet)], gb = tet_group[size_t(b.tet)];
+    if (ga != gb) {
+      const bool a_inside = gb == common || (ga != common && ga > gb);
+      const FaceKey& in = a_inside ? a : b;
+      inner.emplace_back(in.tet, in.local);
+    }
+    ++i;
+  }
+  return surface_of(m, inner);
 }
 
 std::vector<char> surface_node_mask(const TetMesh& m, const Surface& s) {

@@ -18,6 +18,13 @@ struct Surface {
 // Faces come out in a deterministic order (by tet, then local face).
 Surface extract_surface(const TetMesh& m, const std::vector<char>& tet_mask = {});
 
+// The inner boundaries between tissue groups (tet_group: an id per tet):
+// each face shared by tets of two groups, once, oriented outward from the
+// inclusion: as the face of the tet not of the commonest group, or of the
+// higher group where neither is. Faces come out ordered by node triple.
+// Empty for an empty tet_group; throws when its size is not the tet count.
+Surface group_boundaries(const TetMesh& m, const std::vector<int>& tet_group);
+
 // Per node: true if the node lies on the surface. (nnode)
 std::vector<char> surface_node_mask(const TetMesh& m, const Surface& s);
 

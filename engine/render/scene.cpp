@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <map>
 #include <numbers>
 
 #include "mesh/surface.hpp"
@@ -91,7 +90,7 @@ struct SceneExtractor::Topology {
   std::vector<std::array<int, 3>> edges;  // unique surface edges (lo node, hi node, first face); on demand
   std::vector<std::array<int, 2>> rim;    // edges between cut and uncut faces; with `edges`
   bool have_edges = false;
-  std::vector<std::array<int, 4>> inner;  // inner group boundary faces: 3 nodes outward from tet [3]; on demand
+  mesh::Surface inner;  // boundaries between tissue groups; on demand
   bool have_inner = false;
   int builds = 0;
 
@@ -129,7 +128,7 @@ struct SceneExtractor::Topology {
     edges.clear();
     rim.clear();
     have_edges = false;
-    inner.clear();
+    inner = {};
     have_inner = false;
     ++builds;
   }
@@ -157,39 +156,10 @@ struct SceneExtractor::Topology {
     }
     have_edges = true;
   }
-  // The faces shared by two tets of different tissue groups, each once, as
-  // the face of the inclusion's tet: not of the commonest group, or of the
-  // higher group where neither is (so it is wound outward from the inclusion).
-  const std::vector<std::array<int, 4>>& inner_faces() {
-    if (have_inner) return inner;
+  // The inner boundaries between tissue groups (mesh::group_boundaries), on demand.
+  const mesh::Surface& inner_faces(const mesh::TetMesh& m) {
+    if (!have_inner) inner = mesh::group_boundaries(m, tet_group);
     have_inner = true;
-    if (tet_group.empty()) return inner;
-    std::map<int, int> count;  // group -> tets (groups are any ids >= 0, so not a vector)
-    for (int g : tet_group) ++count[g];
-    const int common = std::max_element(count.begin(), count.end(), [](const auto& a, const auto& b) {
-                         return a.second < b.second;
-                       })->first;
-    std::vector<std::array<int, 5>> faces;  // sorted nodes, tet, local face
-    faces.reserve(size_t(4 * tets.rows()));
-    for (int t = 0; t < int(tets.rows()); ++t)
-      for (int f = 0; f < 4; ++f) {
-        std::array<int, 3> v{tets(t, mesh::kTetFaces[f][0]), tets(t, mesh::kTetFaces[f][1]), tets(t, mesh::kTetFaces[f][2])};
-        std::sort(v.begin(), v.end());
-        faces.push_back({v[0], v[1], v[2], t, f});
-      }
-    std::sort(faces.begin(), faces.end());
-    for (size_t i = 0; i + 1 < faces.size(); ++i) {
-      const auto& a = faces[i];
-      const auto& b = faces[i + 1];
-      if (a[0] != b[0] || a[1] != b[1] || a[2] != b[2]) continue;
-      const int ga = tet_group[size_t(a[3])], gb = tet_group[size_t(b[3])];
-      if (ga == gb) continue;
-      const bool a_inside = gb == common || (ga != common && ga > gb);
-      const auto& in = a_inside ? a : b;
-      inner.push_back({tets(in[3], mesh::kTetFaces[in[4]][0]), tets(in[3], mesh::kTetFaces[in[4]][1]),
-                       tets(in[3], mesh::kTetFaces[in[4]][2]), in[3]});
-      ++i;
-    }
     return inner;
   }
 
@@ -302,22 +272,18 @@ Scene SceneExtractor::extract(const mesh::TetMesh& m, const Eigen::MatrixX3d& x,
   // Inclusions (a lesion) seen through the tissue: their boundary faces in
   // their tissue colour, faint, with per-node normals smoothed over them.
   if (settings.style == Style::clinical && settings.show_inclusions && !content.tet_group.empty()) {
-    const auto& inner = topo_->inner_faces();
-    std::vector<Eigen::Vector3d> node_normal(size_t(m.num_nodes()), Eigen::Vector3d::Zero());
-    for (const auto& f : inner) {
-      const Eigen::Vector3d a = x.row(f[0]), b = x.row(f[1]), c = x.row(f[2]);
-      for (int k = 0; k < 3; ++k) node_normal[size_t(f[k])] += (b - a).cross(c - a);
-    }
-    scene.inclusions.reserve(int(inner.size()));
-    for (const auto& f : inner) {
-      Rgba color = pal.tissue[size_t(content.tet_group[size_t(f[3])]) % pal.tissue.size()];
+    const mesh::Surface& inner = topo_->inner_faces(m);
+    const Eigen::MatrixX3d node_normal = mesh::vertex_normals(m, inner, x);
+    scene.inclusions.reserve(int(inner.faces.rows()));
+    for (Eigen::Index f = 0; f < inner.faces.rows(); ++f) {
+      Rgba color = pal.tissue[size_t(content.tet_group[size_t(inner.face_tet(f))]) % pal.tissue.size()];
       color[3] = pal.inclusion_alpha;
       Eigen::Vector3d p[3], n[3];
       for (int k = 0; k < 3; ++k) {
-        if (!x.row(f[k]).allFinite()) fail("render: the position of node ", f[k], " is not finite");
-        p[k] = x.row(f[k]);
-        const double len = node_normal[size_t(f[k])].norm();
-        n[k] = len > 0 ? Eigen::Vector3d(node_normal[size_t(f[k])] / len) : Eigen::Vector3d::UnitZ();
+        const int v = inner.faces(f, k);
+        if (!x.row(v).allFinite()) fail("render: the position of node ", v, " is not finite");
+        p[k] = x.row(v);
+        n[k] = node_normal.row(v).squaredNorm() > 0 ? Eigen::Vector3d(node_normal.row(v)) : Eigen::Vector3d::UnitZ();
       }
       scene.inclusions.add(p[0], p[1], p[2], n[0], n[1], n[2], color);
     }

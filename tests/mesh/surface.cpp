@@ -2,6 +2,7 @@
 
 #include <doctest/doctest.h>
 
+#include "core/error.hpp"
 #include "mesh/generate/box.hpp"
 #include "generate_checks.hpp"
 
@@ -55,6 +56,34 @@ TEST_SUITE("mesh/surface") {
     CHECK(r.faces.rows() == l.faces.rows());
     CHECK(l.faces.rows() + r.faces.rows() - all.faces.rows() == 2 * 2 * 2 * 2);
     for (Eigen::Index f = 0; f < l.faces.rows(); ++f) CHECK(left[size_t(l.face_tet(f))]);
+  }
+
+  TEST_CASE("group boundaries: the faces between groups once, outward from the inclusion, whatever its id") {
+    // A 4^3 box with a 2x2x2 core of another group: the core's 6 sides of
+    // 2x2 squares, 2 triangles each, normals pointing away from the core.
+    BoxOptions o;
+    o.nx = o.ny = o.nz = 4;
+    const TetMesh m = generate_box(o);
+    for (const int core_id : {0, 7, 1 << 30}) {
+      CAPTURE(core_id);
+      std::vector<int> group(size_t(m.num_tets()), core_id == 0 ? 3 : 0);
+      for (int t = 0; t < m.num_tets(); ++t) {
+        const Eigen::Vector3d c = 0.25 * (m.node(m.tets(t, 0)) + m.node(m.tets(t, 1)) + m.node(m.tets(t, 2)) +
+                                          m.node(m.tets(t, 3)));
+        if ((c.array() > 0.25).all() && (c.array() < 0.75).all()) group[size_t(t)] = core_id;
+      }
+      const Surface s = group_boundaries(m, group);
+      REQUIRE(s.faces.rows() == 6 * 4 * 2);
+      for (Eigen::Index f = 0; f < s.faces.rows(); ++f) {
+        CHECK(group[size_t(s.face_tet(f))] == core_id);  // the inclusion's side
+        const Eigen::Vector3d a = m.node(s.faces(f, 0)), b = m.node(s.faces(f, 1)), c = m.node(s.faces(f, 2));
+        CHECK((b - a).cross(c - a).dot((a + b + c) / 3 - Eigen::Vector3d::Constant(0.5)) > 0);  // outward
+      }
+      CHECK(s.nodes.size() == 26);  // the core's boundary lattice: 3^3 - 1
+    }
+    CHECK(group_boundaries(m, {}).faces.rows() == 0);
+    CHECK(group_boundaries(m, std::vector<int>(size_t(m.num_tets()), 2)).faces.rows() == 0);
+    CHECK_THROWS_AS(group_boundaries(m, {1, 2}), softcut::Error);
   }
 
   TEST_CASE("vertex normals of a box corner point along the diagonal") {
