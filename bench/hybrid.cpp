@@ -34,19 +34,16 @@ namespace {
 using namespace softcut::hybrid;
 
 struct BenchModel {
-  std::string name;
   mesh::TetMesh mesh;
   std::vector<int> fixed;
   std::vector<char> op_mask;
-  int paper = -1;  // 0 ligament, 1 upper leg, -1 none
-  Storage storage = Storage::automatic;
 };
 
 // A model by name, built only when it is run (--only skips the others' meshing).
 struct ModelEntry {
   std::string name;
   std::function<BenchModel()> make;
-  Storage storage = Storage::automatic;
+  Storage storage = Storage::automatic;  // automatic: the --storage option's
 };
 
 // Sphere around `center` whose centroid test selects about `target` tets.
@@ -70,7 +67,7 @@ int nearest_surface_node(const mesh::TetMesh& m, const Eigen::Vector3d& p) {
 }
 
 BenchModel ligament() {
-  BenchModel b{"ligament", mesh::generate_band(mesh::ligament_preset()), {}, {}, 0};
+  BenchModel b{mesh::generate_band(mesh::ligament_preset()), {}, {}};
   const double z0 = b.mesh.nodes.col(2).minCoeff(), z1 = b.mesh.nodes.col(2).maxCoeff();
   for (int v = 0; v < b.mesh.num_nodes(); ++v)  // both insertions fixed
     if (b.mesh.nodes(v, 2) <= z0 + 1e-9 || b.mesh.nodes(v, 2) >= z1 - 1e-9) b.fixed.push_back(v);
@@ -82,7 +79,7 @@ BenchModel ligament() {
 
 BenchModel upper_leg() {
   const mesh::TubeOptions o = mesh::upper_leg_preset();
-  BenchModel b{"upper_leg", mesh::generate_tube(o), {}, {}, 1};
+  BenchModel b{mesh::generate_tube(o), {}, {}};
   b.fixed = mesh::tube_hole_nodes(b.mesh, o);  // the thighbone
   const int c = nearest_surface_node(b.mesh, o.base_center + Eigen::Vector3d(o.outer_radius, 0, 0.5 * o.length));
   b.op_mask = sphere_with_tets(b.mesh, b.mesh.node(c), 416);
@@ -96,7 +93,7 @@ BenchModel box(int n, int op_tets) {
   o.nx = 2 * n, o.ny = n, o.nz = n;
   o.max_corner = Eigen::Vector3d(0.1, 0.05, 0.05);
   o.jitter = 0.1;
-  BenchModel b{cat("box_", 12 * n * n * n), mesh::generate_box(o), {}, {}, -1};
+  BenchModel b{mesh::generate_box(o), {}, {}};
   for (int v = 0; v < b.mesh.num_nodes(); ++v)
     if (b.mesh.nodes(v, 0) == 0) b.fixed.push_back(v);
   b.op_mask = sphere_with_tets(b.mesh, Eigen::Vector3d(0.05, 0.025, 0.05), op_tets);
@@ -111,7 +108,7 @@ BenchModel box(int n, int op_tets) {
 BenchModel liver(int tets, int op_tets) {
   mesh::OrganOptions o;
   o.target_tets = tets;
-  BenchModel b{"liver", mesh::generate_organ("liver", o, 4.0 * tets), {}, {}, -1};
+  BenchModel b{mesh::generate_organ("liver", o, 4.0 * tets), {}, {}};
   for (int v = 0; v < b.mesh.num_nodes(); ++v)
     if (b.mesh.nodes(v, 2) <= -0.019) b.fixed.push_back(v);
   const int c = nearest_surface_node(b.mesh, Eigen::Vector3d(0.025, 0, 0.045));
@@ -154,16 +151,18 @@ struct Result {
   std::string json, table_row, precompute_row, update_row, poke_rows;
 };
 
-Result run_model(const BenchModel& b, bool quick, Storage storage) {
+Result run_model(const ModelEntry& e, bool quick, Storage storage) {
+  const BenchModel b = e.make();
+  const std::string& name = e.name;
   const mesh::TetMesh& m = b.mesh;
   const std::vector<fem::Material> mat(size_t(m.num_tets()), fem::Material{3e3, 0.45});
   const Partition part = make_partition(m, b.op_mask, b.fixed);
   const auto& c = part.counts;
-  std::fprintf(stderr, "[bench hybrid] %s: %d nodes, %d tets; %s\n", b.name.c_str(), m.num_nodes(), m.num_tets(),
+  std::fprintf(stderr, "[bench hybrid] %s: %d nodes, %d tets; %s\n", name.c_str(), m.num_nodes(), m.num_tets(),
                describe(c).c_str());
   const bool big = m.num_tets() > 20000;
   PrecomputeOptions po;
-  po.storage = storage != Storage::automatic ? storage : b.storage;
+  po.storage = storage != Storage::automatic ? storage : e.storage;
   Model model = precompute(m, mat, part, po);
   // The same precompute through the cache: written once, then a hit
   // (pre_cached_ms: read, checked and the operational system rebuilt).
@@ -303,13 +302,13 @@ Result run_model(const BenchModel& b, bool quick, Storage storage) {
     poke_json << (k == 1 ? "" : ", ") << "{\"loaded_nodes\": " << k << ", \"loaded_dofs\": " << 3 * k
               << ", \"us\": " << ms * 1e3 << ", \"us_per_node\": " << ms * 1e3 / k
               << ", \"first_touch_us\": " << first_ms * 1e3 << "}";
-    poke_rows << "| " << b.name << " | " << k << " | " << 3 * k << " | " << cat(ms * 1e3) << " | "
+    poke_rows << "| " << name << " | " << k << " | " << 3 * k << " | " << cat(ms * 1e3) << " | "
               << cat(ms * 1e3 / k) << " | " << cat(first_ms * 1e3) << " |\n";
   }
   poke_json << "]";
 
   Json j;
-  j.str("model", b.name);
+  j.str("model", name);
   j.num("nodes", m.num_nodes()), j.num("tets", m.num_tets());
   j.num("op_region_nodes", c.operational_region_nodes), j.num("op_tets", c.operational_tets);
   j.num("nonop_region_nodes", c.nonoperational_region_nodes);
@@ -343,15 +342,15 @@ Result run_model(const BenchModel& b, bool quick, Storage storage) {
   Result res;
   res.json = j.done();
   auto f3 = [](double v) { return std::isfinite(v) ? cat(std::round(v * 1000) / 1000) : std::string("-"); };
-  res.table_row = cat("| ", b.name, " | ", m.num_nodes(), " / ", m.num_tets(), " | ", c.operational_region_nodes, " / ",
+  res.table_row = cat("| ", name, " | ", m.num_nodes(), " / ", m.num_tets(), " | ", c.operational_region_nodes, " / ",
                       c.operational_tets, " | ", c.nonoperational_region_nodes, " / ", c.nonoperational_surface_nodes,
                       " / ", c.nonoperational_tets, " | ", c.operational, " / ", c.interface, " / ", c.surface, " / ",
                       c.interior, " / ", c.fixed, " | ", to_string(model.storage), " |\n");
-  res.precompute_row = cat("| ", b.name, " | ", f3(T.assemble_ms), " | ", f3(T.factor_ms), " | ", f3(T.K_prime_ms),
+  res.precompute_row = cat("| ", name, " | ", f3(T.assemble_ms), " | ", f3(T.factor_ms), " | ", f3(T.K_prime_ms),
                            " | ", f3(T.KI2_K22inv_ms), " | ", f3(T.Kstar_inv_ms), " | ", f3(T.Kstar_inv_Ps0_ms), " | ",
                            f3(T.Kstar_inv_Pstar_ms), " | ", f3(T.operational_ms), " | ", f3(T.total_ms), " | ",
                            f3(cached_ms), " |\n");
-  res.update_row = cat("| ", b.name, " | ", f3(frame_ms), " | ", f3(1e3 / frame_ms), " | ", f3(op_chol_ms), " | ",
+  res.update_row = cat("| ", name, " | ", f3(frame_ms), " | ", f3(1e3 / frame_ms), " | ", f3(op_chol_ms), " | ",
                        f3(physics_ms), " | ",
                        f3(frame_cg_ms), " | ", f3(op_ms), " | ", f3(double(cg_it) / frames), " | ", f3(non_ms), " | ", f3(cond_ms), " | ", f3(uncond_ms), " | ",
                        f3(mono_chol_ms), " (", f3(mono_chol_ms / frame_ms), "x) | ", f3(mono_solve_ms), " (",
@@ -422,10 +421,7 @@ int bench_hybrid(const Args& args) {
     if (models.empty()) usage_fail("bench hybrid: --only ", only, ": no such model (models: ", names, ")");
   }
   for (size_t k = 0; k < models.size(); ++k) {
-    BenchModel b = models[k].make();
-    b.name = models[k].name;
-    b.storage = models[k].storage;
-    const Result r = run_model(b, quick, storage);
+    const Result r = run_model(models[k], quick, storage);
     json += (k ? ", " : "") + r.json;
     t2 += r.table_row, t3 += r.precompute_row, t45 += r.update_row, t5 += r.poke_rows;
   }
