@@ -14,7 +14,7 @@
 #include "bench/bench.hpp"
 #include "cli/run_support.hpp"
 #include "core/error.hpp"
-#include "scenario_runner.hpp"
+#include "app/scenario_run.hpp"
 
 namespace softcut::bench {
 
@@ -60,11 +60,11 @@ int bench_render(const Args& args) {
     struct Loop {
       const char* name;
       bool render, inline_draw;
-      lua::RunOutcome out;
+      app::RunOutcome out;
     };
     Loop loops[] = {{"no frames", false, false, {}}, {"inline", true, true, {}}, {"worker", true, false, {}}};
     for (Loop& l : loops) {
-      lua::RunRequest req;
+      app::RunRequest req;
       req.scenario = path;
       req.out_dir = dir / l.name;
       req.max_frames = frames;
@@ -72,10 +72,10 @@ int bench_render(const Args& args) {
       req.render_every = 1;
       req.render_inline = l.inline_draw;
       req.width = width, req.height = height, req.msaa_samples = samples;
-      l.out = lua::run_scenario(req);
+      l.out = app::run_scenario(req);
     }
     for (const Loop& l : loops) {
-      const lua::RunOutcome& o = l.out;
+      const app::RunOutcome& o = l.out;
       const int n = std::max(1, o.result.frames);
       std::printf("| %s | %d | %s | %.3f | %.3f | %.3f | %.3f | %.2f |\n", o.name.c_str(), o.result.frames, l.name,
                   1e3 * o.result.wall_s / n, o.step_ms, o.render_ms, o.render_work_ms,

@@ -95,7 +95,7 @@ function softcut.params(args) end
 ---@field duration number simulated time; frames at t = 0, 1/fps, ..., duration (s)
 ---@field fps? number frame rate (Hz)
 ---@field tolerance? number `softcut check`: max |u - u_ref| allowed, relative to max |u_ref| of the reference log
----@field description? string one line for the summary and `softcut check`
+---@field description? string one line, recorded in summary.json (`scenario.description`)
 ---Starts a scenario: its name, timeline and reference tolerance. The script returns the Scenario (or the last one created is used).
 ---@param args softcut_scenario_args
 ---@return Scenario

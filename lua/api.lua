@@ -88,7 +88,7 @@ api.functions = {
       F("fps", "number", "frame rate", { unit = "Hz", gt = 0, le = 10000, default = 30 }),
       F("tolerance", "number", "`softcut check`: max |u - u_ref| allowed, relative to max |u_ref| of the reference log",
         { gt = 0, lt = 1, default = 1e-6 }),
-      F("description", "string", "one line for the summary and `softcut check`") },
+      F("description", "string", "one line, recorded in summary.json (`scenario.description`)") },
     example = 'local s = softcut.scenario{ name = "liver_retraction", duration = 2.0, fps = 30 }' },
 
   { name = "Scenario:mesh", summary = "Loads or generates the rest mesh (call first). Returns a Mesh "

@@ -23,7 +23,7 @@
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "hybrid/precompute_cache.hpp"
-#include "scenario_runner.hpp"
+#include "app/scenario_run.hpp"
 
 namespace fs = std::filesystem;
 
@@ -94,7 +94,7 @@ struct TempRoot {
 
 // Runs one scenario into `r` (status, reason, failures, expectations,
 // comparison). Any error is a failure of this scenario only.
-void check_one(CheckedScenario& r, bool record, const fs::path& out_root, lua::RunRequest req) {
+void check_one(CheckedScenario& r, bool record, const fs::path& out_root, app::RunRequest req) {
   req.scenario = r.file;
   req.render = false;
   req.interrupt = &SignalGuard::flag();
@@ -105,7 +105,7 @@ void check_one(CheckedScenario& r, bool record, const fs::path& out_root, lua::R
     r.failures.push_back(why);
   };
   try {
-    lua::RunOutcome out = lua::run_scenario(req);
+    app::RunOutcome out = app::run_scenario(req);
     for (const auto& e : out.expectations) r.expectations.push_back({e.name, e.where, e.reached, e.ok, e.message});
     if (out.result.reason == sim::ExitReason::interrupted) return failed("interrupted");
     if (out.result.reason == sim::ExitReason::error) return failed(out.result.message);
@@ -154,7 +154,7 @@ int cmd_check(const Args& args) {
     return args.empty() ? 2 : 0;
   }
   bool record = false;
-  lua::RunRequest base;
+  app::RunRequest base;
   base.cache_dir = hybrid::default_cache_dir();
   base.command_line = {"softcut", "check"};
   base.command_line.insert(base.command_line.end(), args.begin(), args.end());
@@ -196,11 +196,11 @@ int cmd_check(const Args& args) {
     CheckedScenario r;
     r.file = file;
     r.name = file.stem().string();
-    lua::RunRequest req = base;
+    app::RunRequest req = base;
     req.scenario = file;
     bool run = false;
     try {
-      r.name = lua::load_scenario_spec(req).name;
+      r.name = app::load_scenario_spec(req).name;
       run = true;
     } catch (const std::exception& e) {
       const std::string msg = e.what();

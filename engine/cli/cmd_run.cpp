@@ -10,7 +10,7 @@
 #include "cli/run_support.hpp"
 #include "core/error.hpp"
 #include "hybrid/precompute_cache.hpp"
-#include "scenario_runner.hpp"
+#include "app/scenario_run.hpp"
 
 namespace softcut::cli {
 
@@ -53,7 +53,7 @@ int cmd_run(const Args& args) {
     std::fputs(kRunUsage, args.empty() ? stderr : stdout);
     return args.empty() ? 2 : 0;
   }
-  lua::RunRequest req;
+  app::RunRequest req;
   req.cache_dir = hybrid::default_cache_dir();
   req.command_line = {"softcut", "run"};
   req.command_line.insert(req.command_line.end(), args.begin(), args.end());
@@ -91,7 +91,7 @@ int cmd_run(const Args& args) {
   const SignalGuard signals;
   req.interrupt = &SignalGuard::flag();
 
-  const lua::RunOutcome out = lua::run_scenario(req);
+  const app::RunOutcome out = app::run_scenario(req);
   progress.done();
   int failed = 0;
   for (const auto& w : out.warnings)

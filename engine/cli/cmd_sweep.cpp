@@ -36,7 +36,7 @@
 #include "core/error.hpp"
 #include "core/printable.hpp"
 #include "core/threads.hpp"
-#include "scenario_runner.hpp"
+#include "app/scenario_run.hpp"
 #include "sim/outputs.hpp"
 
 extern char** environ;
@@ -269,13 +269,13 @@ int cmd_sweep(const Args& args) {
   // The scenario takes the swept keys (declared in softcut.params, values it
   // accepts): checked on the first run before any process starts.
   {
-    lua::RunRequest req;
+    app::RunRequest req;
     req.scenario = files[0];
     req.overrides = fixed;
     req.trusted = std::find(run_options.begin(), run_options.end(), "--trust") != run_options.end();
     if (max_tets >= 0) req.max_tets = max_tets;
     for (const auto& [k, v] : plan.runs.front().params) req.overrides[k] = v;
-    lua::load_scenario_spec(req);
+    app::load_scenario_spec(req);
   }
   const std::string plan_text = plan_json(plan);
   if (dry_run) {

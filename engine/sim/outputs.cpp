@@ -306,7 +306,8 @@ std::string summary_json(const Model& m, const State& s, const RunResult& r, con
   const auto& c = m.partition.counts;
   std::string j = "{\n";
   j += "  \"schema\": \"softcut-summary/1\",\n";
-  j += "  \"scenario\": {\"name\": " + jstr(sp.name) + ", \"source\": " + jstr(sp.source.string()) + "},\n";
+  j += "  \"scenario\": {\"name\": " + jstr(sp.name) + ", \"source\": " + jstr(sp.source.string()) +
+       ", \"description\": " + jstr(sp.description) + "},\n";
   j += "  \"versions\": {\"softcut\": " + jstr(SOFTCUT_VERSION) + ", \"eigen\": " +
        jstr(std::to_string(EIGEN_WORLD_VERSION) + "." + std::to_string(EIGEN_MAJOR_VERSION) + "." +
             std::to_string(EIGEN_MINOR_VERSION));

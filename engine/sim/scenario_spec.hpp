@@ -164,6 +164,8 @@ struct CuttingSpec {
 
 struct ScenarioSpec {
   std::string name = "scenario";                 // used for renders/<name>/ and summary.json
+  std::string description;                       // one line for `softcut check`'s report
+  double reference_tolerance = 1e-6;             // softcut check: max |u - u_ref| relative to max |u_ref|
   std::filesystem::path source;                  // the .lua file, for messages and the summary
   std::map<std::string, std::string> versions;   // extra versions for the summary (e.g. "lua")
   MeshSource mesh;

@@ -12,7 +12,7 @@
 #include "mesh/io/mesh_io.hpp"
 #include "mesh/volume/label_volume.hpp"
 #include "mesh/volume/nrrd.hpp"
-#include "scenario_runner.hpp"
+#include "scenario_script.hpp"  // lua/
 
 namespace fs = std::filesystem;
 using softcut::hardening::put_file;
@@ -51,12 +51,11 @@ void feed(const std::string& target, const std::string& bytes, const fs::path& d
       softcut::mesh::mesh_label_volume(v, opt, diag);
     }
   } else if (target == "lua") {
-    softcut::lua::RunRequest req;
+    softcut::lua::ScriptRequest req;
     req.scenario = put_file(dir / "scenario.lua", bytes);
-    req.render = false;
     req.instruction_budget = 100'000;  // the fuzz target's budgets
     req.memory_budget = 8u << 20;
-    softcut::lua::load_scenario_spec(req);
+    softcut::lua::open_scenario(req)->spec();
   } else {
     const char* ext = target == "gmsh" ? ".msh" : target == "medit" ? ".mesh" : target == "vtk" ? ".vtk" : ".vtu";
     softcut::mesh::read_mesh(put_file(dir / (std::string("in") + ext), bytes), diag);

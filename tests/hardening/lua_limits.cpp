@@ -8,7 +8,7 @@
 
 #include "hardening_support.hpp"
 #include "runtime.hpp"
-#include "scenario_runner.hpp"
+#include "app/scenario_run.hpp"
 
 namespace fs = std::filesystem;
 using softcut::hardening::contains;
@@ -185,22 +185,22 @@ eq(('abcabc'):match('(b)c', 3), 'b') eq(#('a'):rep(5e5):match('^a*', 2), 499999)
   }
 
   TEST_CASE("the scenario loader applies the same budgets and names the scenario file") {
-    softcut::lua::RunRequest req;
+    softcut::app::RunRequest req;
     req.scenario = write_scenario("hardening_lua_loader", "local t = {} for i = 1, 1e9 do t[i] = {} end\n");
     req.render = false;
     req.memory_budget = 32u << 20;
-    const std::string msg = error_of([&] { softcut::lua::load_scenario_spec(req); });
+    const std::string msg = error_of([&] { softcut::app::load_scenario_spec(req); });
     INFO(msg);
     CHECK(contains(msg, "memory budget"));
     CHECK(contains(msg, "scenario.lua"));
   }
 
   TEST_CASE("a scenario asking for 1e9 frames is refused before the frame loop") {
-    softcut::lua::RunRequest req;
+    softcut::app::RunRequest req;
     req.scenario = write_scenario("hardening_frames", box_scenario("1e9 / 30"));
     req.out_dir = req.scenario.parent_path() / "out";
     req.render = false;
-    const std::string msg = error_of([&] { softcut::lua::run_scenario(req); });
+    const std::string msg = error_of([&] { softcut::app::run_scenario(req); });
     INFO(msg);
     CHECK(contains(msg, "too many"));
     CHECK(contains(msg, "scenario.lua"));
@@ -208,11 +208,11 @@ eq(('abcabc'):match('(b)c', 3), 'b') eq(#('a'):rep(5e5):match('^a*', 2), 499999)
   }
 
   TEST_CASE("a duration that overflows the frame counter is refused") {
-    softcut::lua::RunRequest req;
+    softcut::app::RunRequest req;
     req.scenario = write_scenario("hardening_frames_inf", box_scenario("1e300"));
     req.out_dir = req.scenario.parent_path() / "out";
     req.render = false;
-    const std::string msg = error_of([&] { softcut::lua::run_scenario(req); });
+    const std::string msg = error_of([&] { softcut::app::run_scenario(req); });
     INFO(msg);
     CHECK(contains(msg, "too many"));
   }
@@ -230,10 +230,10 @@ eq(('abcabc'):match('(b)c', 3), 'b') eq(#('a'):rep(5e5):match('^a*', 2), 499999)
     for (const std::string r : requests) {
       CAPTURE(r);
       const long long before = softcut::hardening::peak_rss_bytes();
-      softcut::lua::RunRequest req;
+      softcut::app::RunRequest req;
       req.scenario = write_scenario("hardening_huge_mesh", std::string("local s = softcut.scenario{ duration = 1, fps = 1 }\n") +
                                                                     "s:mesh{ " + r + " }\n");
-      const std::string msg = error_of([&] { softcut::lua::load_scenario_spec(req); });
+      const std::string msg = error_of([&] { softcut::app::load_scenario_spec(req); });
       INFO(msg);
       CHECK(contains(msg, "scenario.lua:2"));
       CHECK(contains(msg, "over this run's limit of 2000000"));
@@ -255,10 +255,10 @@ eq(('abcabc'):match('(b)c', 3), 'b') eq(#('a'):rep(5e5):match('^a*', 2), 499999)
     for (const std::string code : loops) {
       CAPTURE(code);
       const int rc = softcut::hardening::in_child(RLIMIT_CPU, 60, [&] {
-        softcut::lua::RunRequest req;
+        softcut::app::RunRequest req;
         req.scenario = write_scenario("hardening_native_loop", code);
         req.instruction_budget = 20'000'000;
-        const std::string msg = error_of([&] { softcut::lua::load_scenario_spec(req); });
+        const std::string msg = error_of([&] { softcut::app::load_scenario_spec(req); });
         INFO(msg);
         CHECK(contains(msg, "instruction budget of 20000000 instructions exceeded"));
         CHECK((contains(msg, "scenario.lua:3") || contains(msg, "scenario.lua:4")));
@@ -274,7 +274,7 @@ eq(('abcabc'):match('(b)c', 3), 'b') eq(#('a'):rep(5e5):match('^a*', 2), 499999)
     // union of 2000 slabs selects exactly what one box does.
     const std::string head = "local s = softcut.scenario{ duration = 1, fps = 1 }\n"
                              "s:mesh{ generate = 'box', options = { nx = 20, ny = 2, nz = 2 } }\n";
-    softcut::lua::RunRequest req;
+    softcut::app::RunRequest req;
     req.scenario = write_scenario("hardening_long_union", head + R"(
 local u = softcut.select.box{ min = {-1, -1, -1}, max = {0, 1, 1} }
 for i = 1, 2000 do u = u + softcut.select.box{ min = {0, -1, -1}, max = {i / 4000, 1, 1} } end
@@ -287,13 +287,13 @@ for i = 1, 2000 do t = t - softcut.select.box{ min = {0.5, -1, -1}, max = {1, 1,
 assert(#s:select(t) == 10 * 9)
 s:fix{ nodes = u }
 )");
-    CHECK(error_of([&] { softcut::lua::load_scenario_spec(req); }) == "");
+    CHECK(error_of([&] { softcut::app::load_scenario_spec(req); }) == "");
     req.scenario = write_scenario("hardening_self_union", head + R"(
 local u = softcut.select.all() + softcut.select.all()
 u.children[2] = u
 s:fix{ nodes = u }
 )");
-    const std::string msg = error_of([&] { softcut::lua::load_scenario_spec(req); });
+    const std::string msg = error_of([&] { softcut::app::load_scenario_spec(req); });
     INFO(msg);
     CHECK(contains(msg, "scenario.lua:4: selection: more than 100000 shapes and set operations"));
   }
@@ -303,15 +303,15 @@ s:fix{ nodes = u }
     // script keeping a 2M-tet mesh per on_frame call grew without bound.
     const std::string loop = "local keep = {}\nfor i = 1, 40 do\n  local s = softcut.scenario{ duration = 1, fps = 1 }\n"
                              "  s:mesh{ generate = 'box', options = { nx = 20, ny = 20, nz = 20 } }\n";
-    softcut::lua::RunRequest req;
+    softcut::app::RunRequest req;
     req.memory_budget = 16u << 20;
     req.instruction_budget = 1'000'000'000;
     req.scenario = write_scenario("hardening_kept_meshes", loop + "  keep[i] = s\nend\n");
-    const std::string msg = error_of([&] { softcut::lua::load_scenario_spec(req); });
+    const std::string msg = error_of([&] { softcut::app::load_scenario_spec(req); });
     INFO(msg);
     CHECK(contains(msg, "scenario.lua:4: mesh: memory budget of 16 MiB exceeded: this mesh needs 2 MiB"));
     req.scenario = write_scenario("hardening_dropped_meshes", loop + "end\nreturn softcut.scenario{ duration = 1 }\n");
-    const std::string dropped = error_of([&] { softcut::lua::load_scenario_spec(req); });
+    const std::string dropped = error_of([&] { softcut::app::load_scenario_spec(req); });
     INFO(dropped);
     CHECK(!contains(dropped, "memory budget"));
     CHECK(contains(dropped, "no mesh"));  // the last scenario has none: the loop itself ran through
@@ -333,9 +333,9 @@ s:fix{ nodes = u }
              "setmetatable(getmetatable(s), { __index = function() error('boom') end })\nreturn s\n",
          }) {
       CAPTURE(tail);
-      softcut::lua::RunRequest req;
+      softcut::app::RunRequest req;
       req.scenario = write_scenario("hardening_metamethods", head + tail);
-      const std::string msg = error_of([&] { softcut::lua::load_scenario_spec(req); });
+      const std::string msg = error_of([&] { softcut::app::load_scenario_spec(req); });
       CHECK(msg == "");
     }
   }

@@ -9,7 +9,7 @@
 
 #include "core/atomic_file.hpp"
 #include "hardening_support.hpp"
-#include "scenario_runner.hpp"
+#include "app/scenario_run.hpp"
 
 namespace fs = std::filesystem;
 using softcut::hardening::contains;
@@ -67,14 +67,14 @@ TEST_SUITE("hardening/output_limits") {
   }
 
   TEST_CASE("a run whose output folder cannot be created fails with a softcut::Error naming it") {
-    softcut::lua::RunRequest req;
+    softcut::app::RunRequest req;
     req.scenario = scenario_in("hardening_out_blocked");
     put_file(req.scenario.parent_path() / "blocker", "a file where a folder should be");
     req.out_dir = req.scenario.parent_path() / "blocker" / "out";
     req.render = false;
     std::string msg;
     try {
-      softcut::lua::run_scenario(req);
+      softcut::app::run_scenario(req);
     } catch (const softcut::Error& e) {
       msg = e.what();
     } catch (const std::exception& e) {

@@ -17,7 +17,7 @@
 #include "hardening_support.hpp"
 #include "mesh/io/mesh_io.hpp"
 #include "runtime.hpp"
-#include "scenario_runner.hpp"
+#include "app/scenario_run.hpp"
 
 namespace fs = std::filesystem;
 using softcut::hardening::contains;
@@ -129,10 +129,10 @@ return s
     put_file(f.scen / "m.node", "4 3 0 0\n0 0 0 0\n1 1 0 0\n2 0 1 0\n3 0 0 1\n");
     fs::create_symlink(outside / "secret.txt", f.scen / "m.ele");
     const std::string msg = error_of([&] {
-      softcut::lua::RunRequest req;
+      softcut::app::RunRequest req;
       req.scenario = f.scen / "s.lua";
       req.out_dir = f.root / "out";
-      softcut::lua::load_scenario_spec(req);
+      softcut::app::load_scenario_spec(req);
     });
     INFO(msg);
     CHECK(contains(msg, "symbolic link"));
@@ -144,9 +144,9 @@ assert(not ok) assert(not tostring(e):find("TOPSECRET"), e) assert(tostring(e):f
 local f, e2 = pcall(io.open, "linked/secret.txt") assert(not f and tostring(e2):find("symbolic link"), e2)
 return softcut.scenario{ duration = 0.1 })");
     const std::string run = error_of([&] {
-      softcut::lua::RunRequest req;
+      softcut::app::RunRequest req;
       req.scenario = f.scen / "s.lua";
-      softcut::lua::load_scenario_spec(req);
+      softcut::app::load_scenario_spec(req);
     });
     INFO(run);
     CHECK(contains(run, "no mesh"));  // all asserts passed; the scenario then lacks a mesh
@@ -322,7 +322,7 @@ s:on_frame(function(f) local h = assert(io.open("notes.txt", "w")) h:write("x") 
     CHECK(r.status == 1);
     CHECK(contains(r.output, "frame buffers"));
     CHECK(contains(r.output, "--size"));
-    softcut::lua::RunRequest req;
+    softcut::app::RunRequest req;
     const Fixture dense("sandbox_dense_mem", R"(
 local s = softcut.scenario{ name = "dense", duration = 0.1, fps = 10 }
 s:mesh{ generate = "box", options = { min = {0, 0, 0}, max = {0.1, 0.1, 0.1}, nx = 12, ny = 12, nz = 12 } }
@@ -334,7 +334,7 @@ return s)");
     req.out_dir = dense.root / "out";
     req.backend = softcut::sim::Backend::cpu;
     req.memory_budget = 8u << 20;
-    const std::string msg = error_of([&] { softcut::lua::run_scenario(req); });
+    const std::string msg = error_of([&] { softcut::app::run_scenario(req); });
     CHECK(contains(msg, "storage mode 'dense' needs"));
   }
 
@@ -477,10 +477,10 @@ s:fix{ nodes = sel }
 local big = {} for i = 1, 1000000 do big[i] = 0 end
 sel.ids = big
 for i = 1, 60 do s._fixed[#s._fixed + 1] = { sel = sel } end)lua"));
-      softcut::lua::RunRequest req;
+      softcut::app::RunRequest req;
       req.scenario = f.scen / "s.lua";
       req.instruction_budget = 20'000'000;
-      softcut::lua::load_scenario_spec(req);
+      softcut::app::load_scenario_spec(req);
     });
     CHECK(contains(msg, "instruction budget"));
   }
@@ -493,12 +493,12 @@ s:on_frame(function(f)
   for i = 1, 20000 do r[i] = { name = "e", where = "w", ok = true, message = B } end
   s._results = r
 end))lua", "0.1"));
-    softcut::lua::RunRequest req;
+    softcut::app::RunRequest req;
     req.scenario = f.scen / "s.lua";
     req.out_dir = f.root / "out";
     req.backend = softcut::sim::Backend::cpu;
-    softcut::lua::RunOutcome out;
-    CHECK(error_of([&] { out = softcut::lua::run_scenario(req); }) == "");
+    softcut::app::RunOutcome out;
+    CHECK(error_of([&] { out = softcut::app::run_scenario(req); }) == "");
     // The outcomes come from the engine (sim/expectations.hpp), which has
     // none here: the 20 000 forged results are not even looked at.
     CHECK(out.expectations.empty());
@@ -508,11 +508,11 @@ s:mesh{ generate = "box", options = { min = {0, 0, 0}, max = {1, 1, 1}, nx = 20,
 s:fix{ nodes = softcut.select.box{ min = {-1, -1, -1}, max = {0, 1, 1} } }
 s:solver{ backend = "monolithic" }
 return s)lua");
-    softcut::lua::RunRequest m;
+    softcut::app::RunRequest m;
     m.scenario = mono.scen / "s.lua";
     m.out_dir = mono.root / "out";
     m.memory_budget = 48u << 20;
-    CHECK(contains(error_of([&] { softcut::lua::run_scenario(m); }), "Cholesky factor would take"));
+    CHECK(contains(error_of([&] { softcut::app::run_scenario(m); }), "Cholesky factor would take"));
   }
 
   TEST_CASE("review: a mesh file is bounded by what it decodes to, and links do not tell which files exist") {
@@ -524,19 +524,19 @@ end
 return softcut.scenario{ duration = 0.1 })lua");
     fs::create_directory_symlink("/", f.scen / "l");
     CHECK(contains(error_of([&] {
-                     softcut::lua::RunRequest req;
+                     softcut::app::RunRequest req;
                      req.scenario = f.scen / "s.lua";
-                     softcut::lua::load_scenario_spec(req);
+                     softcut::app::load_scenario_spec(req);
                    }),
                    "no mesh"));  // both asserts held
     std::string msh = "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n400000\n";
     for (int i = 1; i <= 400000; ++i) msh += std::to_string(i) + " 0.000001 0.000002 0.000003\n";
     put_file(f.scen / "big.msh", msh + "$EndNodes\n");
     put_file(f.scen / "s.lua", "local s = softcut.scenario{ duration = 0.1 } s:mesh{ file = 'big.msh' } return s");
-    softcut::lua::RunRequest req;
+    softcut::app::RunRequest req;
     req.scenario = f.scen / "s.lua";
     req.memory_budget = 64u << 20;  // 8 MiB of mesh file at most; this one has ~14 MiB
-    CHECK(contains(error_of([&] { softcut::lua::load_scenario_spec(req); }), "bytes allowed here"));
+    CHECK(contains(error_of([&] { softcut::app::load_scenario_spec(req); }), "bytes allowed here"));
   }
 
   // A second review of the fixes found these.

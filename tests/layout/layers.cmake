@@ -2,8 +2,9 @@
 # headers of its own folder and of earlier ones only. Run by ctest:
 #   cmake -DROOT=<source dir> [-DMIN_FILES=n] -P tests/layout/layers.cmake
 # Fails naming the file, the include and both stages. lua/ (bindings) sits
-# after sim/ and before cli/ (the application); bench/ (the benchmarks) last.
-set(order core solve mesh fem hybrid gpu cut tools render sim lua cli bench)
+# after sim/ and before app/ (a scenario run) and cli/ (the commands); bench/
+# (the benchmarks) last.
+set(order core solve mesh fem hybrid gpu cut tools render sim lua app cli bench)
 if(NOT ROOT)
   message(FATAL_ERROR "layers.cmake: pass -DROOT=<source dir>")
 endif()

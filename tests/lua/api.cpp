@@ -91,7 +91,7 @@ TEST_SUITE("lua/api") {
     const std::string md = render("markdown");
     const size_t a = md.find("```lua\n") + 7, b = md.find("```", a);
     const fs::path f = softcut::test::write_scenario("api_intro", md.substr(a, b - a));
-    softcut::lua::RunOutcome out;
+    softcut::app::RunOutcome out;
     REQUIRE(softcut::test::scenario_error(f, &out) == "");
     REQUIRE(out.expectations.size() == 1);
     CHECK(out.expectations[0].ok);

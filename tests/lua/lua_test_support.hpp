@@ -7,7 +7,7 @@
 
 #include "core/error.hpp"
 #include "runtime.hpp"
-#include "scenario_runner.hpp"
+#include "app/scenario_run.hpp"
 #include "test_support.hpp"
 
 namespace softcut::test {
@@ -43,13 +43,13 @@ local tip = softcut.select.box{ min = {0.1, 0, 0}, max = {0.1, 0.04, 0.04} }
 )";
 
 // Runs a scenario file; returns the error message or "" (outcome in *out).
-inline std::string scenario_error(const std::filesystem::path& file, lua::RunOutcome* out = nullptr,
-                                  lua::RunRequest req = {}) {
+inline std::string scenario_error(const std::filesystem::path& file, app::RunOutcome* out = nullptr,
+                                  app::RunRequest req = {}) {
   req.scenario = file;
   if (req.out_dir.empty()) req.out_dir = file.parent_path() / "out";
   if (!req.backend) req.backend = sim::Backend::cpu;  // no EGL context per test run (auto would probe for a GPU)
   try {
-    lua::RunOutcome o = lua::run_scenario(req);
+    app::RunOutcome o = app::run_scenario(req);
     if (out) *out = o;
     return "";
   } catch (const Error& e) {

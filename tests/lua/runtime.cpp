@@ -185,13 +185,13 @@ TEST_SUITE("lua/runtime") {
     softcut::lua::Runtime rt(opt);
     MESSAGE("library load: " << rt.instructions_used() << " instructions, " << rt.memory_used() << " bytes");
     CHECK(rt.memory_used() < opt.memory_budget / 2);
-    softcut::lua::RunRequest req;
+    softcut::app::RunRequest req;
     req.scenario = softcut::test::write_scenario("rt_tight", std::string(softcut::test::kBoxHead) + "return s\n");
     req.render = false;
     req.instruction_budget = opt.instruction_budget;
     req.memory_budget = opt.memory_budget;
     req.max_tets = 5000;
-    CHECK_NOTHROW(softcut::lua::load_scenario_spec(req));
+    CHECK_NOTHROW(softcut::app::load_scenario_spec(req));
   }
 
   TEST_CASE("an interruption flag stops running Lua code, also with --trust") {

@@ -13,7 +13,7 @@ using softcut::test::write_scenario;
 
 namespace {
 
-std::string run_box(const std::string& name, const std::string& tail, softcut::lua::RunOutcome* out = nullptr) {
+std::string run_box(const std::string& name, const std::string& tail, softcut::app::RunOutcome* out = nullptr) {
   const auto f = write_scenario(name, std::string(kBoxHead) + tail + "\nreturn s\n");
   return scenario_error(f, out);
 }
@@ -37,7 +37,7 @@ double csv_value(const std::filesystem::path& csv, int frame, int node, int colu
 
 TEST_SUITE("lua/wrap_frame") {
   TEST_CASE("displacement and position agree with the log and the rest mesh") {
-    softcut::lua::RunOutcome out;
+    softcut::app::RunOutcome out;
     const std::string e = run_box("frame_read", R"(
 s:load{ name = "pull", nodes = tip, force = {0, 0, -0.05} }
 s:output{ log = softcut.select.all() }
@@ -63,7 +63,7 @@ end)
   }
 
   TEST_CASE("set_load scales and switches a load from the next frame") {
-    softcut::lua::RunOutcome out;
+    softcut::app::RunOutcome out;
     const std::string e = run_box("frame_load", R"(
 s:load{ name = "pull", nodes = tip, force = {0, 0, -0.05} }
 local base
@@ -79,7 +79,7 @@ end)
   }
 
   TEST_CASE("stop ends the run after the frame - the summary says stopped") {
-    softcut::lua::RunOutcome out;
+    softcut::app::RunOutcome out;
     CHECK(run_box("frame_stop", "s:on_frame(function(f) if f.frame == 2 then f:stop() end end)", &out) == "");
     CHECK(out.result.frames == 3);
     CHECK(out.result.reason == softcut::sim::ExitReason::stopped);
@@ -121,7 +121,7 @@ s:on_frame(function(f) if f.frame == 0 then kept = f else kept:displacement(0) e
     // An expectation's selection is evaluated by the engine from what it
     // selects (sim/expectations.hpp), never from the cached ids: the forged
     // id is not used, the run measures all 45 nodes and passes.
-    softcut::lua::RunOutcome out;
+    softcut::app::RunOutcome out;
     const std::string e = run_box("frame_fake_expect", "local fake = softcut.select.all()\nfake._ids = { -1 }\n"
                                                        "s:expect{ name = 'e', at = 0, nodes = fake, component = 'x', min = 0 }",
                                   &out);

@@ -1,21 +1,31 @@
 #pragma once
-// Runs one Lua scenario end to end: sandboxed script -> ScenarioSpec ->
-// compile -> frame loop with the script's on_frame and expectations ->
-// displacements.csv + summary.json. The CLI (softcut run / check) calls this;
-// it needs no Lua headers.
+// One scenario run end to end, on the application's side: the script
+// (sim::ScenarioScript; a Lua file unless the caller opens another) gives
+// the ScenarioSpec; the command line's overrides are applied; the output
+// folder, the EGL context and the frame writer are made; compile; sim::run's
+// frame loop calls the script's on_frame and checks; the outcome lists the
+// expectations' verdicts. The CLI (softcut run / check / sweep) and the
+// render bench call this; it needs no Lua headers.
 #include <atomic>
 #include <cstdint>
 #include <filesystem>
 #include <functional>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "sim/run.hpp"
+#include "sim/scenario_script.hpp"
 #include "sim/scenario_spec.hpp"
 
-namespace softcut::lua {
+namespace softcut {
+class OutputBudget;
+class Watchdog;
+}  // namespace softcut
+
+namespace softcut::app {
 
 struct RunRequest {
   std::filesystem::path scenario;                 // the .lua file
@@ -51,7 +61,6 @@ struct ExpectationResult {
 
 struct RunOutcome {
   std::string name;         // scenario name (renders/<name>)
-  std::string description;
   std::filesystem::path out_dir;
   double tolerance = 1e-6;  // reference comparison, relative to max |u_ref|
   int num_frames = 0;       // of the timeline
@@ -64,13 +73,22 @@ struct RunOutcome {
   std::vector<std::string> warnings;
 };
 
+// Opens the run's script. Made after the run's watchdog and output budget,
+// which the script's sandbox is given (and which outlive it).
+using OpenScript = std::function<std::unique_ptr<sim::ScenarioScript>(const RunRequest& req, OutputBudget* output,
+                                                                      const Watchdog* watchdog)>;
+// req.scenario as a sandboxed Lua scenario (lua/scenario_script.hpp).
+std::unique_ptr<sim::ScenarioScript> open_lua_scenario(const RunRequest& req, OutputBudget* output,
+                                                       const Watchdog* watchdog);
+
 // Throws softcut::Error (with the scenario's file:line) for script errors,
 // misuse and engine errors; after the frame loop started, the outputs are
-// finished (summary marks the error) before the error propagates.
-RunOutcome run_scenario(const RunRequest& req);
+// finished (summary marks the error) before the error propagates; a run past
+// req.timeout_s throws TimeoutError.
+RunOutcome run_scenario(const RunRequest& req, const OpenScript& open = open_lua_scenario);
 
 // Only the script part: runs the scenario file and returns its spec (tests,
 // `softcut check` listing). Same errors as run_scenario.
-sim::ScenarioSpec load_scenario_spec(const RunRequest& req);
+sim::ScenarioSpec load_scenario_spec(const RunRequest& req, const OpenScript& open = open_lua_scenario);
 
-}  // namespace softcut::lua
+}  // namespace softcut::app

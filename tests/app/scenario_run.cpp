@@ -1,11 +1,13 @@
-#include "scenario_runner.hpp"
+#include "app/scenario_run.hpp"
 
 #include <doctest/doctest.h>
 
 #include <fstream>
 #include <sstream>
 
-#include "lua_test_support.hpp"
+#include "lua/lua_test_support.hpp"
+#include "sim/fixtures.hpp"
+#include "sim/model.hpp"
 
 namespace fs = std::filesystem;
 using softcut::test::contains;
@@ -30,6 +32,51 @@ s:expect{ name = "fn", at = 0.2, check = function(f) return f.time > 0.1, "never
 return s
 )";
 
+// A script written in C++: the cantilever (sim/fixtures.hpp) with a bounds
+// expectation and a check function at 0.1 s; it records what the run asked of
+// it and stops the run after `stop_after` frames.
+struct CppScript final : softcut::sim::ScenarioScript {
+  struct Log {
+    fs::path confined;
+    int starts = 0, frames = 0, checks = 0;
+    int frame_at_start = -2;
+  };
+  Log* log;
+  fs::path dir;
+  int stop_after;
+  CppScript(Log* l, fs::path d, int stop) : log(l), dir(std::move(d)), stop_after(stop) {}
+
+  softcut::sim::ScenarioSpec spec() override {
+    namespace sim = softcut::sim;
+    sim::ScenarioSpec s = softcut::test::cantilever_spec(dir, 1.0);
+    s.description = "a bar sags";
+    sim::ExpectationSpec sags;
+    sags.name = "sags";
+    sags.where = "cpp:1";
+    sags.at = 0.1;
+    sags.bounds = true;
+    sags.nodes = sim::NodeSelector::box(Eigen::Vector3d(0.1, -1, -1), Eigen::Vector3d(0.1, 1, 1));
+    sags.component = sim::ExpectationSpec::Component::z;
+    sags.max = 0.0;
+    sim::ExpectationSpec asked;
+    asked.name = "asked";
+    asked.where = "cpp:2";
+    asked.at = 0.1;
+    s.expectations = {sags, asked};
+    return s;
+  }
+  void confine_writes(const fs::path& d) override { log->confined = d; }
+  void start() override { ++log->starts; }
+  bool on_frame(const softcut::sim::Model&, softcut::sim::State& st) override {
+    if (log->frame_at_start == -2) log->frame_at_start = st.frame;
+    return ++log->frames < stop_after;
+  }
+  std::pair<bool, std::string> check(int index, const softcut::sim::Model&, softcut::sim::State& st) override {
+    ++log->checks;
+    return {false, "expectation " + std::to_string(index) + " asked at t = " + std::to_string(st.time)};
+  }
+};
+
 std::string params_scenario(const std::string& name) {
   return write_scenario(name, "local P = softcut.params{ force = 0.05, label = 'x', fast = false }\n" + std::string(kBoxHead) + kPull)
       .string();
@@ -37,9 +84,9 @@ std::string params_scenario(const std::string& name) {
 
 }  // namespace
 
-TEST_SUITE("lua/scenario_runner") {
+TEST_SUITE("app/scenario_run") {
   TEST_CASE("a run writes the outputs and reports each expectation with its line") {
-    softcut::lua::RunOutcome out;
+    softcut::app::RunOutcome out;
     const fs::path f = params_scenario("runner_basic");
     REQUIRE(scenario_error(f, &out) == "");
     CHECK(out.name == "scenario");
@@ -60,7 +107,7 @@ TEST_SUITE("lua/scenario_runner") {
   }
 
   TEST_CASE("--set overrides params by the defaults' types - unknown keys are suggested") {
-    softcut::lua::RunRequest req;
+    softcut::app::RunRequest req;
     req.overrides = {{"force", "0.1"}};
     const fs::path f = params_scenario("runner_set");
     REQUIRE(scenario_error(f, nullptr, req) == "");
@@ -77,11 +124,11 @@ TEST_SUITE("lua/scenario_runner") {
 
   TEST_CASE("twice the force gives twice the displacement") {
     const fs::path f = params_scenario("runner_linear");
-    softcut::lua::RunRequest r1, r2;
+    softcut::app::RunRequest r1, r2;
     r1.out_dir = f.parent_path() / "a";
     r2.out_dir = f.parent_path() / "b";
     r2.overrides = {{"force", "0.1"}};
-    softcut::lua::RunOutcome a, b;
+    softcut::app::RunOutcome a, b;
     REQUIRE(scenario_error(f, &a, r1) == "");
     REQUIRE(scenario_error(f, &b, r2) == "");
     std::istringstream sa(slurp(a.out_dir / "displacements.csv")), sb(slurp(b.out_dir / "displacements.csv"));
@@ -98,7 +145,7 @@ TEST_SUITE("lua/scenario_runner") {
 
   TEST_CASE("same scenario, same build: byte-identical logs") {
     const fs::path f = params_scenario("runner_determinism");
-    softcut::lua::RunRequest r1, r2;
+    softcut::app::RunRequest r1, r2;
     r1.out_dir = f.parent_path() / "a";
     r2.out_dir = f.parent_path() / "b";
     REQUIRE(scenario_error(f, nullptr, r1) == "");
@@ -109,10 +156,10 @@ TEST_SUITE("lua/scenario_runner") {
   TEST_CASE("interruption: the frame finishes, outputs are valid and marked interrupted") {
     const fs::path f = params_scenario("runner_interrupt");
     std::atomic<bool> flag{false};
-    softcut::lua::RunRequest req;
+    softcut::app::RunRequest req;
     req.interrupt = &flag;
     req.progress = [&](int frame, int, double) { if (frame == 1) flag = true; };  // as a signal would, mid-run
-    softcut::lua::RunOutcome out;
+    softcut::app::RunOutcome out;
     REQUIRE(scenario_error(f, &out, req) == "");
     CHECK(out.result.reason == softcut::sim::ExitReason::interrupted);
     CHECK(out.result.frames == 2);
@@ -125,11 +172,11 @@ TEST_SUITE("lua/scenario_runner") {
   }
 
   TEST_CASE("the instruction budget applies per call: long runs are fine, an endless on_frame is not") {
-    softcut::lua::RunRequest req;
+    softcut::app::RunRequest req;
     req.instruction_budget = 60'000;
     const auto ok = write_scenario("runner_budget_ok", std::string(kBoxHead) +
         "s:on_frame(function(f) local x = 0 for i = 1, 3000 do x = x + i end end)\nreturn s\n");
-    softcut::lua::RunOutcome out;
+    softcut::app::RunOutcome out;
     CHECK(scenario_error(ok, &out, req) == "");  // 6 frames x ~12k instructions > 60k in total
     CHECK(out.result.frames == 6);
     const auto bad = write_scenario("runner_budget_bad", std::string(kBoxHead) +
@@ -141,7 +188,7 @@ TEST_SUITE("lua/scenario_runner") {
   TEST_CASE("output settings reach the engine: logged nodes, VTU series") {
     const auto f = write_scenario("runner_vtu", std::string(kBoxHead) +
         "s:output{ vtu = true, vtu_every = 2, log = softcut.select.nodes{ 0, 44 } }\nreturn s\n");
-    softcut::lua::RunOutcome out;
+    softcut::app::RunOutcome out;
     REQUIRE(scenario_error(f, &out) == "");
     CHECK(fs::exists(out.out_dir / "series.pvd"));
     CHECK(fs::exists(out.out_dir / "vtu" / "frame_000000.vtu"));
@@ -160,9 +207,9 @@ TEST_SUITE("lua/scenario_runner") {
         "runner_after",
         "local P = softcut.params{ force = 0.05, label = 'x', fast = false }\n" + std::string(kBoxHead) +
             "require('scenario').pending = function() error('script code ran after the run') end\n" + kPull);
-    softcut::lua::RunRequest req;
+    softcut::app::RunRequest req;
     req.max_frames = 1;
-    softcut::lua::RunOutcome out;
+    softcut::app::RunOutcome out;
     REQUIRE(scenario_error(f, &out, req) == "");
     int not_reached = 0;
     for (const auto& e : out.expectations) not_reached += contains(e.message, "not reached");
@@ -170,9 +217,9 @@ TEST_SUITE("lua/scenario_runner") {
   }
 
   TEST_CASE("--frames limits the run") {
-    softcut::lua::RunRequest req;
+    softcut::app::RunRequest req;
     req.max_frames = 2;
-    softcut::lua::RunOutcome out;
+    softcut::app::RunOutcome out;
     REQUIRE(scenario_error(params_scenario("runner_frames"), &out, req) == "");
     CHECK(out.result.frames == 2);
   }
@@ -192,9 +239,9 @@ return s
   }
 
   TEST_CASE("load_scenario_spec fills the engine's spec") {
-    softcut::lua::RunRequest req;
+    softcut::app::RunRequest req;
     req.scenario = params_scenario("runner_spec");
-    const softcut::sim::ScenarioSpec spec = softcut::lua::load_scenario_spec(req);
+    const softcut::sim::ScenarioSpec spec = softcut::app::load_scenario_spec(req);
     CHECK(spec.mesh.generator == "box");
     CHECK(spec.mesh.options.at("max.x") == 0.1);
     REQUIRE(spec.loads.size() == 1);
@@ -230,7 +277,7 @@ s:expect{ name = "pressure", at = 0.5, check = function(f)
 end }
 return s
 )";
-    softcut::lua::RunOutcome out;
+    softcut::app::RunOutcome out;
     REQUIRE(scenario_error(write_scenario("runner_scalpel", body), &out) == "");
     REQUIRE(out.expectations.size() == 2);
     CHECK(out.expectations[0].ok);
@@ -238,7 +285,7 @@ return s
     CHECK(contains(slurp(out.out_dir / "summary.json"), "\"cutting\": {\"scalpels\": 1"));
 
     // Every scalpel field and s:cutting reach the engine's spec.
-    softcut::lua::RunRequest req;
+    softcut::app::RunRequest req;
     req.scenario = write_scenario("runner_scalpel_spec", std::string(kBoxHead) + R"(
 s:operational{ box = { min = {0.02, -1, -1}, max = {0.08, 1, 1} } }
 s:scalpel{ name = "blade", length = 0.03, axis = {0, 0, 2}, radius = 0.002, cut_pressure = 5e3, back = {0, 0.01, 0},
@@ -249,7 +296,7 @@ s:cutting{ snap_fraction = 0.2, min_dihedral = 12 }
 s:output{ render = { show_inclusions = false, cut_color = {0.5, 0.1, 0.2} } }
 return s
 )");
-    const softcut::sim::ScenarioSpec spec = softcut::lua::load_scenario_spec(req);
+    const softcut::sim::ScenarioSpec spec = softcut::app::load_scenario_spec(req);
     REQUIRE(spec.tools.size() == 3);
     CHECK(spec.tools[0].shaft == Eigen::Vector3d(0, 1, 1));  // drawing only: each tool's shaft
     CHECK(spec.tools[1].shaft == Eigen::Vector3d(1, 0, 1));
@@ -289,5 +336,39 @@ s:output{ render = { cut_color = {0.5, 1.5, 0.2} } }
 return s
 )");
     CHECK(contains(scenario_error(colour), "outputs.render: cut_color must be RGB in [0, 1]"));
+  }
+
+  TEST_CASE("a script without Lua: the run asks it for its spec and confines its writes, calls it per frame and reports its verdicts") {
+    const fs::path dir = softcut::test::scratch_dir("app_cpp_script");
+    CppScript::Log log;
+    softcut::app::RunRequest req;
+    req.scenario = dir / "bar.cpp";  // names the script in messages; never opened
+    req.out_dir = dir / "out";
+    req.backend = softcut::sim::Backend::cpu;
+    const softcut::app::RunOutcome out =
+        softcut::app::run_scenario(req, [&](const softcut::app::RunRequest& r, softcut::OutputBudget*, const softcut::Watchdog*) {
+          CHECK(r.scenario == req.scenario);
+          return std::make_unique<CppScript>(&log, dir / "ignored", 3);
+        });
+    CHECK(out.name == "cantilever");
+    CHECK(out.out_dir == fs::canonical(dir / "out"));
+    CHECK(log.confined == out.out_dir);  // confined to the folder made, not the spec's
+    CHECK(log.starts == 1);
+    CHECK(log.frame_at_start == 0);
+    CHECK(log.frames == 3);
+    CHECK(out.result.frames == 3);  // frames 0 .. 2 of 10, then the script stopped it
+    CHECK(out.result.reason == softcut::sim::ExitReason::stopped);
+    CHECK(log.checks == 1);
+    REQUIRE(out.expectations.size() == 2);
+    CHECK(out.expectations[0].name == "sags");
+    CHECK(out.expectations[0].ok);
+    CHECK(out.expectations[1].name == "asked");
+    CHECK_FALSE(out.expectations[1].ok);
+    CHECK(out.expectations[1].message == "expectation 1 asked at t = 0.100000");
+    const std::string summary = slurp(out.out_dir / "summary.json");
+    CHECK(contains(summary, "\"description\": \"a bar sags\""));
+    CHECK(contains(summary, "\"exit_reason\": \"stopped\""));
+    CHECK(fs::exists(out.out_dir / "displacements.csv"));
+    CHECK_FALSE(fs::exists(dir / "ignored"));
   }
 }

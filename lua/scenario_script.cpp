@@ -1,4 +1,4 @@
-#include "scenario_runner.hpp"
+#include "scenario_script.hpp"
 
 #include <lua.hpp>
 
@@ -7,17 +7,12 @@
 #include <memory>
 
 #include "convert.hpp"
-#include "core/checked_file.hpp"
 #include "core/error.hpp"
-#include "core/output_budget.hpp"
 #include "core/printable.hpp"
 #include "core/watchdog.hpp"
-#include "gpu/egl_context.hpp"
-#include "render/frame_writer.hpp"
 #include "runtime.hpp"
 #include "sandbox_limits.hpp"
 #include "sim/model.hpp"
-#include "sim/outputs.hpp"
 #include "wrap_frame.hpp"
 #include "wrap_mesh.hpp"
 
@@ -67,6 +62,8 @@ sim::ScenarioSpec spec_from_table(lua_State* L, int s, const fs::path& source) {
   sim::ScenarioSpec spec;
   const std::string where = get_string(L, s, "where");
   spec.name = get_string(L, s, "name", "scenario");
+  spec.description = get_string(L, s, "description");
+  spec.reference_tolerance = get_number(L, s, "tolerance", 1e-6);
   spec.source = source;
   spec.versions["lua"] = LUA_RELEASE;
   spec.timeline.duration = get_number(L, s, "duration", 1.0);
@@ -252,7 +249,7 @@ sim::ScenarioSpec spec_from_table(lua_State* L, int s, const fs::path& source) {
 
 // Runs the script in `rt`; leaves the Scenario table on the stack and
 // returns its absolute index.
-int run_script(Runtime& rt, const RunRequest& req) {
+int run_script(Runtime& rt, const ScriptRequest& req) {
   lua_State* L = rt.state();
   const fs::path file = fs::absolute(req.scenario).lexically_normal();
   if (!fs::is_regular_file(file)) fail(req.scenario.string(), ": no such scenario file");
@@ -299,8 +296,6 @@ int run_script(Runtime& rt, const RunRequest& req) {
   return lua_gettop(L);
 }
 
-std::string first_line(const std::string& s) { return s.substr(0, s.find('\n')); }
-
 // spec_from_table inside lua_pcall. It reads the script's tables with raw
 // access only, so no script code runs; but a Lua error raised while reading
 // (out of memory) must become an Error, not a panic outside any protected call.
@@ -338,10 +333,11 @@ sim::ScenarioSpec read_spec(lua_State* L, int s, const fs::path& source) {
   return std::move(job.spec);
 }
 
-SandboxOptions sandbox_of(const RunRequest& req, OutputBudget* output = nullptr, const Watchdog* dog = nullptr) {
+SandboxOptions sandbox_of(const ScriptRequest& req) {
   SandboxOptions opt;
-  opt.output = output;
-  if (dog && dog->seconds() > 0) opt.deadline = &dog->expired(), opt.timeout_s = dog->seconds();
+  opt.output = req.output;
+  if (req.watchdog && req.watchdog->seconds() > 0)
+    opt.deadline = &req.watchdog->expired(), opt.timeout_s = req.watchdog->seconds();
   opt.trusted = req.trusted;
   // Resolved once: the checked opens then work below the real folder, and
   // any link below it is refused.
@@ -423,182 +419,69 @@ void call_frame(Runtime& rt, lua_State* L, FrameCall& fc, int results, const cha
   rt.call(1, results);
 }
 
-// The output folder from the final spec, made and resolved once: `--out DIR`
-// as the user gave it, else renders/<name>/ with the name checked (after the
-// script has run: a script may change s.name at any time) and the folder made
-// below renders/ without following a link there.
-fs::path make_output_folder(const RunRequest& req, const std::string& name) {
-  fs::path dir;
-  if (!req.out_dir.empty()) {
-    std::error_code ec;
-    fs::create_directories(req.out_dir, ec);
-    if (ec || !fs::is_directory(req.out_dir))
-      fail(req.out_dir.string(), ": cannot create the output folder (", ec ? ec.message() : "not a folder",
-           "); choose another with --out or fix the path");
-    dir = req.out_dir;
-  } else {
-    sim::check_scenario_name(name);
-    const fs::path root = fs::absolute("renders");
-    std::error_code ec;
-    fs::create_directories(root, ec);
-    if (ec) fail(root.string(), ": cannot create the output root (", ec.message(), "); choose a folder with --out");
-    dir = make_folder_below(root, name, "output folder");
+// A Lua scenario file as the run's script. The Scenario table stays on the
+// Lua stack at index s_ (the main chunk's result); the frame callbacks live
+// in the registry from start() on.
+class LuaScenario final : public sim::ScenarioScript {
+ public:
+  explicit LuaScenario(const ScriptRequest& req)
+      : rt_(sandbox_of(req)), source_(fs::absolute(req.scenario).lexically_normal()) {
+    s_ = run_script(rt_, req);
   }
-  return fs::canonical(dir);
-}
 
-// Frame buffers of a rendered frame, bytes: colour and depth per sample,
-// the resolved and read-back images and the PNG encoder's copy.
-double render_bytes(const sim::RenderSettings& r) {
-  const double pixels = double(r.width) * double(r.height);
-  return pixels * 8.0 * std::max(1, r.msaa_samples) + pixels * 4.0 * 3.0;
-}
-
-}  // namespace
-
-sim::ScenarioSpec load_scenario_spec(const RunRequest& req) {
-  Runtime rt(sandbox_of(req));
-  const int s = run_script(rt, req);
-  return read_spec(rt.state(), s, fs::absolute(req.scenario).lexically_normal());
-}
-
-namespace {
-RunOutcome run_watched(const RunRequest& req, const Watchdog& dog);
-}
-
-RunOutcome run_scenario(const RunRequest& req) {
-  // Made before the Lua state: the watchdog outlives it, so a hang while the
-  // state is closed is still ended.
-  Watchdog dog(req.timeout_s, std::clamp(req.timeout_s / 10, 5.0, 60.0),
-               cat(req.scenario.string(), ": the wall-clock limit of ", req.timeout_s,
-                   " s (--timeout) passed and the run did not stop (stuck outside the script); exiting without "
-                   "finishing the outputs"));
-  try {
-    return run_watched(req, dog);
-  } catch (const TimeoutError&) {
-    throw;
-  } catch (const Error& e) {
-    // The limit struck before the frame loop (the script's main chunk,
-    // compile): the same exit status as a timeout in the loop.
-    if (dog.expired()) throw TimeoutError(e.what());
-    throw;
-  }
-}
-
-namespace {
-
-RunOutcome run_watched(const RunRequest& req, const Watchdog& dog) {
-  // The run owns --out from its start: a script that fails before the
-  // outputs are written must not leave the last run's summary there, where
-  // it would read as this run's.
-  std::error_code ec;
-  if (!req.out_dir.empty() && fs::is_directory(req.out_dir, ec)) sim::clear_earlier_outputs(req.out_dir);
-  OutputBudget output(req.max_output);
-  Runtime rt(sandbox_of(req, &output, &dog));
-  lua_State* L = rt.state();
-  const int s = run_script(rt, req);
-  RunOutcome out;
-  sim::ScenarioSpec spec = read_spec(L, s, fs::absolute(req.scenario).lexically_normal());
-  out.name = spec.name;
-  out.description = get_string(L, s, "description");
-  out.tolerance = get_number(L, s, "tolerance", 1e-6);
-  {
-    const std::string file = req.scenario.string();
-    try {
-      sim::check_spec(spec);  // before anything is made from it (compile checks again)
-      out.out_dir = make_output_folder(req, spec.name);
-    } catch (const Error& e) {
-      const std::string msg = e.what();
-      if (msg.rfind(file, 0) == 0) throw;
-      fail(file, ": ", msg);
+  sim::ScenarioSpec spec() override {
+    lua_State* L = rt_.state();
+    sim::ScenarioSpec spec = read_spec(L, s_, source_);
+    // The parameters after --set, as softcut.params left them (a list of
+    // {name, text} in the internal table the script cannot reach).
+    rt_.push_internal();
+    lua_getfield(L, -1, "params_effective");
+    for (lua_Integer i = 1; lua_istable(L, -1); ++i) {
+      if (lua_rawgeti(L, -1, i) != LUA_TTABLE) {
+        lua_pop(L, 1);
+        break;
+      }
+      lua_rawgeti(L, -1, 1);
+      lua_rawgeti(L, -2, 2);
+      if (lua_type(L, -2) == LUA_TSTRING && lua_type(L, -1) == LUA_TSTRING)
+        spec.params.emplace_back(lua_tostring(L, -2), lua_tostring(L, -1));
+      lua_pop(L, 3);
     }
-  }
-  rt.set_write_dir(out.out_dir);
-  spec.outputs.dir = out.out_dir;
-  spec.command_line = req.command_line;
-  // The parameters after --set, as softcut.params left them (a list of
-  // {name, text} in the internal table the script cannot reach).
-  rt.push_internal();
-  lua_getfield(L, -1, "params_effective");
-  for (lua_Integer i = 1; lua_istable(L, -1); ++i) {
-    if (lua_rawgeti(L, -1, i) != LUA_TTABLE) {
-      lua_pop(L, 1);
-      break;
-    }
-    lua_rawgeti(L, -1, 1);
-    lua_rawgeti(L, -2, 2);
-    if (lua_type(L, -2) == LUA_TSTRING && lua_type(L, -1) == LUA_TSTRING)
-      spec.params.emplace_back(lua_tostring(L, -2), lua_tostring(L, -1));
-    lua_pop(L, 3);
-  }
-  lua_pop(L, 2);
-  spec.outputs.timeout_s = std::max(0.0, req.timeout_s);
-  spec.outputs.max_bytes = req.max_output;
-  if (req.render_every > 0) spec.outputs.render.enabled = true, spec.outputs.render.every = req.render_every;
-  if (!req.render) spec.outputs.render.enabled = false;
-  if (req.width > 0) spec.outputs.render.width = req.width;
-  if (req.height > 0) spec.outputs.render.height = req.height;
-  if (req.msaa_samples >= 0) spec.outputs.render.msaa_samples = req.msaa_samples;
-  if (req.backend) spec.solver.backend = *req.backend;
-  spec.solver.cache_dir = req.cache_dir;
-  if (!req.trusted) {
-    // What the scenario's numbers make the engine allocate counts against
-    // the sandbox's memory budget too, checked before it is allocated.
-    spec.solver.max_bytes = double(req.memory_budget);
-    const sim::RenderSettings& r = spec.outputs.render;
-    if (r.enabled && render_bytes(r) > double(req.memory_budget))
-      fail(req.scenario.string(), ": rendering ", r.width, " x ", r.height, " frames with ", r.msaa_samples,
-           " MSAA samples needs about ", int(render_bytes(r) / (1 << 20)), " MiB of frame buffers, more than the ",
-           req.memory_budget >> 20, " MiB memory budget of the sandbox; render smaller (--size WxH), with fewer "
-           "samples (--msaa N), or run with --trust");
+    lua_pop(L, 2);
+    return spec;
   }
 
-  // One EGL context for the GPU backend and rendering, made here (the engine
-  // never creates one) and outliving the Model and the renderer.
-  std::unique_ptr<gpu::EglContext> context;
-  if (sim::wants_gpu_context(spec)) {
-    const bool required = spec.solver.backend == sim::Backend::gpu || spec.outputs.render.enabled;
-    try {
-      context = std::make_unique<gpu::EglContext>();
-    } catch (const Error& e) {
-      if (required) throw;
-      out.warnings.push_back(cat("no OpenGL context (", first_line(e.what()), "); solver backend auto uses the CPU"));
-    }
-  }
-  const sim::Model model = sim::compile(spec, sim::RunResources{context.get()});
-  // Frames are drawn on a worker thread while the next frame is simulated,
-  // unless the GPU solver needs the shared context on this thread.
-  std::unique_ptr<render::FrameWriter> frames;
-  if (spec.outputs.render.enabled) {
-    const bool solver_on_gpu = model.solver->backend().backend == sim::Backend::gpu;
-    frames = std::make_unique<render::FrameWriter>(*context,
-                                                   solver_on_gpu || req.render_inline
-                                                       ? render::FrameWriter::Mode::inline_draw
-                                                       : render::FrameWriter::Mode::worker,
-                                                   2, &output);
-  }
-  out.num_frames = model.num_frames;
-  sim::State state = sim::make_state(model);
+  void confine_writes(const fs::path& dir) override { rt_.set_write_dir(dir); }
 
-  // The Scenario table and the glue function live in the registry while the
-  // loop runs.
-  lua_pushvalue(L, s);
-  const int s_ref = protected_ref(L);
-  rt.run_string("return require('scenario').after_frame", "=softcut/after_frame", 1);
-  const int fn_ref = protected_ref(L);
-  rt.run_string("return require('scenario').run_check", "=softcut/run_check", 1);
-  const int check_ref = protected_ref(L);
-  rt.run_string("return require('scenario').checks_of", "=softcut/checks_of", 1);
-  lua_rawgeti(L, LUA_REGISTRYINDEX, s_ref);
-  rt.call(1, 1);
-  const int checks_ref = protected_ref(L);
+  void start() override {
+    lua_State* L = rt_.state();
+    lua_pushvalue(L, s_);
+    s_ref_ = protected_ref(L);
+    rt_.run_string("return require('scenario').after_frame", "=softcut/after_frame", 1);
+    frame_ref_ = protected_ref(L);
+    rt_.run_string("return require('scenario').run_check", "=softcut/run_check", 1);
+    check_ref_ = protected_ref(L);
+    rt_.run_string("return require('scenario').checks_of", "=softcut/checks_of", 1);
+    lua_rawgeti(L, LUA_REGISTRYINDEX, s_ref_);
+    rt_.call(1, 1);
+    checks_ref_ = protected_ref(L);
+  }
 
-  sim::RunHooks hooks;
-  // A check function's verdict: (ok, message) copied out bounded and
-  // printable (the message is the script's), inside a protected call.
-  hooks.check = [&](int index, const sim::Model& m, sim::State& st) {
-    FrameCall fc{check_ref, checks_ref, &m, &st, nullptr, index};
-    call_frame(rt, L, fc, 2, "expect");
+  bool on_frame(const sim::Model& m, sim::State& st) override {
+    lua_State* L = rt_.state();
+    FrameCall fc{frame_ref_, s_ref_, &m, &st};
+    call_frame(rt_, L, fc, 1, "on_frame");
+    const bool go_on = lua_toboolean(L, -1);
+    lua_pop(L, 1);
+    return go_on;
+  }
+
+  // The verdict (ok, message), copied out bounded and printable (the message
+  // is the script's), inside a protected call.
+  std::pair<bool, std::string> check(int index, const sim::Model& m, sim::State& st) override {
+    lua_State* L = rt_.state();
+    FrameCall fc{check_ref_, checks_ref_, &m, &st, nullptr, index};
+    call_frame(rt_, L, fc, 2, "expect");
     std::pair<bool, std::string> verdict{lua_toboolean(L, -2) != 0, ""};
     if (lua_type(L, -1) == LUA_TSTRING) {
       size_t len = 0;
@@ -607,50 +490,19 @@ RunOutcome run_watched(const RunRequest& req, const Watchdog& dog) {
     }
     lua_pop(L, 2);
     return verdict;
-  };
-  hooks.interrupt = req.interrupt;
-  hooks.timed_out = &dog.expired();
-  hooks.max_frames = req.max_frames;
-  hooks.progress = req.progress;
-  hooks.on_frame = [&](const sim::Model& m, sim::State& st) {
-    FrameCall fc{fn_ref, s_ref, &m, &st};
-    call_frame(rt, L, fc, 1, "on_frame");
-    const bool go_on = lua_toboolean(L, -1);
-    lua_pop(L, 1);
-    return go_on && !st.stop_requested;
-  };
-
-
-  sim::Recorder rec(model, out.out_dir, &output);
-  if (frames) rec.set_frame_writer(frames.get());
-  out.result = sim::run(model, state, rec, hooks);
-  out.step_ms = state.stats.total.sum / std::max(1, state.stats.frames);
-  out.frames_rendered = rec.frames_rendered();
-  if (out.frames_rendered) {
-    out.render_ms = rec.render_frame_thread_ms().sum / out.frames_rendered;
-    const render::FrameWriterStats st = frames->stats();  // one locked snapshot
-    out.render_work_ms = st.work.total_ms() / std::max(1, st.frames);
   }
-  out.warnings.insert(out.warnings.end(), model.warnings.begin(), model.warnings.end());
-  out.warnings.insert(out.warnings.end(), state.warnings.begin(), state.warnings.end());
 
-  // Expectation outcomes, from the engine (never from a table the script
-  // could forge), listed in the order they were checked (time, then declaration), those
-  // not reached last; summary.json keeps the declaration order.
-  std::vector<size_t> order;
-  for (size_t i = 0; i < model.spec.expectations.size() && i < state.expectations.size(); ++i) order.push_back(i);
-  std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) {
-    const sim::ExpectationOutcome &x = state.expectations[a], &y = state.expectations[b];
-    return x.reached != y.reached ? x.reached : x.reached && x.time < y.time;
-  });
-  for (size_t i : order) {
-    const sim::ExpectationSpec& e = model.spec.expectations[i];
-    const sim::ExpectationOutcome& o = state.expectations[i];
-    out.expectations.push_back(ExpectationResult{e.name, e.where, o.reached, o.ok, o.message});
-  }
-  return out;
-}
+ private:
+  Runtime rt_;
+  fs::path source_;
+  int s_ = 0;
+  int s_ref_ = LUA_NOREF, frame_ref_ = LUA_NOREF, check_ref_ = LUA_NOREF, checks_ref_ = LUA_NOREF;
+};
 
 }  // namespace
+
+std::unique_ptr<sim::ScenarioScript> open_scenario(const ScriptRequest& req) {
+  return std::make_unique<LuaScenario>(req);
+}
 
 }  // namespace softcut::lua
