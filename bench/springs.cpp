@@ -1,5 +1,5 @@
 // softcut bench springs: the cost of implicit grasper springs per frame
-// (sim/springs.hpp) against the explicit spring, with and without the
+// (tools/springs.hpp) against the explicit spring, with and without the
 // compliance cache, measured in the same run on a box of about 800 nodes.
 #include <cstdio>
 #include <filesystem>

@@ -1,7 +1,6 @@
 #pragma once
 // Model (fixed after compile) and State (changes every frame), MuJoCo style:
 // step(const Model&, State&) reads the one and writes the other.
-#include <Eigen/Cholesky>
 #include <Eigen/Core>
 #include <map>
 #include <memory>
@@ -17,6 +16,7 @@
 #include "sim/expectations.hpp"
 #include "sim/scenario_spec.hpp"
 #include "sim/solver.hpp"
+#include "tools/springs.hpp"
 #include "tools/tool.hpp"
 
 namespace softcut::sim {
@@ -73,21 +73,6 @@ struct StageStat {
   void add(double v) { sum += v; max = v > max ? v : max; }
 };
 
-// Implicit tool springs (sim/springs.hpp): the grasped nodes' compliance,
-// kept while the grasped node set and the solver's system stay the same.
-struct SpringCache {
-  std::vector<int> nodes;     // (m) grasped node ids the data belongs to, sorted
-  long generation = -1;       // Solver::system_generation() it was built for
-  Eigen::MatrixXd response;   // (3 nnode x 3m) m/N, displacement field of 1 N on each grasped DOF
-  Eigen::MatrixXd compliance; // (3m x 3m) m/N, C_gg: the grasped rows of `response`
-  Eigen::MatrixXd W;          // (3p x 3m) the grip points' weights (sim/springs.hpp)
-  Eigen::LLT<Eigen::MatrixXd> A_llt;  // of diag(1/k) + W C W^T
-  std::vector<double> grip_key;       // the grips (nodes, weights, stiffnesses) W and A_llt belong to
-  bool enabled = true;        // false: rebuild every frame (for measuring the cache)
-  int builds = 0;             // times `response` was computed
-  double build_ms = 0;        // total time spent computing it
-};
-
 struct RunStatistics {
   int frames = 0;
   StageStat collision, cutting, poke_drag, operational_solve, nonoperational_update, total;  // ms
@@ -118,7 +103,7 @@ struct RunBookkeeping {
   std::vector<tools::ToolSpec> tool_specs;  // copies; the script may change them between frames
   bool stop_requested = false;       // set by the script: finish after this frame
   SolverRun solver_run;              // Solver::start_run: warm start, factors, column cache, device buffers
-  SpringCache springs;               // implicit spring compliance (per run)
+  tools::SpringCache springs;        // implicit spring compliance (per run, tools/springs.hpp)
   FrameTimings last;                 // of the last frame
   int last_cg_iterations = 0;
   RunStatistics stats;

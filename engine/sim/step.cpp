@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "core/timer.hpp"
-#include "sim/springs.hpp"
+#include "tools/springs.hpp"
 
 namespace softcut::sim {
 
@@ -25,6 +25,27 @@ Eigen::MatrixX3d load_forces(const Model& m, const State& s, double t) {
   }
   return f;
 }
+
+namespace {
+
+// The grasper springs on this frame's system (tools/springs.hpp).
+int solve_implicit_springs(const Model& m, State& s, int frame) {
+  tools::SpringSystem sys;
+  sys.mesh = &current_mesh(m, s);
+  sys.fixed = [&](int n) { return is_fixed_node(m, s, n); };
+  if (s.cut)
+    sys.held = [&](int n) -> Eigen::Vector3d {
+      if (!is_held_node(s, n)) return Eigen::Vector3d::Zero();
+      return s.cut->held_displacement.row(n).transpose();
+    };
+  sys.generation = m.solver->system_generation(s.solver_run);
+  sys.unit_responses = [&](const std::vector<int>& nodes, Eigen::MatrixXd& out) {
+    m.solver->unit_responses(nodes, s.solver_run, out);
+  };
+  return tools::solve_implicit_springs(sys, s.tool_specs, s.tools, s.springs, s.displacement, s.forces, frame);
+}
+
+}  // namespace
 
 void step(const Model& m, State& s) {
   Timer total;
@@ -70,7 +91,7 @@ void step(const Model& m, State& s) {
   SolveStats st;
   m.solver->solve(s.forces, s.displacement, s.solver_run, st);
   timer.reset();
-  const bool springs = solve_implicit_springs(m, s) > 0;
+  const bool springs = solve_implicit_springs(m, s, frame) > 0;
   const double springs_ms = timer.ms();
   hold_detached(s);  // pieces cut free stay where they separated
   poke_drag_ms += springs_ms;

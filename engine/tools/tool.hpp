@@ -31,7 +31,7 @@ struct ToolSpec {
   //        pushed out to the tip sphere's surface). update_tool() evaluates it on last frame's
   //        positions (explicit). A grasper with `implicit` (the default) is
   //        instead solved exactly within each frame by sim::step (see
-  //        sim/springs.hpp), so any stiffness works; explicit springs only
+  //        tools/springs.hpp), so any stiffness works; explicit springs only
   //        settle over frames when stiffness x compliance at the contact is
   //        below about 1 (see docs/outputs.md).
   enum class Drive { force, spring };

@@ -8,7 +8,6 @@
 #include "core/timer.hpp"
 #include "fixtures.hpp"
 #include "gpu/egl_context.hpp"
-#include "sim/springs.hpp"
 #include "sim/step.hpp"
 #include "test_support.hpp"
 

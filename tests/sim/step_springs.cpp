@@ -1,4 +1,6 @@
-#include "sim/springs.hpp"
+// The implicit grasper springs (tools/springs.hpp) inside whole frames: against
+// a dense whole-mesh reference on every backend, with cutting and caching.
+#include "sim/step.hpp"
 
 #include <doctest/doctest.h>
 
@@ -8,7 +10,6 @@
 #include "fem/assembly.hpp"
 #include "fem/dof_map.hpp"
 #include "fixtures.hpp"
-#include "sim/step.hpp"
 #include "test_support.hpp"
 
 using V = Eigen::Vector3d;
@@ -131,7 +132,7 @@ class GenerationProbe final : public sim::Solver {
 
 }  // namespace
 
-TEST_SUITE("sim/springs") {
+TEST_SUITE("sim/step") {
   TEST_CASE("a stiff implicit grasper matches the closed form (I + kC)^-1 k d in the first frames") {
     for (const std::string backend : {"cpu", "direct", "monolithic"}) {
       CAPTURE(backend);
