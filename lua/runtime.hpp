@@ -57,7 +57,7 @@ class Runtime {
   // The output folder, once known (io.open for writing is allowed below it).
   void set_write_dir(const std::filesystem::path& dir) { opt_.write_dir = dir; }
   // Whether the instruction budget, an interrupt or the deadline has stopped
-  // the script: then every later call() fails at once (sandbox_limits.hpp).
+  // the script: then every later call() fails at once (sandbox/limits.hpp).
   bool stopped() const;
 
   // Lua heap plus engine memory held for the script, bytes; VM instructions executed by the current or last
@@ -65,7 +65,7 @@ class Runtime {
   std::size_t memory_used() const;
   long long instructions_used() const;
 
-  struct Budget;  // heap and instruction accounting (runtime.cpp)
+  struct Budget;  // heap and instruction accounting (sandbox/limits.hpp)
 
  private:
   SandboxOptions opt_;
@@ -78,9 +78,6 @@ class Runtime {
 // softcut::Error unchanged) without unwinding C++ frames by longjmp. Every
 // binding body goes through it.
 int protect(lua_State* L, const std::function<int()>& f);
-
-// Pushes the `softcut` library table (loads it on first use).
-void push_library(lua_State* L);
 
 // The sandbox's limit on a mesh's tetrahedra (SandboxOptions::max_tets;
 // infinite with --trust).

@@ -9,7 +9,7 @@
 #include "convert.hpp"
 #include "mesh/surface.hpp"
 #include "runtime.hpp"
-#include "sandbox_limits.hpp"
+#include "sandbox/limits.hpp"
 #include "sim/mesh_source.hpp"
 #include "sim/selector.hpp"
 #include "wrap_mesh.hpp"

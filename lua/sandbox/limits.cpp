@@ -1,4 +1,4 @@
-#include "sandbox_limits.hpp"
+#include "sandbox/limits.hpp"
 
 #include <lua.hpp>
 

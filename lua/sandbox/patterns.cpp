@@ -1,4 +1,4 @@
-#include "runtime_patterns.hpp"
+#include "sandbox/patterns.hpp"
 
 #include <algorithm>
 #include <array>

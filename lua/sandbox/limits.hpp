@@ -1,6 +1,6 @@
 #pragma once
 // The sandbox's budgets, shared by the allocator, the count hook and the
-// wrapped library functions (sandbox_limits.cpp, sandbox_io.cpp):
+// wrapped library functions (sandbox/limits.cpp, sandbox/io.cpp):
 // - memory: every Lua allocation and the engine memory held for the script;
 // - instructions: counted by the hook, plus work done inside C functions,
 //   which the hook never sees, charged by size (bytes allocated, elements

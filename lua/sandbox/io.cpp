@@ -1,4 +1,4 @@
-// The sandbox's io library (sandbox_limits.hpp, push_sandboxed_io).
+// The sandbox's io library (sandbox/limits.hpp, push_sandboxed_io).
 #include <lua.hpp>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -12,7 +12,7 @@
 #include "core/error.hpp"
 #include "core/output_budget.hpp"
 #include "core/printable.hpp"
-#include "sandbox_limits.hpp"
+#include "sandbox/limits.hpp"
 
 namespace fs = std::filesystem;
 

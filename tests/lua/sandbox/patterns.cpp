@@ -1,4 +1,4 @@
-#include "runtime_patterns.hpp"
+#include "sandbox/patterns.hpp"
 
 #include <doctest/doctest.h>
 #include <lua.hpp>
@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "lua_test_support.hpp"
+#include "lua/lua_test_support.hpp"
 
 using softcut::lua::pattern_class_matches;
 using softcut::lua::pattern_work;
@@ -31,7 +31,7 @@ std::string rep(const std::string& s, int n) {
 
 }  // namespace
 
-TEST_SUITE("lua/runtime_patterns") {
+TEST_SUITE("lua/sandbox/patterns") {
   TEST_CASE("class membership agrees with Lua's own matcher for every byte") {
     // The bound is only sound if its runs of class bytes are never shorter
     // than the matcher's: compare with string.find(char, '^' .. class .. '()').

@@ -2,7 +2,7 @@
 // A worst-case work bound for Lua 5.4's string pattern matcher (string.find,
 // match, gmatch, gsub), which runs in C where the sandbox's instruction count
 // hook never fires: `('a'):rep(40):match(('a*'):rep(40) .. 'b')` backtracks
-// for hours. The sandbox (runtime.cpp) wraps those functions, asks this bound
+// for hours. The sandbox (sandbox/policy.cpp) wraps those functions, asks this bound
 // before each call and refuses a call whose bound exceeds its budget.
 //
 // The bound is sound by construction, not a guess: the matcher is a
