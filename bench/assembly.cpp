@@ -185,26 +185,19 @@ int bench_assembly(const Args& args) {
     std::fflush(stdout);
   }
   if (!json.empty()) {
-    std::ostringstream os;
-    os.precision(6);
-    os << "{\n  \"benchmark\": \"assembly\",\n  \"threads\": " << threads << ",\n  \"repeat\": " << repeat
-       << ",\n  \"rows\": [\n";
-    for (size_t k = 0; k < rows.size(); ++k) {
-      const Row& r = rows[k];
-      os << "    {\"tets\": " << r.tets << ", \"nodes\": " << r.nodes << ", \"free_dofs\": " << r.dofs
-         << ", \"block_ms\": " << r.block_ms << ", \"block_serial_ms\": " << r.serial_ms
-         << ", \"block_serial_cpu_ms\": " << r.serial_cpu_ms
-         << ", \"triplet_ms\": " << r.triplet_ms << ", \"speedup_vs_triplets\": " << r.triplet_ms / r.block_ms
-         << ", \"cholmod_factor_ms\": " << (r.chol_factor_ms < 0 ? "null" : num(r.chol_factor_ms, "%.3f"))
-         << ", \"cholmod_solve_ms\": " << (r.chol_solve_ms < 0 ? "null" : num(r.chol_solve_ms, "%.3f"))
-         << ", \"cg_ms\": " << r.cg_ms << ", \"cg_iterations\": " << r.cg_iterations
-         << ", \"cg_relative_residual\": " << r.cg_residual << ", \"cg_converged\": "
-         << (r.cg_converged ? "true" : "false")
-         << ", \"cg_vs_cholmod\": " << (r.cg_vs_direct < 0 ? "null" : num(r.cg_vs_direct, "%.3e")) << "}"
-         << (k + 1 < rows.size() ? ",\n" : "\n");
-    }
-    os << "  ]\n}\n";
-    write_file_atomic(json, os.str());
+    Json j = {{"benchmark", "assembly"}, {"threads", threads}, {"repeat", repeat}, {"rows", Json::array()}};
+    // Negative CHOLMOD times: not run (past --direct-max-tets).
+    auto direct = [](double v) { return v < 0 ? Json(nullptr) : field(v); };
+    for (const Row& r : rows)
+      j["rows"].push_back({{"tets", r.tets}, {"nodes", r.nodes}, {"free_dofs", r.dofs}, {"block_ms", field(r.block_ms)},
+                           {"block_serial_ms", field(r.serial_ms)}, {"block_serial_cpu_ms", field(r.serial_cpu_ms)},
+                           {"triplet_ms", field(r.triplet_ms)},
+                           {"speedup_vs_triplets", field(r.triplet_ms / r.block_ms)},
+                           {"cholmod_factor_ms", direct(r.chol_factor_ms)}, {"cholmod_solve_ms", direct(r.chol_solve_ms)},
+                           {"cg_ms", field(r.cg_ms)}, {"cg_iterations", r.cg_iterations},
+                           {"cg_relative_residual", field(r.cg_residual)}, {"cg_converged", r.cg_converged},
+                           {"cg_vs_cholmod", direct(r.cg_vs_direct)}});
+    write_file_atomic(json, json_text(j));
     std::printf("\nwrote %s\n", json.c_str());
   }
   return 0;

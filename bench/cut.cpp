@@ -258,27 +258,27 @@ SizeResult run_size(int cells, int target, int steps) {
   return r;
 }
 
-std::string json_of(const SizeResult& r) {
-  auto st = [](const Stat& s) { return cat("{\"mean\": ", s.mean(), ", \"max\": ", s.max, "}"); };
-  return cat("{\"target_tets\": ", r.target, ", \"cells\": ", r.cells, ", \"tets\": ", r.tets, ", \"nodes\": ", r.nodes,
-             ", \"operational_tets\": ", r.op_tets, ", \"operational_nodes\": ", r.op_nodes,
-             ", \"interface_nodes\": ", r.interface_nodes, ", \"surface_nodes\": ", r.surface_nodes,
-             ", \"storage\": \"", r.storage, "\", \"precompute_ms\": ", r.precompute_ms, ", \"steps\": ", r.steps,
-             ", \"steps_changed\": ", r.steps_changed, ", \"steps_snap_only\": ", r.steps_snap_only, ", \"tets_after\": ", r.tets_after,
-             ", \"nodes_after\": ", r.nodes_after, ", \"operational_tets_after\": ", r.op_tets_after,
-             ", \"before\": {\"cg_iterations\": ", r.before_it, ", \"frame_ms\": ", r.before_ms, "}",
-             ", \"cut_ms\": ", st(r.cut_ms), ", \"rebuild_ms\": ", st(r.rebuild_ms),
-             ", \"warm\": {\"cg_iterations\": ", st(r.warm_it), ", \"frame_ms\": ", st(r.warm_ms),
-             ", \"selective_ms\": ", st(r.selective_ms), ", \"operational_ms\": ", st(r.operational_ms),
-             ", \"nonoperational_ms\": ", st(r.nonoperational_ms), "}",
-             ", \"cold\": {\"cg_iterations\": ", st(r.cold_it), ", \"frame_ms\": ", st(r.cold_ms), "}",
-             ", \"default_backend\": {\"backend\": \"direct\", \"frame_ms\": ", st(r.default_ms),
-             ", \"correction_rank\": ", st(r.correction_rank), ", \"factors\": ", r.default_factors,
-             ", \"factors_on_second_thread\": ", r.default_background,
-             ", \"corrected_solves_refactored\": ", r.default_fallbacks, "}",
-             ", \"refactor_each_cut\": {\"frame_ms\": ", st(r.refactor_ms), "}",
-             ", \"monolithic\": {\"assemble_ms\": ", r.mono_assemble_ms, ", \"factor_ms\": ", r.mono_factor_ms,
-             ", \"solve_ms\": ", r.mono_solve_ms, "}, \"relative_error\": ", r.rel_err, "}");
+Json json_of(const SizeResult& r) {
+  auto st = [](const Stat& s) { return Json{{"mean", field(s.mean())}, {"max", field(s.max)}}; };
+  return {{"target_tets", r.target}, {"cells", r.cells}, {"tets", r.tets}, {"nodes", r.nodes},
+          {"operational_tets", r.op_tets}, {"operational_nodes", r.op_nodes}, {"interface_nodes", r.interface_nodes},
+          {"surface_nodes", r.surface_nodes}, {"storage", r.storage}, {"precompute_ms", field(r.precompute_ms)},
+          {"steps", r.steps}, {"steps_changed", r.steps_changed}, {"steps_snap_only", r.steps_snap_only},
+          {"tets_after", r.tets_after}, {"nodes_after", r.nodes_after}, {"operational_tets_after", r.op_tets_after},
+          {"before", {{"cg_iterations", field(r.before_it)}, {"frame_ms", field(r.before_ms)}}},
+          {"cut_ms", st(r.cut_ms)}, {"rebuild_ms", st(r.rebuild_ms)},
+          {"warm",
+           {{"cg_iterations", st(r.warm_it)}, {"frame_ms", st(r.warm_ms)}, {"selective_ms", st(r.selective_ms)},
+            {"operational_ms", st(r.operational_ms)}, {"nonoperational_ms", st(r.nonoperational_ms)}}},
+          {"cold", {{"cg_iterations", st(r.cold_it)}, {"frame_ms", st(r.cold_ms)}}},
+          {"default_backend",
+           {{"backend", "direct"}, {"frame_ms", st(r.default_ms)}, {"correction_rank", st(r.correction_rank)},
+            {"factors", r.default_factors}, {"factors_on_second_thread", r.default_background},
+            {"corrected_solves_refactored", r.default_fallbacks}}},
+          {"refactor_each_cut", {{"frame_ms", st(r.refactor_ms)}}},
+          {"monolithic", {{"assemble_ms", field(r.mono_assemble_ms)}, {"factor_ms", field(r.mono_factor_ms)},
+                          {"solve_ms", field(r.mono_solve_ms)}}},
+          {"relative_error", field(r.rel_err)}};
 }
 
 }  // namespace
@@ -335,9 +335,9 @@ int bench_cut(const Args& args) {
                 mono / (r.rebuild_ms.mean() + r.refactor_ms.mean()), r.rel_err);
   }
   if (!json_path.empty()) {
-    std::string json = cat("{\"benchmark\": \"cut\", \"quick\": ", quick ? "true" : "false", ", \"sizes\": [");
-    for (size_t k = 0; k < rows.size(); ++k) json += (k ? ", " : "") + json_of(rows[k]);
-    write_file_atomic(json_path, json + "]}\n");
+    Json json = {{"benchmark", "cut"}, {"quick", quick}, {"sizes", Json::array()}};
+    for (const SizeResult& r : rows) json["sizes"].push_back(json_of(r));
+    write_file_atomic(json_path, json_text(json));
   }
   return 0;
 }

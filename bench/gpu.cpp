@@ -152,19 +152,14 @@ int bench_gpu(const Args& args) {
                 r.gpu_iter_us / r.cpu_iter_us);
   }
   if (!json.empty()) {
-    std::ostringstream os;
-    os << "{\n  \"device\": \"" << context.info().summary() << "\",\n  \"fp64\": " << (fp64 ? "true" : "false")
-       << ",\n  \"rows\": [\n";
-    for (size_t i = 0; i < rows.size(); ++i) {
-      const Row& r = rows[i];
-      os << "    {\"cells\": " << r.cells << ", \"dofs\": " << r.dofs << ", \"nnz\": " << r.nnz
-         << ", \"cpu_spmv_us\": " << r.cpu_spmv_us << ", \"cpu_gbs\": " << r.cpu_gbs
-         << ", \"gpu_spmv_us\": " << r.gpu_spmv_us << ", \"gpu_gbs\": " << r.gpu_gbs
-         << ", \"cpu_iter_us\": " << r.cpu_iter_us << ", \"gpu_iter_us\": " << r.gpu_iter_us << "}"
-         << (i + 1 < rows.size() ? ",\n" : "\n");
-    }
-    os << "  ]\n}\n";
-    write_file_atomic(json, os.str());
+    // The device's name is the driver's text: escaped like any string.
+    Json j = {{"device", context.info().summary()}, {"fp64", fp64}, {"rows", Json::array()}};
+    for (const Row& r : rows)
+      j["rows"].push_back({{"cells", r.cells}, {"dofs", r.dofs}, {"nnz", r.nnz}, {"cpu_spmv_us", field(r.cpu_spmv_us)},
+                           {"cpu_gbs", field(r.cpu_gbs)}, {"gpu_spmv_us", field(r.gpu_spmv_us)},
+                           {"gpu_gbs", field(r.gpu_gbs)}, {"cpu_iter_us", field(r.cpu_iter_us)},
+                           {"gpu_iter_us", field(r.gpu_iter_us)}});
+    write_file_atomic(json, json_text(j));
   }
   return 0;
 }

@@ -129,26 +129,9 @@ double median_ms(int reps, F&& f) {
   return t[t.size() / 2];
 }
 
-struct Json {
-  std::ostringstream os;
-  bool first = true;
-  void key(const std::string& k) {
-    os << (first ? "" : ", ") << '"' << k << "\": ";
-    first = false;
-  }
-  template <class T>
-  void num(const std::string& k, T v) {
-    key(k);
-    if constexpr (std::is_floating_point_v<T>) os << (std::isfinite(v) ? cat(v) : "null");
-    else os << v;
-  }
-  void str(const std::string& k, const std::string& v) { key(k), os << '"' << v << '"'; }
-  void raw(const std::string& k, const std::string& v) { key(k), os << v; }
-  std::string done() const { return "{" + os.str() + "}"; }
-};
-
 struct Result {
-  std::string json, table_row, precompute_row, update_row, poke_rows;
+  Json json;  // one entry of "models"
+  std::string table_row, precompute_row, update_row, poke_rows;
 };
 
 Result run_model(const ModelEntry& e, bool quick, Storage storage) {
@@ -282,8 +265,8 @@ Result run_model(const ModelEntry& e, bool quick, Storage storage) {
   // Table 5: poke/drag (stage 3) vs loaded surface nodes, loads changing
   // each frame, after the first touch (which computes the nodes' columns in
   // product and factor storage; reported separately).
-  std::ostringstream poke_json, poke_rows;
-  poke_json << "[";
+  Json poke_json = Json::array();
+  std::ostringstream poke_rows;
   for (int k : {1, 10, 40, 100, 240}) {
     if (k > int(part.surface.size()) || (big && k > 10)) break;
     State s2 = make_state(model);
@@ -299,48 +282,47 @@ Result run_model(const ModelEntry& e, bool quick, Storage storage) {
     const int reps = big ? 5 : 200;
     for (int r = 1; r <= reps; ++r) ms += poke(r);
     ms /= reps;
-    poke_json << (k == 1 ? "" : ", ") << "{\"loaded_nodes\": " << k << ", \"loaded_dofs\": " << 3 * k
-              << ", \"us\": " << ms * 1e3 << ", \"us_per_node\": " << ms * 1e3 / k
-              << ", \"first_touch_us\": " << first_ms * 1e3 << "}";
+    poke_json.push_back({{"loaded_nodes", k}, {"loaded_dofs", 3 * k}, {"us", json_number(ms * 1e3, 6)},
+                         {"us_per_node", json_number(ms * 1e3 / k, 6)},
+                         {"first_touch_us", json_number(first_ms * 1e3, 6)}});
     poke_rows << "| " << name << " | " << k << " | " << 3 * k << " | " << cat(ms * 1e3) << " | "
               << cat(ms * 1e3 / k) << " | " << cat(first_ms * 1e3) << " |\n";
   }
-  poke_json << "]";
 
   Json j;
-  j.str("model", name);
-  j.num("nodes", m.num_nodes()), j.num("tets", m.num_tets());
-  j.num("op_region_nodes", c.operational_region_nodes), j.num("op_tets", c.operational_tets);
-  j.num("nonop_region_nodes", c.nonoperational_region_nodes);
-  j.num("nonop_surface_nodes", c.nonoperational_surface_nodes), j.num("nonop_tets", c.nonoperational_tets);
-  j.num("set_1", c.operational), j.num("set_I", c.interface), j.num("set_s", c.surface);
-  j.num("set_i", c.interior), j.num("fixed", c.fixed);
-  j.str("storage", to_string(model.storage));
-  j.num("dense_bytes", model.memory.dense_bytes), j.num("product_bytes", model.memory.product_bytes);
-  j.num("budget_bytes", model.memory.budget_bytes);
-  j.num("pre_assemble_ms", T.assemble_ms), j.num("pre_factor_ms", T.factor_ms), j.num("pre_K_prime_ms", T.K_prime_ms);
-  j.num("pre_KI2_K22inv_ms", T.KI2_K22inv_ms), j.num("pre_Kstar_inv_ms", T.Kstar_inv_ms);
-  j.num("pre_Kstar_inv_Pstar_ms", T.Kstar_inv_Pstar_ms), j.num("pre_Kstar_inv_Ps0_ms", T.Kstar_inv_Ps0_ms);
-  j.num("pre_operational_ms", T.operational_ms), j.num("pre_total_ms", T.total_ms);
-  j.num("pre_cached_ms", cached_ms), j.num("cache_write_ms", cache_write_ms), j.num("cache_bytes", cache_bytes);
-  j.num("frames", frames), j.num("frame_ms_median", frame_ms), j.num("frame_hz", 1e3 / frame_ms);
-  j.num("frame_cholmod_backend_ms_median", frame_chol_ms), j.num("stage_operational_cholmod_ms", op_chol_ms);
-  j.num("frame_cg_backend_ms_median", frame_cg_ms);
-  j.num("physics_frame_ms_median", physics_ms), j.num("physics_stage_operational_ms", physics_op_ms);
-  j.num("speedup_physics_vs_cholmod_solve_only", mono_solve_ms / physics_ms);
-  j.num("speedup_cholmod_backend_vs_cholmod_factor_solve", mono_chol_ms / frame_chol_ms);
-  j.num("stage_selective_ms", sum.selective_ms / frames), j.num("stage_operational_ms", op_ms);
-  j.num("stage_nonoperational_ms", non_ms), j.num("cg_iterations_mean", double(cg_it) / frames);
-  j.num("nonop_update_condensed_ms", cond_ms), j.num("nonop_update_uncondensed_ms", uncond_ms);
-  j.num("mono_cholmod_factor_solve_ms", mono_chol_ms), j.num("mono_cholmod_solve_only_ms", mono_solve_ms);
-  j.num("mono_cg_ms", mono_cg_ms), j.num("mono_cg_iterations", mono_cg_it);
-  j.num("speedup_vs_cholmod_factor_solve", mono_chol_ms / frame_ms);
-  j.num("speedup_vs_cholmod_solve_only", mono_solve_ms / frame_ms), j.num("speedup_vs_cg", mono_cg_ms / frame_ms);
-  j.num("max_rel_diff_vs_monolithic", err);
-  j.raw("poke_drag", poke_json.str());
+  j["model"] = name;
+  j["nodes"] = field(m.num_nodes()); j["tets"] = field(m.num_tets());
+  j["op_region_nodes"] = field(c.operational_region_nodes); j["op_tets"] = field(c.operational_tets);
+  j["nonop_region_nodes"] = field(c.nonoperational_region_nodes);
+  j["nonop_surface_nodes"] = field(c.nonoperational_surface_nodes); j["nonop_tets"] = field(c.nonoperational_tets);
+  j["set_1"] = field(c.operational); j["set_I"] = field(c.interface); j["set_s"] = field(c.surface);
+  j["set_i"] = field(c.interior); j["fixed"] = field(c.fixed);
+  j["storage"] = to_string(model.storage);
+  j["dense_bytes"] = field(model.memory.dense_bytes); j["product_bytes"] = field(model.memory.product_bytes);
+  j["budget_bytes"] = field(model.memory.budget_bytes);
+  j["pre_assemble_ms"] = field(T.assemble_ms); j["pre_factor_ms"] = field(T.factor_ms); j["pre_K_prime_ms"] = field(T.K_prime_ms);
+  j["pre_KI2_K22inv_ms"] = field(T.KI2_K22inv_ms); j["pre_Kstar_inv_ms"] = field(T.Kstar_inv_ms);
+  j["pre_Kstar_inv_Pstar_ms"] = field(T.Kstar_inv_Pstar_ms); j["pre_Kstar_inv_Ps0_ms"] = field(T.Kstar_inv_Ps0_ms);
+  j["pre_operational_ms"] = field(T.operational_ms); j["pre_total_ms"] = field(T.total_ms);
+  j["pre_cached_ms"] = field(cached_ms); j["cache_write_ms"] = field(cache_write_ms); j["cache_bytes"] = field(cache_bytes);
+  j["frames"] = field(frames); j["frame_ms_median"] = field(frame_ms); j["frame_hz"] = field(1e3 / frame_ms);
+  j["frame_cholmod_backend_ms_median"] = field(frame_chol_ms); j["stage_operational_cholmod_ms"] = field(op_chol_ms);
+  j["frame_cg_backend_ms_median"] = field(frame_cg_ms);
+  j["physics_frame_ms_median"] = field(physics_ms); j["physics_stage_operational_ms"] = field(physics_op_ms);
+  j["speedup_physics_vs_cholmod_solve_only"] = field(mono_solve_ms / physics_ms);
+  j["speedup_cholmod_backend_vs_cholmod_factor_solve"] = field(mono_chol_ms / frame_chol_ms);
+  j["stage_selective_ms"] = field(sum.selective_ms / frames); j["stage_operational_ms"] = field(op_ms);
+  j["stage_nonoperational_ms"] = field(non_ms); j["cg_iterations_mean"] = field(double(cg_it) / frames);
+  j["nonop_update_condensed_ms"] = field(cond_ms); j["nonop_update_uncondensed_ms"] = field(uncond_ms);
+  j["mono_cholmod_factor_solve_ms"] = field(mono_chol_ms); j["mono_cholmod_solve_only_ms"] = field(mono_solve_ms);
+  j["mono_cg_ms"] = field(mono_cg_ms); j["mono_cg_iterations"] = field(mono_cg_it);
+  j["speedup_vs_cholmod_factor_solve"] = field(mono_chol_ms / frame_ms);
+  j["speedup_vs_cholmod_solve_only"] = field(mono_solve_ms / frame_ms); j["speedup_vs_cg"] = field(mono_cg_ms / frame_ms);
+  j["max_rel_diff_vs_monolithic"] = field(err);
+  j["poke_drag"] = std::move(poke_json);
 
   Result res;
-  res.json = j.done();
+  res.json = std::move(j);
   auto f3 = [](double v) { return std::isfinite(v) ? cat(std::round(v * 1000) / 1000) : std::string("-"); };
   res.table_row = cat("| ", name, " | ", m.num_nodes(), " / ", m.num_tets(), " | ", c.operational_region_nodes, " / ",
                       c.operational_tets, " | ", c.nonoperational_region_nodes, " / ", c.nonoperational_surface_nodes,
@@ -406,8 +388,8 @@ int bench_hybrid(const Args& args) {
   for (int k : quick ? std::vector<int>{8} : std::vector<int>{8, 30, 100})
     models.push_back({cat("liver_", k, "k"), [k] { return liver(1000 * k, k > 8 ? 5000 : 1500); }});
 
-  std::string json = cat("{\"benchmark\": \"hybrid\", \"quick\": ", quick ? "true" : "false", ", \"threads\": ",
-                         thread_policy().threads, ", \"models\": [");
+  Json json = {{"benchmark", "hybrid"}, {"quick", quick}, {"threads", thread_policy().threads},
+               {"models", Json::array()}};
   std::string t2, t3, t45, t5;
   if (storage == Storage::automatic)  // the paper models also in the paper's dense storage and in factor storage
     for (int k : {1, 0})
@@ -422,10 +404,9 @@ int bench_hybrid(const Args& args) {
   }
   for (size_t k = 0; k < models.size(); ++k) {
     const Result r = run_model(models[k], quick, storage);
-    json += (k ? ", " : "") + r.json;
+    json["models"].push_back(r.json);
     t2 += r.table_row, t3 += r.precompute_row, t45 += r.update_row, t5 += r.poke_rows;
   }
-  json += "]}\n";
   std::string md = cat(
       "# Hybrid condensed model: benchmark\n\n"
       "Generated by `softcut bench hybrid", quick ? " --quick" : "", "` (times are medians; one thread, except the dense product of large models (two threads past 4M entries) and the precompute cache's reads). "
@@ -455,7 +436,7 @@ int bench_hybrid(const Args& args) {
       "| model | loaded nodes | loaded DOFs | time after first touch (us) | per node (us) | first touch (us) |\n|---|---|---|---|---|---|\n",
       t5, "\n", kPaper);
   std::fputs(md.c_str(), stdout);
-  if (!json_path.empty()) write_file_atomic(json_path, json);
+  if (!json_path.empty()) write_file_atomic(json_path, json_text(json));
   if (!md_path.empty()) write_file_atomic(md_path, md);
   return 0;
 }

@@ -8,6 +8,7 @@
 #include "cli/commands.hpp"
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
+#include "core/json_text.hpp"
 #include "mesh/generate/box.hpp"
 #include "mesh/generate/cylinder.hpp"
 #include "mesh/generate/presets.hpp"
@@ -183,24 +184,6 @@ void common_options(Options& a, O& o) {
   if (a.has("target-nodes")) o.target_nodes = to_int("target-nodes", a.get("target-nodes"));
 }
 
-std::string json_number(double x) {
-  if (!std::isfinite(x)) return "null";
-  return cat(x);
-}
-
-std::string json_string(const std::string& s) {
-  std::string out = "\"";
-  for (char c : s) {
-    if (c == '"' || c == '\\') out += '\\', out += c;
-    else if ((unsigned char)c < 0x20) {
-      char buf[8];
-      std::snprintf(buf, sizeof buf, "\\u%04x", c);
-      out += buf;
-    } else out += c;
-  }
-  return out + "\"";
-}
-
 int cmd_info(const Args& args) {
   if (wants_help(args)) return std::fputs(kInfoUsage, stdout), 0;
   Options a = parse_options(args, 1, {"json"}, "mesh info");
@@ -235,29 +218,25 @@ int cmd_info(const Args& args) {
     diag.warn(file, ": ", q.num_poor, " poor tetrahedra (worst: tet ", q.worst_tet, ", aspect ", q.max_aspect, ")");
 
   if (json) {
-    std::string labs;
-    for (const auto& [l, n] : labels) labs += cat(labs.empty() ? "" : ", ", "{\"label\": ", l, ", \"tets\": ", n, "}");
-    std::string warns;
-    for (const auto& w : diag.warnings) warns += (warns.empty() ? "" : ", ") + json_string(w);
-    auto vec = [](const Eigen::Vector3d& v) {
-      return cat("[", json_number(v.x()), ", ", json_number(v.y()), ", ", json_number(v.z()), "]");
-    };
-    std::printf(
-        "{\"file\": %s, \"nodes\": %d, \"referenced_nodes\": %d, \"surface_nodes\": %d, \"interior_nodes\": %d, "
-        "\"tets\": %d, \"labels\": [%s], \"bbox_min\": %s, \"bbox_max\": %s, \"volume\": %s, "
-        "\"surface\": {\"faces\": %d, \"edges\": %d, \"euler\": %d, \"closed_manifold\": %s}, "
-        "\"quality\": {\"min_volume\": %s, \"max_volume\": %s, \"min_dihedral_deg\": %s, \"max_dihedral_deg\": %s, "
-        "\"min_aspect\": %s, \"mean_aspect\": %s, \"max_aspect\": %s, \"min_edge\": %s, \"max_edge\": %s, "
-        "\"nonpositive\": %d, \"small_dihedral\": %d, \"large_dihedral\": %d, \"high_aspect\": %d, \"poor\": %d}, "
-        "\"warnings\": [%s]}\n",
-        json_string(file).c_str(), m.num_nodes(), referenced, surface_nodes, referenced - surface_nodes, m.num_tets(),
-        labs.c_str(), vec(lo).c_str(), vec(hi).c_str(), json_number(q.total_volume).c_str(), int(s.faces.rows()),
-        int(edges.size()), euler, odd_edges == 0 ? "true" : "false", json_number(q.min_volume).c_str(),
-        json_number(q.max_volume).c_str(), json_number(q.min_dihedral_deg).c_str(),
-        json_number(q.max_dihedral_deg).c_str(), json_number(q.min_aspect).c_str(),
-        json_number(q.mean_aspect).c_str(), json_number(q.max_aspect).c_str(), json_number(q.min_edge).c_str(),
-        json_number(q.max_edge).c_str(), q.num_nonpositive, q.num_small_dihedral, q.num_large_dihedral,
-        q.num_high_aspect, q.num_poor, warns.c_str());
+    Json labs = Json::array();
+    for (const auto& [l, n] : labels) labs.push_back({{"label", l}, {"tets", n}});
+    auto vec = [](const Eigen::Vector3d& v) { return Json{json_number(v.x()), json_number(v.y()), json_number(v.z())}; };
+    const Json j = {
+        {"file", file}, {"nodes", m.num_nodes()}, {"referenced_nodes", referenced}, {"surface_nodes", surface_nodes},
+        {"interior_nodes", referenced - surface_nodes}, {"tets", m.num_tets()}, {"labels", std::move(labs)},
+        {"bbox_min", vec(lo)}, {"bbox_max", vec(hi)}, {"volume", json_number(q.total_volume)},
+        {"surface", {{"faces", s.faces.rows()}, {"edges", edges.size()}, {"euler", euler},
+                     {"closed_manifold", odd_edges == 0}}},
+        {"quality", {{"min_volume", json_number(q.min_volume)}, {"max_volume", json_number(q.max_volume)},
+                     {"min_dihedral_deg", json_number(q.min_dihedral_deg)},
+                     {"max_dihedral_deg", json_number(q.max_dihedral_deg)}, {"min_aspect", json_number(q.min_aspect)},
+                     {"mean_aspect", json_number(q.mean_aspect)}, {"max_aspect", json_number(q.max_aspect)},
+                     {"min_edge", json_number(q.min_edge)}, {"max_edge", json_number(q.max_edge)},
+                     {"nonpositive", q.num_nonpositive}, {"small_dihedral", q.num_small_dihedral},
+                     {"large_dihedral", q.num_large_dihedral}, {"high_aspect", q.num_high_aspect},
+                     {"poor", q.num_poor}}},
+        {"warnings", diag.warnings}};
+    std::fputs(json_text(j).c_str(), stdout);
     return 0;
   }
   std::printf("file:          %s\n", file.c_str());

@@ -36,20 +36,19 @@ std::string num(double v, const char* fmt = "%.9e") {
   return buf;
 }
 
-// JSON number: finite values with 15 significant digits, else null.
-std::string jnum(double v) { return std::isfinite(v) ? num(v, "%.15g") : "null"; }
-std::string jms(double v) { return std::isfinite(v) ? num(v, "%.6g") : "null"; }
-
-std::string jstr(const std::string& s) { return json_string(s); }
-
 std::string vtu_name(int frame) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "frame_%06d.vtu", frame);
   return buf;
 }
 
+// A time in ms (6 significant digits) and a plain number (15) as JSON.
+Json jms(double v) { return json_number(v, 6); }
+Json jnum(double v) { return json_number(v); }
+Json jopt(const std::optional<double>& v) { return v ? jnum(*v) : Json(nullptr); }
+
 // "cutting": totals and one entry per cut event (docs/summary-schema.md).
-std::string cutting_json(const Model& m, const State& s) {
+Json cutting_json(const Model& m, const State& s) {
   int scalpels = 0;
   for (const auto& t : s.tool_specs) scalpels += t.kind == tools::ToolSpec::Kind::scalpel;
   const mesh::TetMesh& cur = current_mesh(m, s);
@@ -60,46 +59,39 @@ std::string cutting_json(const Model& m, const State& s) {
     worst = std::min(worst, e.worst_dihedral_deg);
   }
   const DetachedCounts d = detached_counts(s);
-  std::string j = "  \"cutting\": {\"scalpels\": " + std::to_string(scalpels) + ", \"events\": " +
-                  std::to_string(s.cut_events.size()) + ", \"nodes_added\": " + std::to_string(nodes_added) +
-                  ", \"tets_split\": " + std::to_string(tets_split) + ", \"nodes\": " +
-                  std::to_string(cur.num_nodes()) + ", \"tets\": " + std::to_string(cur.num_tets()) +
-                  ", \"components\": " + std::to_string(s.cut ? count_components(cur) : count_components(m.mesh)) +
-                  ", \"detached_pieces\": " + std::to_string(d.pieces) + ", \"detached_tets\": " +
-                  std::to_string(d.tets) + ", \"detached_nodes\": " + std::to_string(d.nodes) +
-                  ", \"worst_dihedral_deg\": " + jnum(worst) + ",\n    \"log\": [";
-  for (size_t k = 0; k < s.cut_events.size(); ++k) {
-    const CutEvent& e = s.cut_events[k];
-    j += std::string(k ? "," : "") + "\n      {\"frame\": " + std::to_string(e.frame) + ", \"time_s\": " + jnum(e.time) +
-         ", \"tool\": " + jstr(e.tool) + ", \"tets_split\": " + std::to_string(e.tets_split) +
-         ", \"nodes_added\": " + std::to_string(e.nodes_added) + ", \"edges_split\": " + std::to_string(e.edges_split) +
-         ", \"nodes_snapped\": " + std::to_string(e.nodes_snapped) + ", \"faces_separated\": " +
-         std::to_string(e.faces_separated) + ", \"faces_pending\": " + std::to_string(e.faces_pending) +
-         ", \"nodes_after\": " + std::to_string(e.nodes_after) + ", \"tets_after\": " + std::to_string(e.tets_after) +
-         ", \"worst_new_dihedral_deg\": " + jnum(e.worst_new_dihedral_deg) + ", \"worst_dihedral_deg\": " +
-         jnum(e.worst_dihedral_deg) + ", \"cut_ms\": " + jms(e.cut_ms) + ", \"rebuild_ms\": " + jms(e.rebuild_ms) +
-         ", \"cg_iterations_before\": " + std::to_string(e.cg_iterations_before) + ", \"cg_iterations_after\": " +
-         std::to_string(e.cg_iterations_after) + ", \"pieces_freed\": " + std::to_string(e.pieces_freed) +
-         ", \"tets_freed\": " + std::to_string(e.tets_freed) + ", \"nodes_freed\": " + std::to_string(e.nodes_freed) +
-         ", \"warnings\": [";
-    for (size_t w = 0; w < e.warnings.size(); ++w) j += (w ? ", " : "") + jstr(e.warnings[w]);
-    j += "]}";
-  }
-  j += s.cut_events.empty() ? "]},\n" : "\n    ]},\n";
-  return j;
+  Json log = Json::array();
+  for (const CutEvent& e : s.cut_events)
+    log.push_back({{"frame", e.frame}, {"time_s", jnum(e.time)}, {"tool", e.tool}, {"tets_split", e.tets_split},
+                   {"nodes_added", e.nodes_added}, {"edges_split", e.edges_split},
+                   {"nodes_snapped", e.nodes_snapped}, {"faces_separated", e.faces_separated},
+                   {"faces_pending", e.faces_pending}, {"nodes_after", e.nodes_after}, {"tets_after", e.tets_after},
+                   {"worst_new_dihedral_deg", jnum(e.worst_new_dihedral_deg)},
+                   {"worst_dihedral_deg", jnum(e.worst_dihedral_deg)}, {"cut_ms", jms(e.cut_ms)},
+                   {"rebuild_ms", jms(e.rebuild_ms)}, {"cg_iterations_before", e.cg_iterations_before},
+                   {"cg_iterations_after", e.cg_iterations_after}, {"pieces_freed", e.pieces_freed},
+                   {"tets_freed", e.tets_freed}, {"nodes_freed", e.nodes_freed}, {"warnings", e.warnings}});
+  return {{"scalpels", scalpels}, {"events", s.cut_events.size()}, {"nodes_added", nodes_added},
+          {"tets_split", tets_split}, {"nodes", cur.num_nodes()}, {"tets", cur.num_tets()},
+          {"components", s.cut ? count_components(cur) : count_components(m.mesh)}, {"detached_pieces", d.pieces},
+          {"detached_tets", d.tets}, {"detached_nodes", d.nodes}, {"worst_dihedral_deg", jnum(worst)},
+          {"log", std::move(log)}};
 }
 
 // The writer's side of rendering: where frames were drawn and what drawing,
 // encoding and writing cost per frame (render_ms is the frame thread's part).
-std::string render_work_json(const Recorder* rec) {
+void add_render_work(Json& outputs, const Recorder* rec) {
   const render::FrameWriter* w = rec ? rec->frame_writer() : nullptr;
-  if (!w) return ", \"render_mode\": null, \"render_work_ms\": null";
+  if (!w) {
+    outputs["render_mode"] = nullptr;
+    outputs["render_work_ms"] = nullptr;
+    return;
+  }
   const render::FrameWriterStats st = w->stats();
   const double n = std::max(1, st.frames);
-  return std::string(", \"render_mode\": ") + (w->mode() == render::FrameWriter::Mode::worker ? "\"worker\"" : "\"inline\"") +
-         ", \"render_work_ms\": {\"mean\": " + jms(st.work.total_ms() / n) + ", \"max\": " + jms(st.max_work_ms) +
-         ", \"draw\": " + jms((st.work.upload_ms + st.work.draw_ms + st.work.readback_ms) / n) +
-         ", \"encode\": " + jms(st.work.encode_ms / n) + ", \"write\": " + jms(st.work.write_ms / n) + "}";
+  outputs["render_mode"] = w->mode() == render::FrameWriter::Mode::worker ? "worker" : "inline";
+  outputs["render_work_ms"] = {{"mean", jms(st.work.total_ms() / n)}, {"max", jms(st.max_work_ms)},
+                               {"draw", jms((st.work.upload_ms + st.work.draw_ms + st.work.readback_ms) / n)},
+                               {"encode", jms(st.work.encode_ms / n)}, {"write", jms(st.work.write_ms / n)}};
 }
 
 // True for the names softcut gives its own files in an output folder: the
@@ -280,23 +272,27 @@ void Recorder::finish(const Model& m, const State& s, const RunResult& run_resul
 namespace {
 
 // "expectations": one entry per Scenario:expect, in declaration order.
-std::string expectations_json(const Model& m, const State& s) {
-  auto opt = [](const std::optional<double>& v) { return v ? jnum(*v) : std::string("null"); };
-  std::string j = "  \"expectations\": [";
+Json expectations_json(const Model& m, const State& s) {
+  Json list = Json::array();
   for (size_t i = 0; i < m.spec.expectations.size(); ++i) {
     const ExpectationSpec& e = m.spec.expectations[i];
     const ExpectationOutcome o = i < s.expectations.size() ? s.expectations[i] : ExpectationOutcome{};
-    j += std::string(i ? "," : "") + "\n    {\"name\": " + jstr(e.name) + ", \"where\": " + jstr(e.where) +
-         ", \"at_s\": " + jnum(e.at) + ", \"kind\": " + (e.bounds ? "\"bounds\"" : "\"check\"");
-    if (e.bounds)
-      j += ", \"measure\": " + jstr(to_string(e.measure)) + ", \"component\": " + jstr(to_string(e.component)) +
-           ", \"nodes\": " + std::to_string(m.expectation_nodes[i].size());
-    j += ", \"min\": " + opt(e.min) + ", \"max\": " + opt(e.max) + ", \"reached\": " +
-         (o.reached ? "true" : "false") + ", \"time_s\": " + (o.reached ? jnum(o.time) : "null") +
-         ", \"value\": " + opt(o.value) + ", \"pass\": " + (o.reached && o.ok ? "true" : "false") +
-         ", \"message\": " + jstr(o.message) + "}";
+    Json j = {{"name", e.name}, {"where", e.where}, {"at_s", jnum(e.at)}, {"kind", e.bounds ? "bounds" : "check"}};
+    if (e.bounds) {
+      j["measure"] = to_string(e.measure);
+      j["component"] = to_string(e.component);
+      j["nodes"] = m.expectation_nodes[i].size();
+    }
+    j["min"] = jopt(e.min);
+    j["max"] = jopt(e.max);
+    j["reached"] = o.reached;
+    j["time_s"] = o.reached ? jnum(o.time) : Json(nullptr);
+    j["value"] = jopt(o.value);
+    j["pass"] = o.reached && o.ok;
+    j["message"] = o.message;
+    list.push_back(std::move(j));
   }
-  return j + (m.spec.expectations.empty() ? "],\n" : "\n  ],\n");
+  return list;
 }
 
 }  // namespace
@@ -304,120 +300,97 @@ std::string expectations_json(const Model& m, const State& s) {
 std::string summary_json(const Model& m, const State& s, const RunResult& r, const Recorder* rec) {
   const ScenarioSpec& sp = m.spec;
   const auto& c = m.partition.counts;
-  std::string j = "{\n";
-  j += "  \"schema\": \"softcut-summary/1\",\n";
-  j += "  \"scenario\": {\"name\": " + jstr(sp.name) + ", \"source\": " + jstr(sp.source.string()) +
-       ", \"description\": " + jstr(sp.description) + "},\n";
-  j += "  \"versions\": {\"softcut\": " + jstr(SOFTCUT_VERSION) + ", \"eigen\": " +
-       jstr(std::to_string(EIGEN_WORLD_VERSION) + "." + std::to_string(EIGEN_MAJOR_VERSION) + "." +
-            std::to_string(EIGEN_MINOR_VERSION));
-  for (const auto& [k, v] : sp.versions) j += ", " + jstr(k) + ": " + jstr(v);
-  j += ", \"build_type\": " + jstr(SOFTCUT_BUILD_TYPE) + "},\n";
-  j += "  \"command_line\": [";
-  for (size_t k = 0; k < sp.command_line.size(); ++k) j += (k ? ", " : "") + jstr(sp.command_line[k]);
-  j += "],\n  \"params\": {";
-  for (size_t k = 0; k < sp.params.size(); ++k)
-    j += (k ? ", " : "") + jstr(sp.params[k].first) + ": " + jstr(sp.params[k].second);
-  j += "},\n";
-  j += "  \"mesh\": {\"nodes\": " + std::to_string(m.mesh.num_nodes()) + ", \"tets\": " +
-       std::to_string(m.mesh.num_tets()) + ", \"surface_faces\": " + std::to_string(m.surface.faces.rows()) +
-       ", \"surface_nodes\": " + std::to_string(m.surface.nodes.size()) + "},\n";
-  j += "  \"partition\": {\"operational_tets\": " + std::to_string(c.operational_tets) +
-       ", \"nonoperational_tets\": " + std::to_string(c.nonoperational_tets) +
-       ", \"operational_region_nodes\": " + std::to_string(c.operational_region_nodes) +
-       ", \"nonoperational_region_nodes\": " + std::to_string(c.nonoperational_region_nodes) +
-       ", \"nonoperational_surface_nodes\": " + std::to_string(c.nonoperational_surface_nodes) +
-       ", \"fixed\": " + std::to_string(c.fixed) + ", \"operational\": " + std::to_string(c.operational) +
-       ", \"interface\": " + std::to_string(c.interface) + ", \"surface\": " + std::to_string(c.surface) +
-       ", \"interior\": " + std::to_string(c.interior) + ", \"unused\": " + std::to_string(c.unused) + "},\n";
+  Json j;
+  j["schema"] = "softcut-summary/1";
+  j["scenario"] = {{"name", sp.name}, {"source", sp.source.string()}, {"description", sp.description}};
+  Json& versions = j["versions"] = {{"softcut", SOFTCUT_VERSION},
+                                    {"eigen", std::to_string(EIGEN_WORLD_VERSION) + "." +
+                                                  std::to_string(EIGEN_MAJOR_VERSION) + "." +
+                                                  std::to_string(EIGEN_MINOR_VERSION)}};
+  for (const auto& [k, v] : sp.versions) versions[k] = v;
+  versions["build_type"] = SOFTCUT_BUILD_TYPE;
+  j["command_line"] = sp.command_line;
+  Json& params = j["params"] = Json::object();
+  for (const auto& [k, v] : sp.params) params[k] = v;
+  j["mesh"] = {{"nodes", m.mesh.num_nodes()}, {"tets", m.mesh.num_tets()}, {"surface_faces", m.surface.faces.rows()},
+               {"surface_nodes", m.surface.nodes.size()}};
+  j["partition"] = {{"operational_tets", c.operational_tets}, {"nonoperational_tets", c.nonoperational_tets},
+                    {"operational_region_nodes", c.operational_region_nodes},
+                    {"nonoperational_region_nodes", c.nonoperational_region_nodes},
+                    {"nonoperational_surface_nodes", c.nonoperational_surface_nodes}, {"fixed", c.fixed},
+                    {"operational", c.operational}, {"interface", c.interface}, {"surface", c.surface},
+                    {"interior", c.interior}, {"unused", c.unused}};
   if (m.solver) {
     const BackendChoice& bc = m.solver->backend();
-    j += "  \"solver\": {\"backend\": " + jstr(to_string(bc.backend)) + ", \"requested\": " + jstr(to_string(bc.requested)) +
-         ", \"reason\": " + jstr(bc.reason) + ", \"device\": " + jstr(bc.device) +
-         ", \"gpu_fp64\": " + (bc.gpu_fp64 ? "true" : "false") + ", \"description\": " + jstr(m.solver->name()) +
-         ", \"cg_tolerance\": " + jnum(sp.solver.cg_tolerance) + "},\n";
+    j["solver"] = {{"backend", to_string(bc.backend)}, {"requested", to_string(bc.requested)}, {"reason", bc.reason},
+                   {"device", bc.device}, {"gpu_fp64", bc.gpu_fp64}, {"description", m.solver->name()},
+                   {"cg_tolerance", jnum(sp.solver.cg_tolerance)}};
   } else {
-    j += "  \"solver\": null,\n";
+    j["solver"] = nullptr;
   }
-  j += "  \"precompute_ms\": {";
-  for (size_t k = 0; k < m.precompute_ms.size(); ++k)
-    j += (k ? ", " : "") + jstr(m.precompute_ms[k].first) + ": " + jms(m.precompute_ms[k].second);
-  j += "},\n";
+  Json& precompute = j["precompute_ms"] = Json::object();
+  for (const auto& [k, v] : m.precompute_ms) precompute[k] = jms(v);
   // The precompute cache: hit or miss (and why), what a hit saved.
   if (const hybrid::CacheReport* pc = m.solver ? m.solver->precompute_cache() : nullptr) {
-    j += "  \"precompute_cache\": {\"hit\": " + std::string(pc->hit ? "true" : "false") + ", \"key\": " +
-         jstr(pc->key) + ", \"file\": " + jstr(pc->file) + ", \"miss_reason\": " + jstr(pc->miss_reason) +
-         ", \"load_ms\": " + jms(pc->load_ms) + ", \"saved_ms\": " + jms(pc->saved_ms) + ", \"write_ms\": " +
-         jms(pc->write_ms) + ", \"bytes\": " + jnum(pc->bytes) + ", \"evicted\": " + std::to_string(pc->evicted) +
-         ", \"write_error\": " + jstr(pc->write_error) + "},\n";
+    j["precompute_cache"] = {{"hit", pc->hit}, {"key", pc->key}, {"file", pc->file}, {"miss_reason", pc->miss_reason},
+                             {"load_ms", jms(pc->load_ms)}, {"saved_ms", jms(pc->saved_ms)},
+                             {"write_ms", jms(pc->write_ms)}, {"bytes", jnum(pc->bytes)}, {"evicted", pc->evicted},
+                             {"write_error", pc->write_error}};
   } else {
-    j += "  \"precompute_cache\": null,\n";
+    j["precompute_cache"] = nullptr;
   }
-  j += "  \"threads\": {\"count\": " + std::to_string(thread_policy().threads) + ", \"reason\": " +
-       jstr(thread_policy().reason) + "},\n";
+  j["threads"] = {{"count", thread_policy().threads}, {"reason", thread_policy().reason}};
   // Columns of loaded surface nodes computed on demand (product and factor storage).
   if (const auto cs = m.solver ? m.solver->column_stats(s.solver_run) : std::nullopt) {
-    j += "  \"columns\": {\"hits\": " + std::to_string(cs->hits) + ", \"first_touches\": " +
-         std::to_string(cs->first_touches) + ", \"waited\": " + std::to_string(cs->waited) + ", \"prefetched\": " +
-         std::to_string(cs->prefetched) + ", \"evicted\": " + std::to_string(cs->evicted) + ", \"cached_nodes\": " +
-         std::to_string(cs->cached_nodes) + ", \"bytes\": " + jnum(cs->bytes) + ", \"max_bytes\": " +
-         jnum(cs->max_bytes) + ", \"first_touch_ms\": " + jms(cs->first_touch_ms) + ", \"prefetch_ms\": " +
-         jms(cs->prefetch_ms) + "},\n";
+    j["columns"] = {{"hits", cs->hits}, {"first_touches", cs->first_touches}, {"waited", cs->waited},
+                    {"prefetched", cs->prefetched}, {"evicted", cs->evicted}, {"cached_nodes", cs->cached_nodes},
+                    {"bytes", jnum(cs->bytes)}, {"max_bytes", jnum(cs->max_bytes)},
+                    {"first_touch_ms", jms(cs->first_touch_ms)}, {"prefetch_ms", jms(cs->prefetch_ms)}};
   } else {
-    j += "  \"columns\": null,\n";
+    j["columns"] = nullptr;
   }
   const RunStatistics& st = s.stats;
   const double nf = st.frames > 0 ? double(st.frames) : 1.0;
-  auto stage = [&](const char* name, const StageStat& v, bool last) {
-    return std::string("    ") + jstr(name) + ": {\"mean\": " + jms(v.sum / nf) + ", \"max\": " + jms(v.max) + "}" +
-           (last ? "\n" : ",\n");
-  };
-  j += "  \"timeline\": {\"duration_s\": " + jnum(sp.timeline.duration) + ", \"frame_rate_hz\": " +
-       jnum(sp.timeline.frame_rate) + ", \"frames_planned\": " + std::to_string(m.num_frames) + "},\n";
-  j += "  \"run\": {\"frames\": " + std::to_string(st.frames) + ", \"last_frame\": " + std::to_string(s.frame) +
-       ", \"last_time_s\": " + jnum(s.time) + ", \"wall_s\": " + jms(r.wall_s) + ", \"exit_reason\": " +
-       jstr(to_string(r.reason)) + ", \"interrupted\": " + (r.reason == ExitReason::interrupted ? "true" : "false") +
-       ", \"message\": " + jstr(r.message) + "},\n";
+  auto stage = [&](const StageStat& v) { return Json{{"mean", jms(v.sum / nf)}, {"max", jms(v.max)}}; };
+  j["timeline"] = {{"duration_s", jnum(sp.timeline.duration)}, {"frame_rate_hz", jnum(sp.timeline.frame_rate)},
+                   {"frames_planned", m.num_frames}};
+  j["run"] = {{"frames", st.frames}, {"last_frame", s.frame}, {"last_time_s", jnum(s.time)}, {"wall_s", jms(r.wall_s)},
+              {"exit_reason", to_string(r.reason)}, {"interrupted", r.reason == ExitReason::interrupted},
+              {"message", r.message}};
   // The run's bounds (--timeout, --max-output; 0: none) and what it wrote.
-  j += "  \"limits\": {\"timeout_s\": " + jnum(sp.outputs.timeout_s) + ", \"max_output_bytes\": " +
-       std::to_string(sp.outputs.max_bytes) + ", \"output_bytes\": " +
-       std::to_string(rec && rec->output_budget() ? rec->output_budget()->used() : 0) + "},\n";
-  j += "  \"stage_ms\": {\n";
-  j += stage("collision", st.collision, false);
-  j += stage("cutting", st.cutting, false);
-  j += stage("poke_drag", st.poke_drag, false);
-  j += stage("operational_solve", st.operational_solve, false);
-  j += stage("nonoperational_update", st.nonoperational_update, false);
-  j += stage("total", st.total, true);
-  j += "  },\n";
+  j["limits"] = {{"timeout_s", jnum(sp.outputs.timeout_s)}, {"max_output_bytes", sp.outputs.max_bytes},
+                 {"output_bytes", rec && rec->output_budget() ? rec->output_budget()->used() : 0}};
+  j["stage_ms"] = {{"collision", stage(st.collision)}, {"cutting", stage(st.cutting)},
+                   {"poke_drag", stage(st.poke_drag)}, {"operational_solve", stage(st.operational_solve)},
+                   {"nonoperational_update", stage(st.nonoperational_update)}, {"total", stage(st.total)}};
   int implicit_tools = 0;
   for (const auto& t : s.tool_specs) implicit_tools += tools::is_implicit_spring(t);
-  j += "  \"springs\": {\"implicit_tools\": " + std::to_string(implicit_tools) + ", \"frames\": " +
-       std::to_string(st.springs_frames) + ", \"ms\": {\"mean\": " +
-       jms(st.springs_frames ? st.springs.sum / st.springs_frames : 0.0) + ", \"max\": " + jms(st.springs.max) +
-       "}, \"compliance_builds\": " + std::to_string(s.springs.builds) + ", \"compliance_ms_total\": " +
-       jms(s.springs.build_ms) + ", \"grasped_nodes\": " + std::to_string(s.springs.nodes.size()) + "},\n";
-  j += "  \"cg\": {\"iterations_mean\": " + jms(double(st.cg_iterations_total) / nf) + ", \"iterations_max\": " +
-       std::to_string(st.cg_iterations_max) + ", \"iterations_total\": " + std::to_string(st.cg_iterations_total) +
-       ", \"max_relative_residual\": " + jnum(st.max_relative_residual) + "},\n";
+  j["springs"] = {{"implicit_tools", implicit_tools}, {"frames", st.springs_frames},
+                  {"ms", {{"mean", jms(st.springs_frames ? st.springs.sum / st.springs_frames : 0.0)},
+                          {"max", jms(st.springs.max)}}},
+                  {"compliance_builds", s.springs.builds}, {"compliance_ms_total", jms(s.springs.build_ms)},
+                  {"grasped_nodes", s.springs.nodes.size()}};
+  j["cg"] = {{"iterations_mean", jms(double(st.cg_iterations_total) / nf)}, {"iterations_max", st.cg_iterations_max},
+             {"iterations_total", st.cg_iterations_total}, {"max_relative_residual", jnum(st.max_relative_residual)}};
   // Frames written (with a writer that failed, fewer than were queued).
   const int rendered = !rec ? 0 : rec->frame_writer() ? rec->frame_writer()->stats().frames : rec->frames_rendered();
-  j += "  \"outputs\": {\"log_nodes\": " + std::to_string(m.log_nodes.size()) + ", \"csv\": " +
-       (sp.outputs.csv ? "\"displacements.csv\"" : "null") + ", \"pvd\": " +
-       (sp.outputs.vtu ? "\"series.pvd\"" : "null") + ", \"frames_rendered\": " + std::to_string(rendered) +
-       ", \"render_ms\": {\"mean\": " + jms(rec && rec->frames_rendered() ? rec->render_frame_thread_ms().sum / rec->frames_rendered() : 0.0) +
-       ", \"max\": " + jms(rec ? rec->render_frame_thread_ms().max : 0.0) + "}" + render_work_json(rec) + "},\n";
-  j += cutting_json(m, s);
-  j += expectations_json(m, s);
+  Json& outputs = j["outputs"] = {
+      {"log_nodes", m.log_nodes.size()},
+      {"csv", sp.outputs.csv ? Json("displacements.csv") : Json(nullptr)},
+      {"pvd", sp.outputs.vtu ? Json("series.pvd") : Json(nullptr)},
+      {"frames_rendered", rendered},
+      {"render_ms",
+       {{"mean", jms(rec && rec->frames_rendered() ? rec->render_frame_thread_ms().sum / rec->frames_rendered() : 0.0)},
+        {"max", jms(rec ? rec->render_frame_thread_ms().max : 0.0)}}}};
+  add_render_work(outputs, rec);
+  j["cutting"] = cutting_json(m, s);
+  j["expectations"] = expectations_json(m, s);
   std::set<std::string> seen;
-  std::vector<std::string> warnings;
+  Json& warnings = j["warnings"] = Json::array();
   for (const auto* list : {&m.warnings, &s.warnings})
     for (const auto& w : *list)
       if (seen.insert(w).second) warnings.push_back(w);
-  j += "  \"warnings\": [";
-  for (size_t k = 0; k < warnings.size(); ++k) j += (k ? ", " : "") + jstr(warnings[k]);
-  j += "]\n}\n";
-  return j;
+  return json_text(j);
 }
 
 std::uintmax_t write_vtu(const fs::path& path, const Model& m, const State& s) {

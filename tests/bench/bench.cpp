@@ -22,129 +22,17 @@ using softcut::test::slurp;
 
 namespace {
 
-// Just enough JSON for the benchmark files: objects, arrays, numbers,
-// strings without escapes, true/false/null. Throws on anything malformed.
-struct Json {
-  enum class Type { null, boolean, number, string, array, object } type = Type::null;
-  bool b = false;
-  double num = 0;
-  std::string str;
-  std::vector<Json> arr;
-  std::map<std::string, Json> obj;
+using Json = nlohmann::ordered_json;
 
-  const Json& operator[](const std::string& key) const {
-    if (type != Type::object) throw std::runtime_error("not an object looking up " + key);
-    const auto it = obj.find(key);
-    if (it == obj.end()) throw std::runtime_error("missing key " + key);
-    return it->second;
-  }
-  const Json& operator[](size_t i) const {
-    if (type != Type::array || i >= arr.size()) throw std::runtime_error("bad array index");
-    return arr[i];
-  }
-  double number() const {
-    if (type != Type::number) throw std::runtime_error("not a number");
-    return num;
-  }
-  bool is_null() const { return type == Type::null; }
-};
-
-class JsonParser {
- public:
-  explicit JsonParser(const std::string& text) : s_(text) {}
-  Json parse() {
-    Json v = value();
-    skip();
-    if (i_ != s_.size()) error("trailing text");
-    return v;
-  }
-
- private:
-  [[noreturn]] void error(const std::string& what) const {
-    throw std::runtime_error("JSON: " + what + " at offset " + std::to_string(i_));
-  }
-  void skip() {
-    while (i_ < s_.size() && std::isspace(static_cast<unsigned char>(s_[i_]))) ++i_;
-  }
-  bool eat(char c) {
-    skip();
-    if (i_ < s_.size() && s_[i_] == c) return ++i_, true;
-    return false;
-  }
-  void expect(char c) {
-    if (!eat(c)) error(std::string("expected '") + c + "'");
-  }
-  bool word(const char* w) {
-    const std::string ws(w);
-    if (s_.compare(i_, ws.size(), ws) != 0) return false;
-    i_ += ws.size();
-    return true;
-  }
-  std::string string() {
-    expect('"');
-    const size_t end = s_.find('"', i_);
-    if (end == std::string::npos) error("unterminated string");
-    std::string out = s_.substr(i_, end - i_);
-    if (out.find('\\') != std::string::npos) error("escapes are not expected here");
-    i_ = end + 1;
-    return out;
-  }
-  Json value() {
-    skip();
-    if (i_ >= s_.size()) error("unexpected end");
-    Json v;
-    const char c = s_[i_];
-    if (c == '{') {
-      v.type = Json::Type::object;
-      ++i_;
-      if (eat('}')) return v;
-      do {
-        const std::string k = string();
-        expect(':');
-        if (!v.obj.emplace(k, value()).second) error("duplicate key " + k);
-      } while (eat(','));
-      expect('}');
-    } else if (c == '[') {
-      v.type = Json::Type::array;
-      ++i_;
-      if (eat(']')) return v;
-      do v.arr.push_back(value());
-      while (eat(','));
-      expect(']');
-    } else if (c == '"') {
-      v.type = Json::Type::string;
-      v.str = string();
-    } else if (word("true")) {
-      v.type = Json::Type::boolean;
-      v.b = true;
-    } else if (word("false")) {
-      v.type = Json::Type::boolean;
-    } else if (word("null")) {
-    } else {
-      const char* begin = s_.c_str() + i_;
-      char* end = nullptr;
-      v.num = std::strtod(begin, &end);
-      // strtod also takes "nan", "inf" and hex, which JSON does not.
-      if (end == begin || !std::isfinite(v.num) ||
-          s_.substr(i_, size_t(end - begin)).find_first_not_of("0123456789+-.eE") != std::string::npos)
-        error("bad number");
-      v.type = Json::Type::number;
-      i_ += size_t(end - begin);
-    }
-    return v;
-  }
-
-  const std::string& s_;
-  size_t i_ = 0;
-};
-
+// The benchmark's JSON file, strictly parsed (test_support.hpp: invalid
+// JSON or a key given twice throws).
 Json read_json(const fs::path& p) {
   REQUIRE(fs::exists(p));
-  return JsonParser(slurp(p)).parse();
+  return softcut::test::read_json(p);
 }
 
 // A finite number greater than zero (a time, a rate, a count that must move).
-bool positive(const Json& v) { return v.type == Json::Type::number && v.num > 0 && std::isfinite(v.num); }
+bool positive(const Json& v) { return v.is_number() && v.get<double>() > 0 && std::isfinite(v.get<double>()); }
 
 // Markdown table rows whose first cell is `first`, split into trimmed cells.
 std::vector<std::vector<std::string>> rows_starting(const std::string& text, const std::string& first) {
@@ -179,12 +67,16 @@ void check_rejected(const std::string& args, const std::string& part, int status
 }  // namespace
 
 TEST_SUITE("bench/bench") {
-  TEST_CASE("the JSON reader of this suite rejects what it must") {
-    CHECK(JsonParser(R"({"a": [1, -2.5e-3, true, null, "x"], "b": {}})").parse()["a"][1].number() == -2.5e-3);
-    CHECK(JsonParser("[true]").parse()[0].b);
-    CHECK_FALSE(JsonParser("[false]").parse()[0].b);
-    for (const char* bad : {"{\"a\": 1", "[1,]", "{\"a\": nan}", "[inf]", "{\"a\": 1, \"a\": 2}", "[1] x", "[0x10]"})
-      CHECK_THROWS_AS(JsonParser(bad).parse(), std::runtime_error);
+  TEST_CASE("the JSON reader of the tests rejects what it must") {
+    using softcut::test::parse_json;
+    CHECK(parse_json(R"({"a": [1, -2.5e-3, true, null, "x"], "b": {}})").at("a").at(1).get<double>() == -2.5e-3);
+    CHECK(parse_json("[true]").at(0).get<bool>());
+    CHECK_FALSE(parse_json("[false]").at(0).get<bool>());
+    for (const char* bad : {"{\"a\": 1", "[1,]", "{\"a\": nan}", "[inf]", "{\"a\": 1, \"a\": 2}", "[1] x", "[0x10]",
+                            "{\"a\": {\"b\": 1, \"b\": 1}}", "[{\"a\": 1}, {\"a\": 2, \"c\": 3, \"a\": 4}]"})
+      CHECK_THROWS_AS(parse_json(bad), std::runtime_error);
+    // The same key in sibling or nested objects is no duplicate.
+    CHECK(parse_json(R"([{"a": 1}, {"a": {"a": 2}}])").at(1).at("a").at("a") == 2);
   }
 
   TEST_CASE("bench lists every benchmark and rejects an unknown one") {
@@ -206,10 +98,10 @@ TEST_SUITE("bench/bench") {
     CHECK(rows_starting(r.output, "48").size() == 1);
     CHECK(rows_starting(r.output, "1080").size() == 1);
     const Json j = read_json(json);
-    CHECK(j["benchmark"].str == "assembly");
-    CHECK(j["threads"].number() == 2);
-    CHECK(j["repeat"].number() == 1);
-    REQUIRE(j["rows"].arr.size() == 2);
+    CHECK(j.at("benchmark").get<std::string>() == "assembly");
+    CHECK(j.at("threads").get<double>() == 2);
+    CHECK(j.at("repeat").get<double>() == 1);
+    REQUIRE(j.at("rows").size() == 2);
     struct Expect {
       int tets, nodes, face_nodes;
       bool direct;
@@ -217,24 +109,24 @@ TEST_SUITE("bench/bench") {
     const Expect expect[] = {{48, 27, 9, true}, {1080, 6 * 7 * 7, 7 * 7, false}};
     for (size_t k = 0; k < 2; ++k) {
       CAPTURE(k);
-      const Json& row = j["rows"][k];
-      CHECK(row["tets"].number() == expect[k].tets);
-      CHECK(row["nodes"].number() == expect[k].nodes);
-      CHECK(row["free_dofs"].number() == 3 * (expect[k].nodes - expect[k].face_nodes));  // x = 0 face clamped
+      const Json& row = j.at("rows").at(k);
+      CHECK(row.at("tets").get<double>() == expect[k].tets);
+      CHECK(row.at("nodes").get<double>() == expect[k].nodes);
+      CHECK(row.at("free_dofs").get<double>() == 3 * (expect[k].nodes - expect[k].face_nodes));  // x = 0 face clamped
       for (const char* key : {"block_ms", "block_serial_ms", "triplet_ms", "speedup_vs_triplets", "cg_ms"})
-        CHECK_MESSAGE(positive(row[key]), key);
-      CHECK(row["block_serial_cpu_ms"].number() >= 0);  // clock() ticks: may round to 0
-      CHECK(row["cg_converged"].b);
-      CHECK(row["cg_iterations"].number() > 0);
-      CHECK(row["cg_relative_residual"].number() <= 1e-8);
+        CHECK_MESSAGE(positive(row.at(key)), key);
+      CHECK(row.at("block_serial_cpu_ms").get<double>() >= 0);  // clock() ticks: may round to 0
+      CHECK(row.at("cg_converged").get<bool>());
+      CHECK(row.at("cg_iterations").get<double>() > 0);
+      CHECK(row.at("cg_relative_residual").get<double>() <= 1e-8);
       if (expect[k].direct) {
-        CHECK(positive(row["cholmod_factor_ms"]));
-        CHECK(row["cholmod_solve_ms"].number() >= 0);  // printed to 1 us
-        CHECK(row["cg_vs_cholmod"].number() < 1e-5);   // CG to 1e-8 residual against the direct solve
+        CHECK(positive(row.at("cholmod_factor_ms")));
+        CHECK(row.at("cholmod_solve_ms").get<double>() >= 0);  // printed to 1 us
+        CHECK(row.at("cg_vs_cholmod").get<double>() < 1e-5);   // CG to 1e-8 residual against the direct solve
       } else {
-        CHECK(row["cholmod_factor_ms"].is_null());
-        CHECK(row["cholmod_solve_ms"].is_null());
-        CHECK(row["cg_vs_cholmod"].is_null());
+        CHECK(row.at("cholmod_factor_ms").is_null());
+        CHECK(row.at("cholmod_solve_ms").is_null());
+        CHECK(row.at("cg_vs_cholmod").is_null());
       }
     }
   }
@@ -258,35 +150,35 @@ TEST_SUITE("bench/bench") {
     CHECK(contains(r.output, md));  // the same report on stdout
     CHECK(rows_starting(md, "ligament_factor").size() == 3 + 5);  // tables 2, 3, frames; 5 poke rows
     const Json j = read_json(dir / "h.json");
-    CHECK(j["benchmark"].str == "hybrid");
-    CHECK(j["quick"].b);
-    REQUIRE(j["models"].arr.size() == 1);
-    const Json& m = j["models"][0];
-    CHECK(m["model"].str == "ligament_factor");
-    CHECK(m["storage"].str == "factor");
-    CHECK(m["frames"].number() == 50);
+    CHECK(j.at("benchmark").get<std::string>() == "hybrid");
+    CHECK(j.at("quick").get<bool>());
+    REQUIRE(j.at("models").size() == 1);
+    const Json& m = j.at("models").at(0);
+    CHECK(m.at("model").get<std::string>() == "ligament_factor");
+    CHECK(m.at("storage").get<std::string>() == "factor");
+    CHECK(m.at("frames").get<double>() == 50);
     // Node sets partition the mesh; regions partition the tets; the
     // operational sphere holds at least the paper's 71 tets.
-    CHECK(m["set_1"].number() + m["set_I"].number() + m["set_s"].number() + m["set_i"].number() +
-              m["fixed"].number() ==
-          m["nodes"].number());
-    CHECK(m["op_tets"].number() + m["nonop_tets"].number() == m["tets"].number());
-    CHECK(m["op_tets"].number() >= 71);
-    CHECK(m["set_1"].number() > 0);
-    CHECK(m["set_I"].number() > 0);
+    CHECK(m.at("set_1").get<double>() + m.at("set_I").get<double>() + m.at("set_s").get<double>() + m.at("set_i").get<double>() +
+              m.at("fixed").get<double>() ==
+          m.at("nodes").get<double>());
+    CHECK(m.at("op_tets").get<double>() + m.at("nonop_tets").get<double>() == m.at("tets").get<double>());
+    CHECK(m.at("op_tets").get<double>() >= 71);
+    CHECK(m.at("set_1").get<double>() > 0);
+    CHECK(m.at("set_I").get<double>() > 0);
     // The hybrid frame against the same frame solved on the whole mesh.
-    CHECK(m["max_rel_diff_vs_monolithic"].number() < 1e-8);
+    CHECK(m.at("max_rel_diff_vs_monolithic").get<double>() < 1e-8);
     for (const char* key : {"pre_total_ms", "frame_ms_median", "frame_hz", "mono_cholmod_factor_solve_ms",
                             "mono_cg_ms", "speedup_vs_cholmod_factor_solve", "speedup_vs_cg", "cg_iterations_mean",
                             "mono_cg_iterations"})
-      CHECK_MESSAGE(positive(m[key]), key);
-    const Json& poke = m["poke_drag"];
-    REQUIRE(poke.arr.size() == 5);
+      CHECK_MESSAGE(positive(m.at(key)), key);
+    const Json& poke = m.at("poke_drag");
+    REQUIRE(poke.size() == 5);
     const int loaded[] = {1, 10, 40, 100, 240};
     for (size_t k = 0; k < 5; ++k) {
-      CHECK(poke[k]["loaded_nodes"].number() == loaded[k]);
-      CHECK(poke[k]["loaded_dofs"].number() == 3 * loaded[k]);
-      CHECK(positive(poke[k]["us"]));
+      CHECK(poke.at(k).at("loaded_nodes").get<double>() == loaded[k]);
+      CHECK(poke.at(k).at("loaded_dofs").get<double>() == 3 * loaded[k]);
+      CHECK(positive(poke.at(k).at("us")));
     }
   }
 
@@ -305,22 +197,22 @@ TEST_SUITE("bench/bench") {
     CHECK(contains(r.output, "device: "));
     CHECK(contains(r.output, "GB/s (of peak)"));
     const Json j = read_json(json);
-    CHECK_FALSE(j["device"].str.empty());
-    CHECK(j["fp64"].b);
-    REQUIRE(j["rows"].arr.size() == 2);
+    CHECK_FALSE(j.at("device").get<std::string>().empty());
+    CHECK(j.at("fp64").get<bool>());
+    REQUIRE(j.at("rows").size() == 2);
     for (size_t k = 0; k < 2; ++k) {
-      const Json& row = j["rows"][k];
+      const Json& row = j.at("rows").at(k);
       const int n = int(k) + 2;
-      CHECK(row["cells"].number() == n);
+      CHECK(row.at("cells").get<double>() == n);
       // 2n x n x n cells, the x = 0 face clamped: 2n (n+1)^2 free nodes.
       const double dofs = 3.0 * 2 * n * (n + 1) * (n + 1);
-      CHECK(row["dofs"].number() == dofs);
-      const double nnz = row["nnz"].number();
+      CHECK(row.at("dofs").get<double>() == dofs);
+      const double nnz = row.at("nnz").get<double>();
       CHECK(nnz > dofs);
       CHECK(nnz <= dofs * dofs);
       CHECK(std::fmod(nnz, 9.0) == 0);  // whole 3x3 node blocks
       for (const char* key : {"cpu_spmv_us", "cpu_gbs", "gpu_spmv_us", "gpu_gbs", "cpu_iter_us", "gpu_iter_us"})
-        CHECK_MESSAGE(positive(row[key]), key);
+        CHECK_MESSAGE(positive(row.at(key)), key);
     }
   }
 
@@ -343,8 +235,8 @@ TEST_SUITE("bench/bench") {
       std::map<std::string, std::vector<std::string>> by;
       for (const auto& row : rows) {
         REQUIRE(row.size() >= 8);
-        CHECK(row[2] == "17");  // nodes of the triangles under the jaw at the default radius
-        CHECK(std::atof(row[3].c_str()) > 0);
+        CHECK(row.at(2) == "17");  // nodes of the triangles under the jaw at the default radius
+        CHECK(std::atof(row.at(3).c_str()) > 0);
         by[row[1]] = row;
       }
       REQUIRE(by.size() == 3);
@@ -368,41 +260,41 @@ TEST_SUITE("bench/bench") {
     const auto r = run_cli("bench cut --quick --json " + json.string());
     REQUIRE_MESSAGE(r.status == 0, r.output);
     const Json j = read_json(json);
-    CHECK(j["benchmark"].str == "cut");
-    CHECK(j["quick"].b);
-    REQUIRE(j["sizes"].arr.size() == 2);
+    CHECK(j.at("benchmark").get<std::string>() == "cut");
+    CHECK(j.at("quick").get<bool>());
+    REQUIRE(j.at("sizes").size() == 2);
     const int target[] = {300, 800};
     for (size_t k = 0; k < 2; ++k) {
       CAPTURE(k);
-      const Json& s = j["sizes"][k];
-      CHECK(s["target_tets"].number() == target[k]);
-      CHECK(s["cells"].number() == 8);
-      CHECK(s["tets"].number() == 6 * 8 * 8 * 8);
-      CHECK(s["nodes"].number() == 9 * 9 * 9);
-      CHECK(s["operational_tets"].number() >= target[k]);
-      CHECK(s["operational_tets"].number() < 2 * target[k]);
-      CHECK(s["steps"].number() == 10);
-      CHECK(s["steps_changed"].number() > s["steps_snap_only"].number());  // some steps split tets
-      CHECK(s["steps_changed"].number() <= 10);
-      CHECK(s["tets_after"].number() > s["tets"].number());
-      CHECK(s["nodes_after"].number() > s["nodes"].number());
-      CHECK(s["operational_tets_after"].number() - s["operational_tets"].number() ==
-            s["tets_after"].number() - s["tets"].number());  // only operational tets are cut
-      CHECK(s["relative_error"].number() <= 1e-8);
-      CHECK(positive(s["warm"]["cg_iterations"]["mean"]));
-      CHECK(positive(s["cold"]["cg_iterations"]["mean"]));
-      CHECK(positive(s["monolithic"]["factor_ms"]));
-      CHECK(positive(s["precompute_ms"]));
-      CHECK(s["cut_ms"]["max"].number() >= s["cut_ms"]["mean"].number());
-      CHECK(positive(s["default_backend"]["frame_ms"]["mean"]));
-      CHECK(positive(s["refactor_each_cut"]["frame_ms"]["mean"]));
-      CHECK(s["default_backend"]["factors"].number() >= 1);
-      CHECK(s["default_backend"]["corrected_solves_refactored"].number() == 0);  // every correction was exact
+      const Json& s = j.at("sizes").at(k);
+      CHECK(s.at("target_tets").get<double>() == target[k]);
+      CHECK(s.at("cells").get<double>() == 8);
+      CHECK(s.at("tets").get<double>() == 6 * 8 * 8 * 8);
+      CHECK(s.at("nodes").get<double>() == 9 * 9 * 9);
+      CHECK(s.at("operational_tets").get<double>() >= target[k]);
+      CHECK(s.at("operational_tets").get<double>() < 2 * target[k]);
+      CHECK(s.at("steps").get<double>() == 10);
+      CHECK(s.at("steps_changed").get<double>() > s.at("steps_snap_only").get<double>());  // some steps split tets
+      CHECK(s.at("steps_changed").get<double>() <= 10);
+      CHECK(s.at("tets_after").get<double>() > s.at("tets").get<double>());
+      CHECK(s.at("nodes_after").get<double>() > s.at("nodes").get<double>());
+      CHECK(s.at("operational_tets_after").get<double>() - s.at("operational_tets").get<double>() ==
+            s.at("tets_after").get<double>() - s.at("tets").get<double>());  // only operational tets are cut
+      CHECK(s.at("relative_error").get<double>() <= 1e-8);
+      CHECK(positive(s.at("warm").at("cg_iterations").at("mean")));
+      CHECK(positive(s.at("cold").at("cg_iterations").at("mean")));
+      CHECK(positive(s.at("monolithic").at("factor_ms")));
+      CHECK(positive(s.at("precompute_ms")));
+      CHECK(s.at("cut_ms").at("max").get<double>() >= s.at("cut_ms").at("mean").get<double>());
+      CHECK(positive(s.at("default_backend").at("frame_ms").at("mean")));
+      CHECK(positive(s.at("refactor_each_cut").at("frame_ms").at("mean")));
+      CHECK(s.at("default_backend").at("factors").get<double>() >= 1);
+      CHECK(s.at("default_backend").at("corrected_solves_refactored").get<double>() == 0);  // every correction was exact
     }
     // The larger region's system is past the dense path: its cuts go through
     // the kept factor's correction (the residual and the error above check it).
-    CHECK(positive(j["sizes"][1]["default_backend"]["correction_rank"]["mean"]));
-    CHECK(j["sizes"][1]["operational_tets"].number() > j["sizes"][0]["operational_tets"].number());
+    CHECK(positive(j.at("sizes").at(1).at("default_backend").at("correction_rank").at("mean")));
+    CHECK(j.at("sizes").at(1).at("operational_tets").get<double>() > j.at("sizes").at(0).at("operational_tets").get<double>());
   }
 
   TEST_CASE("bench cut: bad options") {
@@ -422,10 +314,10 @@ TEST_SUITE("bench/bench") {
     REQUIRE(rows.size() >= 3);
     std::vector<std::string> loops;
     for (const auto& row : rows) {
-      if (row.size() < 4 || row[1].empty()) continue;  // the ratio row
-      CHECK(row[1] == "3");                            // frames run
-      CHECK(std::atof(row[3].c_str()) > 0);            // wall ms / frame
-      loops.push_back(row[2]);
+      if (row.size() < 4 || row.at(1).empty()) continue;  // the ratio row
+      CHECK(row.at(1) == "3");                            // frames run
+      CHECK(std::atof(row.at(3).c_str()) > 0);            // wall ms / frame
+      loops.push_back(row.at(2));
     }
     CHECK(loops == std::vector<std::string>{"no frames", "inline", "worker"});
   }

@@ -7,6 +7,7 @@
 #include "core/error.hpp"
 #include "mesh/generate/presets.hpp"
 #include "mesh/io/mesh_io.hpp"
+#include "cli_test_support.hpp"
 #include "test_support.hpp"
 
 using namespace softcut;
@@ -95,5 +96,28 @@ TEST_SUITE("cli/cmd_mesh") {
     CHECK(error_of({"convert", "a.vtu"}).find("expected IN and OUT") != std::string::npos);
     for (const std::string& e : {error_of({"generate", "tube", "--jitter", "0.5", "x.vtu"})})
       CHECK(e.find('\n') == std::string::npos);
+  }
+
+  TEST_CASE("mesh info --json is valid JSON that describes the mesh, whatever bytes the file name holds") {
+    const fs::path dir = test::scratch_dir("cmd_mesh_info_json");
+    const fs::path file = dir / "b\"ox\xE9.vtu";  // a quote and a byte that is not UTF-8
+    REQUIRE(cli::cmd_mesh({"generate", "box", "--size", "0.1,0.2,0.3", "--cells=2,3,4", file.string()}) == 0);
+    const auto r = test::run_cli_raw("('" SOFTCUT_BIN "' mesh info '" + file.string() + "' --json 2>/dev/null)");
+    REQUIRE(r.status == 0);
+    const nlohmann::ordered_json j = test::parse_json(r.output);
+    CHECK(j.at("file") == (dir / "b\"ox\xEF\xBF\xBD.vtu").string());  // U+FFFD for the stray byte
+    CHECK(j.at("tets") == 6 * 24);
+    CHECK(j.at("nodes") == 3 * 4 * 5);
+    CHECK(j.at("referenced_nodes") == 60);
+    CHECK(j.at("interior_nodes") == 60 - j.at("surface_nodes").get<int>());
+    CHECK(j.at("labels").size() == 1);
+    CHECK(j.at("labels").at(0).at("tets") == 144);
+    CHECK(j.at("bbox_min") == nlohmann::ordered_json{0.0, 0.0, 0.0});
+    CHECK(j.at("bbox_max") == nlohmann::ordered_json{0.1, 0.2, 0.3});
+    CHECK(j.at("volume").get<double>() == doctest::Approx(0.006));
+    CHECK(j.at("surface").at("closed_manifold") == true);
+    CHECK(j.at("surface").at("euler") == 2);
+    CHECK(j.at("quality").at("poor") == 0);
+    CHECK(j.at("warnings").empty());
   }
 }

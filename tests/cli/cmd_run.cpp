@@ -61,10 +61,10 @@ TEST_SUITE("cli/cmd_run") {
     CHECK(run_env("warm", "") == 0);
     CHECK(run_env("off", " --no-cache") == 0);
     const std::string cold = slurp(dir / "cold" / "summary.json"), warm = slurp(dir / "warm" / "summary.json");
-    CHECK(contains(cold, "\"precompute_cache\": {\"hit\": false"));
-    CHECK(contains(cold, "\"miss_reason\": \"no entry\""));
-    CHECK(contains(warm, "\"precompute_cache\": {\"hit\": true"));
-    CHECK(contains(slurp(dir / "off" / "summary.json"), "\"precompute_cache\": null"));
+    CHECK(softcut::test::parse_json(cold)["precompute_cache"]["hit"] == false);
+    CHECK(softcut::test::parse_json(cold)["precompute_cache"]["miss_reason"] == "no entry");
+    CHECK(softcut::test::parse_json(warm)["precompute_cache"]["hit"] == true);
+    CHECK(softcut::test::read_json(dir / "off" / "summary.json")["precompute_cache"].is_null());
     CHECK(slurp(dir / "cold" / "displacements.csv") == slurp(dir / "warm" / "displacements.csv"));
     CHECK(slurp(dir / "cold" / "displacements.csv") == slurp(dir / "off" / "displacements.csv"));
     CHECK(!slurp(dir / "cold" / "displacements.csv").empty());
@@ -77,13 +77,13 @@ TEST_SUITE("cli/cmd_run") {
       const std::string cmd = "cd '" SOFTCUT_SOURCE_DIR "' && " + env + " '" SOFTCUT_BIN "' run " + scen + " --out " +
                               (dir / out).string() + " >/dev/null 2>&1";
       CHECK(std::system(cmd.c_str()) == 0);
-      return slurp(dir / out / "summary.json");
+      return softcut::test::read_json(dir / out / "summary.json")["threads"];
     };
-    CHECK(contains(run("SOFTCUT_THREADS=3", "three"), "\"threads\": {\"count\": 3, \"reason\": \"SOFTCUT_THREADS=3\"}"));
-    const std::string bad = run("SOFTCUT_THREADS=lots", "bad");
-    CHECK(contains(bad, "SOFTCUT_THREADS='lots' ignored (want 1..1024); "));
-    CHECK(contains(bad, " idle\"}"));
-    CHECK(contains(run("env -u SOFTCUT_THREADS", "auto"), " cores, load "));
+    CHECK(run("SOFTCUT_THREADS=3", "three") == nlohmann::ordered_json{{"count", 3}, {"reason", "SOFTCUT_THREADS=3"}});
+    const std::string bad = run("SOFTCUT_THREADS=lots", "bad")["reason"];
+    CHECK(bad.starts_with("SOFTCUT_THREADS='lots' ignored (want 1..1024); "));
+    CHECK(bad.ends_with(" idle"));
+    CHECK(contains(run("env -u SOFTCUT_THREADS", "auto")["reason"].get<std::string>(), " cores, load "));
   }
 
   TEST_CASE("--frames out of range names the accepted range") {
@@ -187,22 +187,39 @@ return s
     const fs::path out = dir / "out";
     const auto r = run_cli("run " + script.string() + " --out " + out.string() + " --quiet --frames 3 --set f=0.02");
     CHECK(r.status == 1);  // "counted" fails; frames 0, 1, 2 run
-    const std::string j = slurp(out / "summary.json");
-    CHECK(contains(j, "\"command_line\": [\"softcut\", \"run\", \"" + script.string() + "\", \"--out\""));
-    CHECK(contains(j, "\"--set\", \"f=0.02\"]"));
-    CHECK(contains(j, "\"params\": {\"f\": \"0.02\", \"tag\": \"a\"}"));
-    CHECK(contains(j, "\"build_type\": \""));
-    CHECK(contains(j, "{\"name\": \"sags\", \"where\": \"" + script.string() + ":9\", \"at_s\": 0.2, \"kind\": \"bounds\", "
-                      "\"measure\": \"mean\", \"component\": \"z\", \"nodes\": 9, \"min\": null, \"max\": 0, "
-                      "\"reached\": true, \"time_s\": 0.2, \"value\": -"));
-    CHECK(contains(j, "\"pass\": true, \"message\": \"mean uz of 9 nodes at t = 0.2 s is -"));
+    const nlohmann::ordered_json j = softcut::test::read_json(out / "summary.json");
+    const std::vector<std::string> cmd = j["command_line"];
+    REQUIRE(cmd.size() >= 5);
+    CHECK(std::vector<std::string>(cmd.begin(), cmd.begin() + 4) ==
+          std::vector<std::string>{"softcut", "run", script.string(), "--out"});
+    CHECK(std::vector<std::string>(cmd.end() - 2, cmd.end()) == std::vector<std::string>{"--set", "f=0.02"});
+    CHECK(j["params"].dump() == R"({"f":"0.02","tag":"a"})");  // as the file lists them
+    CHECK(j["versions"]["build_type"].is_string());
+    const nlohmann::ordered_json& e = j["expectations"];
+    REQUIRE(e.size() == 3);
+    const nlohmann::ordered_json sags = e[0];
+    CHECK(sags["name"] == "sags");
+    CHECK(sags["where"] == script.string() + ":9");
+    CHECK(sags["at_s"] == 0.2);
+    CHECK(sags["kind"] == "bounds");
+    CHECK(sags["measure"] == "mean");
+    CHECK(sags["component"] == "z");
+    CHECK(sags["nodes"] == 9);
+    CHECK(sags["min"].is_null());
+    CHECK(sags["max"] == 0);
+    CHECK(sags["reached"] == true);
+    CHECK(sags["time_s"] == 0.2);
+    CHECK(sags["value"].get<double>() < 0);
+    CHECK(sags["pass"] == true);
+    CHECK(sags["message"].get<std::string>().starts_with("mean uz of 9 nodes at t = 0.2 s is -"));
     // A check's message that is not a string is shown as text.
-    CHECK(contains(j, "\"name\": \"counted\", \"where\": \"" + script.string() + ":10\", \"at_s\": 0.1, \"kind\": \"check\", "
-                      "\"min\": null, \"max\": null, \"reached\": true, \"time_s\": 0.1, \"value\": null, "
-                      "\"pass\": false, \"message\": \"42\"}"));
-    CHECK(contains(j, "\"name\": \"late\", \"where\": \"" + script.string() + ":11\", \"at_s\": 0.4, \"kind\": \"check\", "
-                      "\"min\": null, \"max\": null, \"reached\": false, \"time_s\": null, \"value\": null, "
-                      "\"pass\": false, \"message\": \"not reached: the run ended at t = 0.2 s before at = 0.4 s\"}"));
+    CHECK(e[1] == nlohmann::ordered_json{{"name", "counted"}, {"where", script.string() + ":10"}, {"at_s", 0.1}, {"kind", "check"},
+                                 {"min", nullptr}, {"max", nullptr}, {"reached", true}, {"time_s", 0.1},
+                                 {"value", nullptr}, {"pass", false}, {"message", "42"}});
+    CHECK(e[2] == nlohmann::ordered_json{{"name", "late"}, {"where", script.string() + ":11"}, {"at_s", 0.4}, {"kind", "check"},
+                                 {"min", nullptr}, {"max", nullptr}, {"reached", false}, {"time_s", nullptr},
+                                 {"value", nullptr}, {"pass", false},
+                                 {"message", "not reached: the run ended at t = 0.2 s before at = 0.4 s"}});
   }
 
   TEST_CASE("SIGTERM finishes the frame, writes valid outputs marked interrupted") {

@@ -264,8 +264,7 @@ TEST_SUITE("sim/cutting") {
       for (const auto& e : s.cut_events)
         events[k] += std::to_string(e.frame) + " " + std::to_string(e.tets_split) + " " +
                      std::to_string(e.nodes_added) + " " + std::to_string(e.faces_separated) + ";";
-      const std::string summary = slurp(rec.dir() / "summary.json");
-      CHECK(summary.find("\"cutting\": {\"scalpels\": 1") != std::string::npos);
+      CHECK(softcut::test::read_json(rec.dir() / "summary.json")["cutting"]["scalpels"] == 1);
       rest_nodes = m.mesh.num_nodes();
       nodes_after = s.cut->mesh.num_nodes();
     }
