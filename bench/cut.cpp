@@ -22,6 +22,7 @@
 #include "cut/cutter.hpp"
 #include "fem/assembly.hpp"
 #include "fem/dof_map.hpp"
+#include "fem/whole_mesh.hpp"
 #include "hybrid/update.hpp"
 #include "mesh/generate/box.hpp"
 #include "solve/cholesky.hpp"
@@ -224,23 +225,16 @@ SizeResult run_size(int cells, int target, int steps) {
   // Baseline: the whole cut mesh, assembled, factored and solved by CHOLMOD.
   Eigen::MatrixX3d f = Eigen::MatrixX3d::Zero(m.num_nodes(), 3);
   for (const auto& l : loads) f.row(l.node) += l.force.transpose();
-  const std::vector<char> used = mesh::referenced_nodes(m);
-  std::vector<char> free(used.size());
-  for (size_t v = 0; v < used.size(); ++v) free[v] = used[v] && !node_fixed[v];
   // Minimum of 3 runs: single runs are noisy on a loaded machine.
   Eigen::MatrixX3d u_mono;
   r.mono_assemble_ms = r.mono_factor_ms = r.mono_solve_ms = INFINITY;
   for (int rep = 0; rep < 3; ++rep) {
+    const fem::WholeMeshSolver mono(m, mat, node_fixed, "monolithic stiffness of the cut mesh");
+    r.mono_assemble_ms = std::min(r.mono_assemble_ms, mono.system().assemble_ms());
+    r.mono_factor_ms = std::min(r.mono_factor_ms, mono.factor_ms());
+    const Eigen::VectorXd rhs = mono.system().load(f);
     timer.reset();
-    const fem::DofMap map = fem::make_dof_map(free);
-    const fem::SparseMatrix K = fem::restrict_matrix(fem::assemble_stiffness(m, mat), map);
-    r.mono_assemble_ms = std::min(r.mono_assemble_ms, timer.ms());
-    timer.reset();
-    const solve::Cholesky llt(K, "monolithic stiffness of the cut mesh");
-    r.mono_factor_ms = std::min(r.mono_factor_ms, timer.ms());
-    const Eigen::VectorXd rhs = fem::restrict_vector(fem::flatten(f), map);
-    timer.reset();
-    u_mono = fem::unflatten(fem::expand_vector(llt.solve(rhs), map, m.num_nodes()));
+    u_mono = mono.system().field(mono.factor().solve(rhs));
     r.mono_solve_ms = std::min(r.mono_solve_ms, timer.ms());
   }
 

@@ -12,6 +12,7 @@
 #include "core/timer.hpp"
 #include "fem/assembly.hpp"
 #include "fem/dof_map.hpp"
+#include "fem/whole_mesh.hpp"
 #include "gpu/compute_cg.hpp"
 #include "mesh/generate/box.hpp"
 #include "solve/cg.hpp"
@@ -100,9 +101,10 @@ int bench_gpu(const Args& args) {
     bo.max_corner = {0.2, 0.1, 0.1};
     const auto m = mesh::generate_box(bo);
     const std::vector<fem::Material> mats(size_t(m.num_tets()), {3e3, 0.45});
-    std::vector<char> free(size_t(m.num_nodes()));
-    for (int v = 0; v < m.num_nodes(); ++v) free[size_t(v)] = m.nodes(v, 0) > 1e-12;
-    const auto K = fem::restrict_matrix(fem::assemble_stiffness(m, mats), fem::make_dof_map(free));
+    std::vector<char> fixed(size_t(m.num_nodes()));
+    for (int v = 0; v < m.num_nodes(); ++v) fixed[size_t(v)] = m.nodes(v, 0) <= 1e-12;
+    const fem::WholeMesh whole(m, mats, fixed);
+    const fem::SparseMatrix& K = whole.K();
     const auto bs = gpu::make_block_system(K);
     cg.set_system(bs);
 

@@ -19,7 +19,7 @@
 #include "core/timer.hpp"
 #include "fem/assembly.hpp"
 #include "fem/dof_map.hpp"
-#include "hybrid/monolithic.hpp"
+#include "fem/whole_mesh.hpp"
 #include "hybrid/precompute_cache.hpp"
 #include "hybrid/update.hpp"
 #include "mesh/generate/box.hpp"
@@ -227,21 +227,17 @@ Result run_model(const ModelEntry& e, bool quick, Storage storage) {
   for (int v : b.fixed) fixed_mask[size_t(v)] = 1;
   Eigen::MatrixX3d u_mono;
   const int mono_reps = big ? 1 : (quick ? 3 : 7);
-  const double mono_chol_ms = median_ms(mono_reps, [&] { u_mono = solve_monolithic(m, mat, fixed_mask, f); });
+  const double mono_chol_ms = median_ms(mono_reps, [&] { u_mono = fem::solve_whole_mesh(m, mat, fixed_mask, f); });
   double mono_solve_ms = 0;
   {
-    std::vector<char> free(size_t(m.num_nodes()));
-    const auto used = mesh::referenced_nodes(m);
-    for (size_t v = 0; v < free.size(); ++v) free[v] = used[v] && !fixed_mask[v];
-    const fem::DofMap map = fem::make_dof_map(free);
-    const solve::Cholesky llt(fem::restrict_matrix(fem::assemble_stiffness(m, mat), map), "monolithic");
-    const Eigen::VectorXd rhs = fem::restrict_vector(fem::flatten(f), map);
-    mono_solve_ms = median_ms(big ? 3 : 21, [&] { volatile double s = llt.solve(rhs).sum(); (void)s; });
+    const fem::WholeMeshSolver mono(m, mat, fixed_mask, "monolithic");
+    const Eigen::VectorXd rhs = mono.system().load(f);
+    mono_solve_ms = median_ms(big ? 3 : 21, [&] { volatile double s = mono.factor().solve(rhs).sum(); (void)s; });
   }
   int mono_cg_it = 0;
   solve::CgOptions cgo;  // same tolerance as the operational CG
   const double mono_cg_ms =
-      median_ms(big ? 1 : 3, [&] { solve_monolithic_cg(m, mat, fixed_mask, f, cgo, &mono_cg_it); });
+      median_ms(big ? 1 : 3, [&] { fem::solve_whole_mesh_cg(m, mat, fixed_mask, f, cgo, &mono_cg_it); });
   double err = 0;
   for (int v = 0; v < m.num_nodes(); ++v)
     if (part.node_set[size_t(v)] != NodeSet::interior) err = std::max(err, (state.u.row(v) - u_mono.row(v)).norm());

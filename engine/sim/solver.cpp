@@ -6,6 +6,7 @@
 #include "core/timer.hpp"
 #include "fem/assembly.hpp"
 #include "fem/dof_map.hpp"
+#include "fem/whole_mesh.hpp"
 #include "gpu/egl_context.hpp"
 #include "gpu/dense_product.hpp"
 #include "gpu/operational_gpu_solver.hpp"
@@ -22,37 +23,17 @@ namespace softcut::sim {
 
 namespace {
 
-// Whole-mesh reference: K u = f over every tet with the fixed DOFs
-// eliminated, one CHOLMOD factor at compile time (and one per cut, kept in the
-// run state), one solve per frame.
+// Whole-mesh reference (fem/whole_mesh.hpp): one CHOLMOD factor at compile
+// time (and one per cut, kept in the run state), one solve per frame.
 struct MonolithicSystem {
-  int nnode = 0;
-  fem::DofMap map;
-  fem::SparseMatrix K;  // free DOFs (both triangles), for the residual check
-  Eigen::VectorXd f0;   // free DOFs, N: the tets' initial strains (empty when none)
-  solve::Cholesky factor;
+  fem::WholeMeshSolver solver;
   long generation = 0;
 
   MonolithicSystem(const mesh::TetMesh& m, const std::vector<fem::Material>& tet_material,
-                   const std::vector<char>& node_fixed, long gen,
-                   std::vector<std::pair<std::string, double>>* timings, double max_bytes) {
-    nnode = m.num_nodes();
-    generation = gen;
-    Timer t;
-    const fem::SparseMatrix K = fem::assemble_stiffness(m, tet_material);
-    std::vector<char> free(size_t(nnode), 0);
-    for (int e = 0; e < m.num_tets(); ++e)
-      for (int k = 0; k < 4; ++k) free[size_t(m.tets(e, k))] = 1;
-    for (int n = 0; n < nnode; ++n) free[size_t(n)] &= !node_fixed[size_t(n)];
-    map = fem::make_dof_map(free);
-    this->K = fem::restrict_matrix(K, map);
-    if (fem::any_initial_strain(tet_material))
-      f0 = fem::restrict_vector(fem::flatten(fem::initial_strain_forces(m, tet_material)), map);
-    if (timings) timings->emplace_back("assemble", t.ms());
-    t.reset();
-    factor.factor(this->K, "whole-mesh stiffness (is every part of the body fixed somewhere?)", max_bytes);
-    if (timings) timings->emplace_back("factor", t.ms());
-  }
+                   const std::vector<char>& node_fixed, long gen, double max_bytes)
+      : solver(m, tet_material, node_fixed, "whole-mesh stiffness (is every part of the body fixed somewhere?)",
+               max_bytes),
+        generation(gen) {}
 };
 
 struct MonolithicRunState final : SolverRunState {
@@ -66,7 +47,8 @@ class MonolithicSolver final : public Solver {
       : choice_(std::move(choice)), max_bytes_(max_bytes) {
     std::vector<char> fixed(size_t(m.num_nodes()), 0);
     for (int n : p.fixed) fixed[size_t(n)] = 1;
-    rest_ = std::make_shared<const MonolithicSystem>(m, tet_material, fixed, 0, &timings_, max_bytes_);
+    rest_ = std::make_shared<const MonolithicSystem>(m, tet_material, fixed, 0, max_bytes_);
+    timings_ = {{"assemble", rest_->solver.system().assemble_ms()}, {"factor", rest_->solver.factor_ms()}};
   }
 
   std::string name() const override { return "monolithic (whole-mesh CHOLMOD)"; }
@@ -78,8 +60,7 @@ class MonolithicSolver final : public Solver {
   void start_run(SolverRun& warm, const CutMesh* cut) const override {
     auto rs = std::make_unique<MonolithicRunState>();
     if (cut)
-      rs->cut = std::make_shared<const MonolithicSystem>(cut->mesh, cut->tet_material, cut->node_fixed, 1, nullptr,
-                                                         max_bytes_);
+      rs->cut = std::make_shared<const MonolithicSystem>(cut->mesh, cut->tet_material, cut->node_fixed, 1, max_bytes_);
     warm.backend = std::move(rs);
   }
 
@@ -87,34 +68,19 @@ class MonolithicSolver final : public Solver {
     if (!dynamic_cast<MonolithicRunState*>(warm.backend.get())) start_run(warm, nullptr);
     auto& rs = static_cast<MonolithicRunState&>(*warm.backend);
     const long gen = system(warm).generation + 1;
-    rs.cut = std::make_shared<const MonolithicSystem>(cm.mesh, cm.tet_material, cm.node_fixed, gen, nullptr, max_bytes_);
+    rs.cut = std::make_shared<const MonolithicSystem>(cm.mesh, cm.tet_material, cm.node_fixed, gen, max_bytes_);
   }
 
   void unit_responses(const std::vector<int>& nodes, SolverRun& warm, Eigen::MatrixXd& out) const override {
-    const MonolithicSystem& S = system(warm);
-    Eigen::MatrixXd E = Eigen::MatrixXd::Zero(S.map.size(), Eigen::Index(3 * nodes.size()));
-    for (size_t j = 0; j < nodes.size(); ++j)
-      for (int a = 0; a < 3; ++a) {
-        const int dof = S.map.reduced[size_t(3 * nodes[j] + a)];
-        if (dof < 0) fail("unit_responses: node ", nodes[j], " is fixed");
-        E(dof, Eigen::Index(3 * j + a)) = 1.0;
-      }
-    const Eigen::MatrixXd X = S.factor.solve(E);
-    out.setZero(3 * Eigen::Index(S.nnode), E.cols());
-    for (Eigen::Index c = 0; c < E.cols(); ++c) out.col(c) = fem::expand_vector(X.col(c), S.map, S.nnode);
+    out = system(warm).solver.unit_responses(nodes);
   }
 
   void solve(const Eigen::MatrixX3d& forces, Eigen::MatrixX3d& u, SolverRun& warm,
              SolveStats& stats) const override {
     Timer t;
-    const MonolithicSystem& S = system(warm);
-    Eigen::VectorXd f = fem::restrict_vector(fem::flatten(forces), S.map);
-    if (S.f0.size() > 0) f += S.f0;  // same DOF map: built with the system
-    const Eigen::VectorXd x = f.squaredNorm() > 0 ? S.factor.solve(f) : Eigen::VectorXd::Zero(f.size());
     stats = SolveStats{};
-    if (f.squaredNorm() > 0) stats.relative_residual = (f - S.K * x).norm() / f.norm();
+    u = system(warm).solver.solve(forces, &stats.relative_residual);
     check_solve_residual(stats.relative_residual, "whole-mesh solve");
-    u = fem::unflatten(fem::expand_vector(x, S.map, S.nnode));
     stats.operational_ms = t.ms();
   }
 

@@ -5,7 +5,7 @@
 #include <random>
 
 #include "../hybrid/fixtures.hpp"
-#include "hybrid/monolithic.hpp"
+#include "fem/whole_mesh.hpp"
 #include "hybrid/update.hpp"
 
 using namespace softcut;
@@ -56,7 +56,7 @@ TEST_SUITE("gpu/dense_product") {
         const auto loads = test::random_loads(c.partition, rng, 3);
         hybrid::update(model, state, loads);
         const Eigen::MatrixX3d ref =
-            hybrid::solve_monolithic(c.mesh, c.material, c.fixed_mask, test::load_field(c.mesh.num_nodes(), loads));
+            fem::solve_whole_mesh(c.mesh, c.material, c.fixed_mask, test::load_field(c.mesh.num_nodes(), loads));
         CHECK(test::relative_error(state.u, ref, c.partition.surface) <= 1e-8);
       }
     }

@@ -5,7 +5,7 @@
 #include <random>
 
 #include "../hybrid/fixtures.hpp"
-#include "hybrid/monolithic.hpp"
+#include "fem/whole_mesh.hpp"
 #include "hybrid/update.hpp"
 
 using namespace softcut;
@@ -44,7 +44,7 @@ TEST_SUITE("gpu/operational_gpu_solver") {
         hybrid::update(model, cpu, loads);
         hybrid::update(model, dev, loads);
         const Eigen::MatrixX3d ref =
-            hybrid::solve_monolithic(c.mesh, c.material, c.fixed_mask, test::load_field(c.mesh.num_nodes(), loads));
+            fem::solve_whole_mesh(c.mesh, c.material, c.fixed_mask, test::load_field(c.mesh.num_nodes(), loads));
         INFO("trial ", trial, " frame ", frame, " ", hybrid::describe(c.partition.counts));
         CHECK(test::relative_error(dev.u, cpu.u, visible_nodes(c.partition)) <= 1e-9);
         CHECK(test::relative_error(dev.u, ref, visible_nodes(c.partition)) <= 1e-8);

@@ -8,7 +8,7 @@
 
 #include "core/error.hpp"
 #include "fixtures.hpp"
-#include "hybrid/monolithic.hpp"
+#include "fem/whole_mesh.hpp"
 
 using namespace softcut;
 using namespace softcut::hybrid;
@@ -70,7 +70,7 @@ TEST_SUITE("hybrid/update") {
         const auto loads = test::random_loads(c.partition, rng, 1 + int(rng() % 6));
         update(model, state, loads, with_interior(frame == 2));
         const Eigen::MatrixX3d ref =
-            solve_monolithic(c.mesh, c.material, c.fixed_mask, test::load_field(c.mesh.num_nodes(), loads));
+            fem::solve_whole_mesh(c.mesh, c.material, c.fixed_mask, test::load_field(c.mesh.num_nodes(), loads));
         INFO("trial ", trial, " frame ", frame, " kind ", c.partition_kind, " ", describe(c.partition.counts));
         CHECK(test::relative_error(state.u, ref, visible_nodes(c.partition)) <= 1e-8);
         if (frame == 2) CHECK(test::relative_error(state.u, ref, c.partition.interior) <= 1e-8);
@@ -104,7 +104,7 @@ TEST_SUITE("hybrid/update") {
       CholmodSolver direct;
       const auto loads = test::random_loads(c.partition, rng, 3);
       update(model, state, loads, direct);
-      const Eigen::MatrixX3d ref = solve_monolithic(c.mesh, c.material, c.fixed_mask,
+      const Eigen::MatrixX3d ref = fem::solve_whole_mesh(c.mesh, c.material, c.fixed_mask,
                                                     po.initial_loads + test::load_field(c.mesh.num_nodes(), loads));
       CHECK(test::relative_error(state.u, ref, visible_nodes(c.partition)) <= 1e-8);
     }
@@ -239,7 +239,7 @@ TEST_SUITE("hybrid/update") {
       if (c.partition.node_set[size_t(l.node)] == NodeSet::surface) surface_loads.row(l.node) += l.force.transpose();
     CHECK((state.Ps_interact - gather_nodes(surface_loads, c.partition.surface)).norm() == 0);
     const Eigen::MatrixX3d ref =
-        solve_monolithic(c.mesh, c.material, c.fixed_mask, test::load_field(c.mesh.num_nodes(), loads));
+        fem::solve_whole_mesh(c.mesh, c.material, c.fixed_mask, test::load_field(c.mesh.num_nodes(), loads));
     CHECK(test::relative_error(state.u, ref, visible_nodes(c.partition)) <= 1e-8);
   }
 
@@ -261,7 +261,7 @@ TEST_SUITE("hybrid/update") {
       const auto loads = test::random_loads(c.partition, rng, 4);
       update(model, state, loads);
       const Eigen::MatrixX3d ref =
-          solve_monolithic(c.mesh, c.material, c.fixed_mask, test::load_field(c.mesh.num_nodes(), loads));
+          fem::solve_whole_mesh(c.mesh, c.material, c.fixed_mask, test::load_field(c.mesh.num_nodes(), loads));
       CHECK(test::relative_error(state.u, ref, visible_nodes(c.partition)) <= 1e-8);
     }
   }
@@ -285,7 +285,7 @@ TEST_SUITE("hybrid/update") {
       update(model, state, loads);
       std::vector<char> fixed = c.fixed_mask;
       fixed.push_back(0);
-      const Eigen::MatrixX3d ref = solve_monolithic(cut, c.material, fixed, test::load_field(cut.num_nodes(), loads));
+      const Eigen::MatrixX3d ref = fem::solve_whole_mesh(cut, c.material, fixed, test::load_field(cut.num_nodes(), loads));
       std::vector<int> nodes = visible_nodes(c.partition);
       nodes.push_back(c.mesh.num_nodes());
       CHECK(test::relative_error(state.u, ref, nodes) <= 1e-8);
@@ -317,7 +317,7 @@ TEST_SUITE("hybrid/update") {
         const auto loads = frame == 0 ? std::vector<Load>{} : test::random_loads(c.partition, rng, 3);
         update(model, state, loads, with_interior(true));
         const Eigen::MatrixX3d ref =
-            solve_monolithic(c.mesh, c.material, c.fixed_mask, test::load_field(c.mesh.num_nodes(), loads));
+            fem::solve_whole_mesh(c.mesh, c.material, c.fixed_mask, test::load_field(c.mesh.num_nodes(), loads));
         REQUIRE(ref.norm() > 0);
         CHECK(test::relative_error(state.u, ref, visible_nodes(c.partition)) <= 1e-8);
         CHECK(test::relative_error(state.u, ref, c.partition.interior) <= 1e-8);
@@ -331,7 +331,7 @@ TEST_SUITE("hybrid/update") {
       update(model, state, {}, with_interior(true));
       std::vector<char> fixed = c.fixed_mask;
       fixed.push_back(0);
-      const Eigen::MatrixX3d ref = solve_monolithic(cut, c.material, fixed, Eigen::MatrixX3d::Zero(cut.num_nodes(), 3));
+      const Eigen::MatrixX3d ref = fem::solve_whole_mesh(cut, c.material, fixed, Eigen::MatrixX3d::Zero(cut.num_nodes(), 3));
       std::vector<int> nodes = visible_nodes(c.partition);
       nodes.push_back(c.mesh.num_nodes());
       CHECK(test::relative_error(state.u, ref, nodes) <= 1e-8);

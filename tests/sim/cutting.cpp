@@ -6,7 +6,7 @@
 #include <random>
 #include <sstream>
 
-#include "hybrid/monolithic.hpp"
+#include "fem/whole_mesh.hpp"
 #include "sim/frame_scene.hpp"
 #include "sim/model.hpp"
 #include "sim/outputs.hpp"
@@ -163,7 +163,7 @@ TEST_SUITE("sim/cutting") {
       REQUIRE((cm.mesh.tets.array() == t.cut->mesh.tets.array()).all());
       // Hybrid vs monolithic backend vs an independent whole-mesh solve.
       const Eigen::MatrixX3d direct =
-          softcut::hybrid::solve_monolithic(cm.mesh, cm.tet_material, cm.node_fixed, s.forces);
+          softcut::fem::solve_whole_mesh(cm.mesh, cm.tet_material, cm.node_fixed, s.forces);
       const double scale = direct.cwiseAbs().maxCoeff();
       REQUIRE(scale > 0);
       double err_direct = 0, err_mono = 0;

@@ -13,7 +13,7 @@
 
 #include "../cut/mesh_checks.hpp"
 #include "cut/tet_quality.hpp"
-#include "hybrid/monolithic.hpp"
+#include "fem/whole_mesh.hpp"
 #include "sim/cutting.hpp"
 #include "sim/model.hpp"
 #include "sim/run.hpp"
@@ -234,7 +234,7 @@ void run_cases(Body body, bool moving) {
     Eigen::MatrixX3d u = s.displacement;
     sim::SolveStats stats;
     m.solver->solve(f, u, s.solver_run, stats);
-    const Eigen::MatrixX3d whole = softcut::hybrid::solve_monolithic(cm.mesh, cm.tet_material, cm.node_fixed, f);
+    const Eigen::MatrixX3d whole = softcut::fem::solve_whole_mesh(cm.mesh, cm.tet_material, cm.node_fixed, f);
     const double scale = whole.cwiseAbs().maxCoeff();
     double err = 0;
     for (int n = 0; n < cm.mesh.num_nodes(); ++n)
