@@ -4,7 +4,7 @@
 // with fixed nodes only at one point or along one line: it can move rigidly,
 // so its stiffness is singular. The cutter does not prevent such cuts (they
 // are legitimate surgery); the sim layer finds the pieces after every cut
-// step with find_detached and holds them (sim/cutting.hpp).
+// step with find_detached and holds them (cut/cut_mesh.hpp).
 #include <vector>
 
 #include "mesh/tet_mesh.hpp"

@@ -72,7 +72,7 @@ Json cutting_json(const Model& m, const State& s) {
                    {"tets_freed", e.tets_freed}, {"nodes_freed", e.nodes_freed}, {"warnings", e.warnings}});
   return {{"scalpels", scalpels}, {"events", s.cut_events.size()}, {"nodes_added", nodes_added},
           {"tets_split", tets_split}, {"nodes", cur.num_nodes()}, {"tets", cur.num_tets()},
-          {"components", s.cut ? count_components(cur) : count_components(m.mesh)}, {"detached_pieces", d.pieces},
+          {"components", cut::count_components(cur)}, {"detached_pieces", d.pieces},
           {"detached_tets", d.tets}, {"detached_nodes", d.nodes}, {"worst_dihedral_deg", jnum(worst)},
           {"log", std::move(log)}};
 }

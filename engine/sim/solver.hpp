@@ -23,13 +23,14 @@ class EglContext;
 }
 
 namespace softcut::cut {
+struct CutMesh;
 struct CutRecord;
 }
 
 namespace softcut::sim {
 
 struct SolverSpec;
-struct CutMesh;
+using cut::CutMesh;
 enum class Backend;
 
 // What the application lends a run. The library never creates an OpenGL

@@ -6,7 +6,7 @@
 // their triangles' nodes; a spring probe: nodes within the sphere; scalpel:
 // nodes within `radius` of the blade edge); the tool then applies nodal
 // forces, N. Cutting itself is done by
-// sim::step (sim/cutting.hpp) from the blade poses kept in ToolState.
+// the cutting stage (cut/stage.hpp) from the blade poses kept in ToolState.
 #include <Eigen/Core>
 #include <limits>
 #include <string>
@@ -105,7 +105,7 @@ struct ToolState {
   bool cutting = false;    // the blade cut this frame (set by sim::step)
   bool in_cut = false;     // cutting and still changing the mesh: keeps cutting next frame whatever the pressure
   // Rest-space images of blade_a / blade_b / blade_c as the last cut step
-  // mapped them (sim::cut_stage). The next step of the same stroke starts its
+  // mapped them (cut::cut_stage). The next step of the same stroke starts its
   // swept quads from exactly these points, so consecutive steps share their
   // edge in rest space even when the displacement field changed in between.
   Eigen::Vector3d rest_a = Eigen::Vector3d::Zero(), rest_b = Eigen::Vector3d::Zero(), rest_c = Eigen::Vector3d::Zero();

@@ -179,8 +179,8 @@ TEST_SUITE("sim/cutting") {
     CHECK(checked > 3);
     REQUIRE(s.cut);
     CHECK(s.cut_events.size() >= 3);
-    CHECK(sim::count_components(m.mesh) == 1);
-    CHECK(sim::count_components(s.cut->mesh) == 2);
+    CHECK(softcut::cut::count_components(m.mesh) == 1);
+    CHECK(softcut::cut::count_components(s.cut->mesh) == 2);
     const sim::CuttingSummary cs = sim::cutting_summary(m, s);
     CHECK(cs.events == int(s.cut_events.size()));
     CHECK(cs.components == 2);
@@ -293,7 +293,7 @@ TEST_SUITE("sim/cutting") {
     bool logged = false;
     for (const auto& w : s.warnings) logged |= w.find("scalpel 'blade'") != std::string::npos;
     CHECK(logged);
-    CHECK(sim::count_components(s.cut->mesh) == 1);  // held together through the nonoperational ends
+    CHECK(softcut::cut::count_components(s.cut->mesh) == 1);  // held together through the nonoperational ends
     // Flagged faces: boundary faces of operational tets that are not rest-surface faces.
     const softcut::render::SceneContent c = sim::scene_content(m, s);
     REQUIRE(c.cut_faces.size() == size_t(4 * s.cut->mesh.num_tets()));
@@ -337,7 +337,7 @@ TEST_SUITE("sim/cutting") {
       for (int n = m.mesh.num_nodes(); n < s.cut->mesh.num_nodes(); ++n)
         lo = std::min(lo, s.cut->mesh.nodes(n, 0)), hi = std::max(hi, s.cut->mesh.nodes(n, 0));
       extent[tri] = hi - lo;
-      CHECK(sim::count_components(s.cut->mesh) == 1);
+      CHECK(softcut::cut::count_components(s.cut->mesh) == 1);
     }
     // Nodes separate behind the cut front only: the edge's stab opens the
     // x = 45 mm column (its ends stay joined, at the front); the edge sliding

@@ -180,7 +180,7 @@ TEST_SUITE("sim/cutting (pieces cut free)") {
       sim::State s = sim::make_state(m);
       CHECK(run_and_check_free_piece(m, s) >= 5);
       REQUIRE(s.cut);
-      CHECK(sim::count_components(s.cut->mesh) == 2);
+      CHECK(softcut::cut::count_components(s.cut->mesh) == 2);
       const sim::DetachedCounts d = sim::detached_counts(s);
       CHECK(d.pieces == 1);
       // About two of ten cells: 2 x 16 cells x 6 tets plus the split ones.
@@ -264,7 +264,7 @@ TEST_SUITE("sim/cutting (pieces cut free)") {
       s = sim::make_state(m);
       while (s.frame < m.num_frames - 1) sim::step(m, s);
       REQUIRE(s.cut);
-      CHECK(sim::count_components(s.cut->mesh) == 2);
+      CHECK(softcut::cut::count_components(s.cut->mesh) == 2);
       const tools::ToolState& ts = s.tools[1];
       REQUIRE(ts.engaged);
       std::set<std::array<int, 3>> faces;
@@ -303,7 +303,7 @@ TEST_SUITE("sim/cutting (pieces cut free)") {
     sim::State s = sim::make_state(m);
     while (s.frame < m.num_frames - 1) sim::step(m, s);
     REQUIRE(s.cut);
-    CHECK(sim::count_components(s.cut->mesh) == 2);
+    CHECK(softcut::cut::count_components(s.cut->mesh) == 2);
     const sim::DetachedCounts d = sim::detached_counts(s);
     CHECK(d.pieces == 0);
     CHECK(d.tets == 0);
