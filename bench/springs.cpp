@@ -32,8 +32,8 @@ sim::ScenarioSpec bench_spec(const std::string& backend, double radius, double s
   mat.poisson = 0.45;
   s.materials.push_back(mat);
   s.operational = sim::TetSelector::of(sim::TetSelector::Kind::box);
-  s.operational.lo = V(0.04, -1, -1);
-  s.operational.hi = V(0.07, 1, 1);
+  s.operational.min = V(0.04, -1, -1);
+  s.operational.max = V(0.07, 1, 1);
   s.fixed = sim::NodeSelector::box(V(-1, -1, -1), V(0, 1, 1));
   sim::LoadSpec end;
   end.name = "end";
@@ -50,7 +50,7 @@ sim::ScenarioSpec bench_spec(const std::string& backend, double radius, double s
   g.path = tools::Path::polyline({0.0, 1.0}, {p, p + V(0, 0, 5e-3)});
   s.tools.push_back(g);
   s.timeline.duration = 1.0;
-  s.timeline.frame_rate = frames - 1;
+  s.timeline.fps = frames - 1;
   s.outputs.csv = false;
   s.solver.backend = sim::parse_backend(backend);
   return s;

@@ -215,8 +215,8 @@ tools::Path to_path(lua_State* L, int idx) {
 template <class Selector>
 void read_shape_fields(lua_State* L, int idx, Selector& s) {
   s.where = get_string(L, idx, "where");
-  s.lo = get_vec3(L, idx, "lo", s.lo);
-  s.hi = get_vec3(L, idx, "hi", s.hi);
+  s.min = get_vec3(L, idx, "min", s.min);
+  s.max = get_vec3(L, idx, "max", s.max);
   s.center = get_vec3(L, idx, "center", s.center);
   s.radius = get_number(L, idx, "radius", 0.0);
   s.point = get_vec3(L, idx, "point", s.point);
@@ -296,7 +296,7 @@ sim::NodeSelector convert_node_selector(lua_State* L, int idx, int depth, int& p
   sim::NodeSelector s;
   const std::string kind = get_string(L, idx, "kind");
   static const std::pair<const char*, K> kinds[] = {
-      {"all", K::all}, {"box", K::box}, {"sphere", K::sphere}, {"half_space", K::half_space},
+      {"all", K::all}, {"box", K::box}, {"sphere", K::sphere}, {"halfspace", K::halfspace},
       {"label", K::label}, {"nodes", K::nodes}, {"surface", K::surface}, {"named", K::named},
       {"union_of", K::union_of}, {"intersection", K::intersection}, {"difference", K::difference}};
   bool found = false;
@@ -335,7 +335,7 @@ sim::TetSelector to_tet_selector(lua_State* L, int idx) {
   const std::string kind = get_string(L, idx, "kind");
   static const std::pair<const char*, K> kinds[] = {{"all", K::all},       {"none", K::none},
                                                     {"label", K::label},   {"box", K::box},
-                                                    {"sphere", K::sphere}, {"half_space", K::half_space},
+                                                    {"sphere", K::sphere}, {"halfspace", K::halfspace},
                                                     {"tets", K::tets}};
   bool found = false;
   for (const auto& [name, k] : kinds)
@@ -353,8 +353,8 @@ std::string describe_selection(lua_State* L, int idx) {
     return cat("{", x(0), ", ", x(1), ", ", x(2), "}");
   };
   if (kind == "sphere") return cat("sphere center ", v("center"), " radius ", get_number(L, idx, "radius", 0), " m");
-  if (kind == "box") return cat("box ", v("lo"), " .. ", v("hi"), " m");
-  if (kind == "half_space") return cat("half-space through ", v("point"), " normal ", v("normal"));
+  if (kind == "box") return cat("box ", v("min"), " .. ", v("max"), " m");
+  if (kind == "halfspace") return cat("half-space through ", v("point"), " normal ", v("normal"));
   if (kind == "label") return cat("label ", get_int(L, idx, "label", -1));
   if (kind == "surface") {
     const int l = get_int(L, idx, "label", -1);

@@ -81,8 +81,8 @@ local function region(s, fname, a)
       check.fail(fname, "unknown label %d (the mesh has labels %s)", a.label, table.concat(ls, ", "))
     end
   elseif a.sphere then r = { kind = "sphere", center = a.sphere.center, radius = a.sphere.radius }
-  elseif a.box then r = { kind = "box", lo = a.box.min, hi = a.box.max }
-  elseif a.halfspace then r = { kind = "half_space", point = a.halfspace.point, normal = a.halfspace.normal }
+  elseif a.box then r = { kind = "box", min = a.box.min, max = a.box.max }
+  elseif a.halfspace then r = { kind = "halfspace", point = a.halfspace.point, normal = a.halfspace.normal }
   elseif a.tets then r = { kind = "tets", ids = a.tets }
   else return { kind = "all", where = check.where() } end
   r.where = check.where()

@@ -99,12 +99,12 @@ function softcut.select.box(args)
   for i = 1, 3 do
     if a.min[i] > a.max[i] then check.fail("select.box", "min[%d] = %g > max[%d] = %g", i, a.min[i], i, a.max[i]) end
   end
-  return selection({ kind = "box", lo = a.min, hi = a.max })
+  return selection({ kind = "box", min = a.min, max = a.max })
 end
 function softcut.select.halfspace(args)
   local a = check.args("softcut.select.halfspace", args)
   if a.normal[1] == 0 and a.normal[2] == 0 and a.normal[3] == 0 then check.fail("select.halfspace", "normal is zero") end
-  return selection({ kind = "half_space", point = a.point, normal = a.normal })
+  return selection({ kind = "halfspace", point = a.point, normal = a.normal })
 end
 function softcut.select.nodes(ids)
   return selection({ kind = "nodes", ids = check.positional("softcut.select.nodes", 1, ids) })

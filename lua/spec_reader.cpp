@@ -62,7 +62,7 @@ sim::ScenarioSpec spec_from_table(lua_State* L, int s, const fs::path& source) {
   spec.source = source;
   spec.versions["lua"] = LUA_RELEASE;
   spec.timeline.duration = get_number(L, s, "duration", 1.0);
-  spec.timeline.frame_rate = get_number(L, s, "fps", 30.0);
+  spec.timeline.fps = get_number(L, s, "fps", 30.0);
 
   if (push_field(L, s, "_mesh") != LUA_TTABLE) fail(where, ": scenario: no mesh (add s:mesh{ file = ... } or s:mesh{ generate = ... })");
   push_field(L, -1, "handle");

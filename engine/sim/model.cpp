@@ -98,8 +98,8 @@ Model compile(const ScenarioSpec& spec, const RunResources& resources) {
   m.solver = make_solver(m.mesh, m.tet_material, m.partition, spec.solver, need_interior, resources, diag);
   for (const auto& p : m.solver->precompute_ms()) m.precompute_ms.push_back(p);
 
-  m.dt = 1.0 / spec.timeline.frame_rate;
-  m.num_frames = int(std::floor(spec.timeline.duration * spec.timeline.frame_rate + 1e-9)) + 1;
+  m.dt = 1.0 / spec.timeline.fps;
+  m.num_frames = int(std::floor(spec.timeline.duration * spec.timeline.fps + 1e-9)) + 1;
   m.warnings = std::move(diag.warnings);
   return m;
 }

@@ -35,7 +35,7 @@ struct Model {
   std::vector<std::pair<std::string, double>> precompute_ms;  // Table 3 (+ mesh, selectors)
   std::vector<std::string> warnings;                     // from compile
   int num_frames = 1;                                    // see Timeline
-  double dt = 0.0;                                       // 1 / frame_rate, s
+  double dt = 0.0;                                       // 1 / fps, s
 
   double frame_time(int frame) const { return frame * dt; }
 };

@@ -352,7 +352,7 @@ std::string summary_json(const Model& m, const State& s, const RunResult& r, con
   const RunStatistics& st = s.stats;
   const double nf = st.frames > 0 ? double(st.frames) : 1.0;
   auto stage = [&](const StageStat& v) { return Json{{"mean", jms(v.sum / nf)}, {"max", jms(v.max)}}; };
-  j["timeline"] = {{"duration_s", jnum(sp.timeline.duration)}, {"frame_rate_hz", jnum(sp.timeline.frame_rate)},
+  j["timeline"] = {{"duration_s", jnum(sp.timeline.duration)}, {"frame_rate_hz", jnum(sp.timeline.fps)},
                    {"frames_planned", m.num_frames}};
   j["run"] = {{"frames", st.frames}, {"last_frame", s.frame}, {"last_time_s", jnum(s.time)}, {"wall_s", jms(r.wall_s)},
               {"exit_reason", to_string(r.reason)}, {"interrupted", r.reason == ExitReason::interrupted},

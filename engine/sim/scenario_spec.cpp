@@ -35,11 +35,11 @@ void check_spec(const ScenarioSpec& s) {
   const Timeline& tl = s.timeline;
   if (!(tl.duration >= 0) || !std::isfinite(tl.duration))
     fail("timeline: duration must be a finite number >= 0 s, got ", tl.duration);
-  if (!(tl.frame_rate > 0) || !std::isfinite(tl.frame_rate))
-    fail("timeline: frame_rate must be > 0 Hz, got ", tl.frame_rate);
-  if (tl.duration * tl.frame_rate > 1e7)
+  if (!(tl.fps > 0) || !std::isfinite(tl.fps))
+    fail("timeline: fps must be > 0 Hz, got ", tl.fps);
+  if (tl.duration * tl.fps > 1e7)
     fail(s.source.empty() ? std::string() : s.source.filename().string() + ": ", "timeline: ",
-         tl.duration * tl.frame_rate, " frames (duration x frame rate) is too many; the limit is 10000000, "
+         tl.duration * tl.fps, " frames (duration x frame rate) is too many; the limit is 10000000, "
          "shorten the duration or lower the frame rate");
 
   for (const auto& m : s.materials) {

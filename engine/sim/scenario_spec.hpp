@@ -81,9 +81,9 @@ struct LoadSpec {
 
 struct Timeline {
   double duration = 1.0;     // s, >= 0
-  double frame_rate = 30.0;  // Hz, > 0
-  // Frames are i = 0 .. num_frames - 1 at t = i / frame_rate, with
-  // num_frames = floor(duration * frame_rate + 1e-9) + 1 (t = 0 included).
+  double fps = 30.0;  // Hz, > 0
+  // Frames are i = 0 .. num_frames - 1 at t = i / fps, with
+  // num_frames = floor(duration * fps + 1e-9) + 1 (t = 0 included).
 };
 
 // Stored for the renderer (engine/render); sim/frame_scene.hpp maps it onto

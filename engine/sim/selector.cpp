@@ -26,7 +26,7 @@ bool in_box(const Eigen::Vector3d& x, const Eigen::Vector3d& lo, const Eigen::Ve
 void check_shape(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, double radius, const Eigen::Vector3d& normal,
                  bool is_box, bool is_sphere, bool is_half, const std::string& w) {
   if (is_box && (!lo.allFinite() || !hi.allFinite() || (hi.array() < lo.array()).any()))
-    fail(w, ": box needs finite corners with lo <= hi on every axis (lo = (", lo.transpose(), "), hi = (",
+    fail(w, ": box needs finite corners with min <= max on every axis (min = (", lo.transpose(), "), max = (",
          hi.transpose(), "))");
   if (is_sphere && !(radius >= 0 && std::isfinite(radius))) fail(w, ": sphere radius must be >= 0 m, got ", radius);
   if (is_half && !(normal.norm() > 0 && normal.allFinite())) fail(w, ": half-space normal must be nonzero");
@@ -57,8 +57,8 @@ std::vector<int> select_nodes(const NodeSelector& sel, const SelectContext& ctx,
   const mesh::TetMesh& m = ctx.mesh;
   const std::vector<char> used = mesh::referenced_nodes(m);
   const double tol = sel.tolerance * diagonal(m);
-  check_shape(sel.lo, sel.hi, sel.radius, sel.normal, sel.kind == K::box, sel.kind == K::sphere,
-              sel.kind == K::half_space, w);
+  check_shape(sel.min, sel.max, sel.radius, sel.normal, sel.kind == K::box, sel.kind == K::sphere,
+              sel.kind == K::halfspace, w);
   std::vector<int> out;
   auto keep_if = [&](auto pred) {
     for (int n = 0; n < m.num_nodes(); ++n)
@@ -69,12 +69,12 @@ std::vector<int> select_nodes(const NodeSelector& sel, const SelectContext& ctx,
       keep_if([](const Eigen::Vector3d&) { return true; });
       break;
     case K::box:
-      keep_if([&](const Eigen::Vector3d& x) { return in_box(x, sel.lo, sel.hi, tol); });
+      keep_if([&](const Eigen::Vector3d& x) { return in_box(x, sel.min, sel.max, tol); });
       break;
     case K::sphere:
       keep_if([&](const Eigen::Vector3d& x) { return (x - sel.center).norm() <= sel.radius + tol; });
       break;
-    case K::half_space: {
+    case K::halfspace: {
       const Eigen::Vector3d nrm = sel.normal.normalized();
       keep_if([&](const Eigen::Vector3d& x) { return (x - sel.point).dot(nrm) >= -tol; });
       break;
@@ -141,8 +141,8 @@ std::vector<int> select_tets(const TetSelector& sel, const SelectContext& ctx, c
   using K = TetSelector::Kind;
   const std::string w = label_of(sel.where, where);
   const mesh::TetMesh& m = ctx.mesh;
-  check_shape(sel.lo, sel.hi, sel.radius, sel.normal, sel.kind == K::box, sel.kind == K::sphere,
-              sel.kind == K::half_space, w);
+  check_shape(sel.min, sel.max, sel.radius, sel.normal, sel.kind == K::box, sel.kind == K::sphere,
+              sel.kind == K::halfspace, w);
   std::vector<int> out;
   auto keep_if = [&](auto pred) {
     for (int t = 0; t < m.num_tets(); ++t) {
@@ -162,12 +162,12 @@ std::vector<int> select_tets(const TetSelector& sel, const SelectContext& ctx, c
       keep_if([&](int t, const Eigen::Vector3d&) { return m.labels(t) == sel.label; });
       break;
     case K::box:
-      keep_if([&](int, const Eigen::Vector3d& c) { return in_box(c, sel.lo, sel.hi, 0.0); });
+      keep_if([&](int, const Eigen::Vector3d& c) { return in_box(c, sel.min, sel.max, 0.0); });
       break;
     case K::sphere:
       keep_if([&](int, const Eigen::Vector3d& c) { return (c - sel.center).norm() <= sel.radius; });
       break;
-    case K::half_space: {
+    case K::halfspace: {
       const Eigen::Vector3d nrm = sel.normal.normalized();
       keep_if([&](int, const Eigen::Vector3d& c) { return (c - sel.point).dot(nrm) >= 0; });
       break;
@@ -196,9 +196,9 @@ std::vector<int> select_tets(const TetSelector& sel, const SelectContext& ctx, c
   return out;
 }
 
-NodeSelector NodeSelector::box(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
+NodeSelector NodeSelector::box(const Eigen::Vector3d& min, const Eigen::Vector3d& max) {
   NodeSelector s;
-  s.kind = Kind::box, s.lo = lo, s.hi = hi;
+  s.kind = Kind::box, s.min = min, s.max = max;
   return s;
 }
 NodeSelector NodeSelector::sphere(const Eigen::Vector3d& center, double radius) {
@@ -206,9 +206,9 @@ NodeSelector NodeSelector::sphere(const Eigen::Vector3d& center, double radius) 
   s.kind = Kind::sphere, s.center = center, s.radius = radius;
   return s;
 }
-NodeSelector NodeSelector::half_space(const Eigen::Vector3d& point, const Eigen::Vector3d& normal) {
+NodeSelector NodeSelector::halfspace(const Eigen::Vector3d& point, const Eigen::Vector3d& normal) {
   NodeSelector s;
-  s.kind = Kind::half_space, s.point = point, s.normal = normal;
+  s.kind = Kind::halfspace, s.point = point, s.normal = normal;
   return s;
 }
 NodeSelector NodeSelector::list(std::vector<int> ids) {
@@ -228,7 +228,7 @@ const char* to_string(NodeSelector::Kind k) {
     case K::all: return "all";
     case K::box: return "box";
     case K::sphere: return "sphere";
-    case K::half_space: return "half_space";
+    case K::halfspace: return "halfspace";
     case K::label: return "label";
     case K::nodes: return "nodes";
     case K::surface: return "surface";
@@ -248,7 +248,7 @@ const char* to_string(TetSelector::Kind k) {
     case K::label: return "label";
     case K::box: return "box";
     case K::sphere: return "sphere";
-    case K::half_space: return "half_space";
+    case K::halfspace: return "halfspace";
     case K::tets: return "tets";
     case K::union_of: return "union";
   }

@@ -15,9 +15,9 @@ namespace softcut::sim {
 struct NodeSelector {
   enum class Kind {
     all,           // every node referenced by a tet
-    box,           // lo <= x <= hi (componentwise, inclusive, tol below)
+    box,           // min <= x <= max (componentwise, inclusive, tol below)
     sphere,        // |x - center| <= radius
-    half_space,    // (x - point) . normal >= 0
+    halfspace,     // (x - point) . normal >= 0
     label,         // nodes of the tets with `label`
     nodes,         // explicit 0-based ids
     surface,       // boundary nodes of the tets with `label` (label < 0: the whole body)
@@ -27,7 +27,7 @@ struct NodeSelector {
     difference,    // children[0] minus the others
   };
   Kind kind = Kind::all;
-  Eigen::Vector3d lo = Eigen::Vector3d::Zero(), hi = Eigen::Vector3d::Zero();  // box, m
+  Eigen::Vector3d min = Eigen::Vector3d::Zero(), max = Eigen::Vector3d::Zero();  // box corners, m
   Eigen::Vector3d center = Eigen::Vector3d::Zero();                            // sphere, m
   double radius = 0.0;                                                         // sphere, m
   Eigen::Vector3d point = Eigen::Vector3d::Zero(), normal = Eigen::Vector3d::UnitZ();  // half-space
@@ -41,18 +41,18 @@ struct NodeSelector {
   std::string where;  // "scenario.lua:12" (prefixes messages), may be empty
 
   // Shorthands (tests, C++ callers).
-  static NodeSelector box(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi);
+  static NodeSelector box(const Eigen::Vector3d& min, const Eigen::Vector3d& max);
   static NodeSelector sphere(const Eigen::Vector3d& center, double radius);
-  static NodeSelector half_space(const Eigen::Vector3d& point, const Eigen::Vector3d& normal);
+  static NodeSelector halfspace(const Eigen::Vector3d& point, const Eigen::Vector3d& normal);
   static NodeSelector list(std::vector<int> ids);
   static NodeSelector combine(Kind op, std::vector<NodeSelector> children);
 };
 
 struct TetSelector {
-  enum class Kind { all, none, label, box, sphere, half_space, tets, union_of };
+  enum class Kind { all, none, label, box, sphere, halfspace, tets, union_of };
   Kind kind = Kind::none;
   // Geometric kinds take a tet when its centroid is inside the shape.
-  Eigen::Vector3d lo = Eigen::Vector3d::Zero(), hi = Eigen::Vector3d::Zero();
+  Eigen::Vector3d min = Eigen::Vector3d::Zero(), max = Eigen::Vector3d::Zero();
   Eigen::Vector3d center = Eigen::Vector3d::Zero();
   double radius = 0.0;
   Eigen::Vector3d point = Eigen::Vector3d::Zero(), normal = Eigen::Vector3d::UnitZ();

@@ -250,7 +250,7 @@ return s
     CHECK(spec.loads[0].magnitude.kind == softcut::tools::Ramp::Kind::linear);
     CHECK(spec.loads[0].magnitude.to == doctest::Approx(0.05));
     CHECK(spec.materials.at(0).preset == "liver");
-    CHECK(spec.timeline.frame_rate == 10);
+    CHECK(spec.timeline.fps == 10);
     CHECK(spec.fixed.kind == softcut::sim::NodeSelector::Kind::box);
   }
 

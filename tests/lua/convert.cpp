@@ -37,7 +37,7 @@ TEST_SUITE("lua/convert") {
     CHECK(s.children[1].where == "?");  // no user file (chunk "=t"): unknown line
     const auto b = convert("softcut.select.box{ min = {0, 0, 0}, max = {1, 2, 3} }", softcut::lua::to_node_selector);
     CHECK(b.kind == K::box);
-    CHECK(b.hi == Eigen::Vector3d(1, 2, 3));
+    CHECK(b.max == Eigen::Vector3d(1, 2, 3));
   }
 
   TEST_CASE("ramps and paths: every field reaches the engine struct") {

@@ -48,7 +48,7 @@ sim::ScenarioSpec bar_cut_spec(const std::string& name, double cut_pressure, con
   blade.path.points = {V(0.0512, 0.01, 0.0205), V(0.0512, 0.01, 0.0205), V(0.0512, 0.01, -0.004)};
   s.tools.push_back(blade);
   s.timeline.duration = 1.0;
-  s.timeline.frame_rate = 20.0;
+  s.timeline.fps = 20.0;
   s.outputs.dir = softcut::test::scratch_dir(name);
   s.solver.backend = sim::parse_backend(backend);
   s.solver.cg_tolerance = 1e-12;
@@ -70,7 +70,7 @@ sim::ScenarioSpec zigzag_spec(const std::string& name, double xa, double xb, dou
                                                                 V(xb, y2, 0.02), V(xb, y_end, 0.02)});
   s.tools.push_back(blade);
   s.timeline.duration = 1.0;
-  s.timeline.frame_rate = fps;
+  s.timeline.fps = fps;
   s.outputs.dir = softcut::test::scratch_dir(name);
   s.outputs.csv = false;
   s.solver.backend = sim::Backend::direct;

@@ -58,7 +58,7 @@ sim::ScenarioSpec free_cut_spec(const std::string& name, const std::string& back
   probe.active_from = 1.05;
   s.tools.push_back(probe);
   s.timeline.duration = 1.3;
-  s.timeline.frame_rate = 20.0;
+  s.timeline.fps = 20.0;
   s.outputs.dir = softcut::test::scratch_dir(name);
   s.solver.backend = sim::parse_backend(backend);
   s.solver.cg_tolerance = 1e-12;

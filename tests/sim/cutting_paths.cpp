@@ -69,8 +69,8 @@ sim::ScenarioSpec path_spec(const PathCase& c) {
     lesion.poisson = 0.45;
     s.materials = {liver, lesion};
     s.operational.kind = sim::TetSelector::Kind::box;
-    s.operational.lo = V(-0.04, -1, -1);
-    s.operational.hi = V(0.04, 1, 1);
+    s.operational.min = V(-0.04, -1, -1);
+    s.operational.max = V(0.04, 1, 1);
     s.fixed = sim::NodeSelector::combine(sim::NodeSelector::Kind::union_of,
                                          {sim::NodeSelector::box(V(-1, -1, -1), V(-0.05, 1, 1)),
                                           sim::NodeSelector::box(V(0.05, -1, -1), V(1, 1, 1))});
@@ -86,8 +86,8 @@ sim::ScenarioSpec path_spec(const PathCase& c) {
     mat.poisson = 0.4;
     s.materials.push_back(mat);
     s.operational.kind = sim::TetSelector::Kind::box;
-    s.operational.lo = V(-1, -1, 0.01);
-    s.operational.hi = V(1, 1, 0.09);
+    s.operational.min = V(-1, -1, 0.01);
+    s.operational.max = V(1, 1, 0.09);
     s.fixed = sim::NodeSelector::combine(sim::NodeSelector::Kind::union_of,
                                          {sim::NodeSelector::box(V(-1, -1, -1), V(1, 1, 0)),
                                           sim::NodeSelector::box(V(-1, -1, 0.1), V(1, 1, 1))});
@@ -110,7 +110,7 @@ sim::ScenarioSpec path_spec(const PathCase& c) {
   blade.path = tools::Path::polyline(times, points);
   s.tools.push_back(blade);
   s.timeline.duration = 1.0;
-  s.timeline.frame_rate = c.fps;
+  s.timeline.fps = c.fps;
   s.outputs.dir = softcut::test::scratch_dir(s.name);
   s.outputs.csv = false;
   s.solver.backend = sim::Backend::cpu;

@@ -25,8 +25,8 @@ inline sim::ScenarioSpec cantilever_spec(const std::filesystem::path& out, doubl
   mat.poisson = 0.45;
   s.materials.push_back(mat);
   s.operational.kind = sim::TetSelector::Kind::box;
-  s.operational.lo = V(0.04, -1, -1);
-  s.operational.hi = V(0.06, 1, 1);
+  s.operational.min = V(0.04, -1, -1);
+  s.operational.max = V(0.06, 1, 1);
   s.fixed = sim::NodeSelector::box(V(-1, -1, -1), V(0, 1, 1));
   sim::LoadSpec tip;
   tip.name = "tip";
@@ -35,7 +35,7 @@ inline sim::ScenarioSpec cantilever_spec(const std::filesystem::path& out, doubl
   tip.magnitude = tools::Ramp::linear_ramp(0.0, tip_force, 0.0, 1.0);
   s.loads.push_back(tip);
   s.timeline.duration = duration;
-  s.timeline.frame_rate = 10.0;
+  s.timeline.fps = 10.0;
   s.outputs.dir = out;
   s.solver.cg_tolerance = 1e-12;
   return s;
@@ -71,8 +71,8 @@ inline sim::ScenarioSpec held_bar_spec(const std::string& name, const Eigen::Vec
   mat.poisson = 0.4;
   s.materials.push_back(mat);
   s.operational.kind = sim::TetSelector::Kind::box;
-  s.operational.lo = V(op_lo, -1, -1);
-  s.operational.hi = V(op_hi, 1, 1);
+  s.operational.min = V(op_lo, -1, -1);
+  s.operational.max = V(op_hi, 1, 1);
   const auto left = sim::NodeSelector::box(V(-1, -1, -1), V(0, 1, 1));
   s.fixed = both_ends ? sim::NodeSelector::combine(sim::NodeSelector::Kind::union_of,
                                                    {left, sim::NodeSelector::box(V(size.x(), -1, -1), V(1, 1, 1))})

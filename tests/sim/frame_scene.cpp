@@ -136,8 +136,8 @@ TEST_SUITE("sim/frame_scene") {
     lesion.young = 2e4;
     lesion.poisson = 0.45;
     lesion.tets.kind = sim::TetSelector::Kind::box;
-    lesion.tets.lo = V(0.07, -1, -1);
-    lesion.tets.hi = V(1, 1, 1);
+    lesion.tets.min = V(0.07, -1, -1);
+    lesion.tets.max = V(1, 1, 1);
     spec.materials.push_back(lesion);
     spec.prestress.push_back({"p", "", sim::TetSelector::of(sim::TetSelector::Kind::all), -0.01 * Eigen::Matrix3d::Identity()});
     spec.outputs.render.tissue_colors = {V(0.1, 0.2, 0.3), V(0.9, 0.8, 0.7)};

@@ -116,7 +116,7 @@ TEST_SUITE("sim/model") {
     sim::MaterialAssignment liver;
     liver.name = "right";
     liver.preset = "liver";
-    liver.tets = sim::TetSelector::of(sim::TetSelector::Kind::half_space);
+    liver.tets = sim::TetSelector::of(sim::TetSelector::Kind::halfspace);
     liver.tets.point = V(0.06, 0, 0);  // the last two of five cells
     liver.tets.normal = V(1, 0, 0);
     spec.materials.push_back(liver);

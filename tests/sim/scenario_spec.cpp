@@ -38,7 +38,7 @@ TEST_SUITE("sim/scenario_spec") {
     s.solver.cg_max_iterations = 0;
     s.outputs.render.background = Eigen::Vector3d(0, 1, 0);
     CHECK_NOTHROW(check_spec(s));
-    s.timeline.frame_rate = 100;
+    s.timeline.fps = 100;
     s.timeline.duration = 1e5;  // exactly the frame limit
     CHECK_NOTHROW(check_spec(s));
   }
@@ -49,8 +49,8 @@ TEST_SUITE("sim/scenario_spec") {
         {"path in name", [](ScenarioSpec& s) { s.name = "../x"; }, "name must not contain path separators"},
         {"negative duration", [](ScenarioSpec& s) { s.timeline.duration = -1; }, "duration must be a finite number >= 0 s"},
         {"infinite duration", [](ScenarioSpec& s) { s.timeline.duration = kInf; }, "duration must be a finite number"},
-        {"zero frame rate", [](ScenarioSpec& s) { s.timeline.frame_rate = 0; }, "frame_rate must be > 0 Hz, got 0"},
-        {"NaN frame rate", [](ScenarioSpec& s) { s.timeline.frame_rate = kNaN; }, "frame_rate must be > 0 Hz"},
+        {"zero frame rate", [](ScenarioSpec& s) { s.timeline.fps = 0; }, "fps must be > 0 Hz, got 0"},
+        {"NaN frame rate", [](ScenarioSpec& s) { s.timeline.fps = kNaN; }, "fps must be > 0 Hz"},
         {"too many frames", [](ScenarioSpec& s) { s.timeline.duration = 1e6; }, "the limit is 10000000"},
         {"vtu_every", [](ScenarioSpec& s) { s.outputs.vtu_every = 0; }, "outputs: vtu_every must be >= 1, got 0"},
         {"render width", [](ScenarioSpec& s) { s.outputs.render.width = 0; }, "outputs.render: size must be 1..16384"},

@@ -52,7 +52,7 @@ TEST_SUITE("sim/selector") {
     CHECK(face_x0.size() == 9);
     CHECK(face_x0 == c.where([](const V& x) { return x.x() == 0; }));
     CHECK(c.nodes(NodeSelector::sphere(V(0, 0, 0), 0.5)).size() == 4);
-    CHECK(c.nodes(NodeSelector::half_space(V(0.5, 0, 0), V(2, 0, 0))) ==
+    CHECK(c.nodes(NodeSelector::halfspace(V(0.5, 0, 0), V(2, 0, 0))) ==
           c.where([](const V& x) { return x.x() >= 0.5; }));
     NodeSelector all;
     CHECK(c.nodes(all).size() == 27);
@@ -96,7 +96,7 @@ TEST_SUITE("sim/selector") {
     Cube c;
     CHECK(c.tets(TetSelector::of(TetSelector::Kind::all)).size() == 48);
     CHECK(c.tets(TetSelector::of(TetSelector::Kind::none)).empty());
-    TetSelector half = TetSelector::of(TetSelector::Kind::half_space);
+    TetSelector half = TetSelector::of(TetSelector::Kind::halfspace);
     half.point = V(0.5, 0, 0);
     half.normal = V(1, 0, 0);
     CHECK(c.tets(half).size() == 24);

@@ -250,7 +250,7 @@ TEST_SUITE("sim/step") {
       spec.fixed = sim::NodeSelector::box(V(-1, -1, -1), V(1, 1, 0));
       spec.solver.backend = sim::parse_backend("monolithic");
       spec.timeline.duration = 0.1;
-      spec.timeline.frame_rate = 10.0;
+      spec.timeline.fps = 10.0;
       spec.outputs.dir = softcut::test::scratch_dir("sim_springs_patch");
       // Stiff: the grip goes onto its target.
       spec.tools.push_back(softcut::test::spring_grasper(1e5, radius, tools::Path::polyline({0.0, 0.1}, {center, center + V(0, 0, 2e-3)})));
