@@ -40,12 +40,5 @@ inline CliResult run_cli(const std::string& args, const std::filesystem::path& c
 
 inline std::string source(const std::string& rel) { return (std::filesystem::path(SOFTCUT_SOURCE_DIR) / rel).string(); }
 
-inline std::string slurp(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
 
 }  // namespace softcut::test

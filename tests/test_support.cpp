@@ -27,12 +27,16 @@ nlohmann::ordered_json parse_json(const std::string& text) {
   }
 }
 
-nlohmann::ordered_json read_json(const std::filesystem::path& file) {
+std::string slurp(const std::filesystem::path& file) {
   std::ifstream in(file, std::ios::binary);
-  if (!in) throw std::runtime_error("cannot read " + file.string());
   std::stringstream ss;
   ss << in.rdbuf();
-  return parse_json(ss.str());
+  return ss.str();
+}
+
+nlohmann::ordered_json read_json(const std::filesystem::path& file) {
+  if (!std::filesystem::is_regular_file(file)) throw std::runtime_error("cannot read " + file.string());
+  return parse_json(slurp(file));
 }
 
 std::filesystem::path data_dir() { return SOFTCUT_TEST_DATA; }

@@ -22,6 +22,9 @@ std::string error_of(F&& f) {
 
 inline bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
 
+// A file's bytes ("" when it cannot be read: the test's next check fails).
+std::string slurp(const std::filesystem::path& file);
+
 // A JSON document softcut wrote, parsed strictly: invalid JSON and an object
 // with the same key twice (which nlohmann would otherwise take, keeping the
 // last) throw std::runtime_error naming the key. Reading files that the

@@ -15,14 +15,9 @@ using softcut::test::kBoxHead;
 using softcut::test::scenario_error;
 using softcut::test::write_scenario;
 
-namespace {
+using softcut::test::slurp;
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+namespace {
 
 const char* kPull = R"(
 s:load{ name = "pull", nodes = tip, force = {0, 0, -P.force}, ramp = softcut.ramp.linear{ t1 = 0.5 } }

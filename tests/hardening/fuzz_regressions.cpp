@@ -17,14 +17,9 @@
 namespace fs = std::filesystem;
 using softcut::hardening::put_file;
 
-namespace {
+using softcut::test::slurp;
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+namespace {
 
 std::vector<fs::path> inputs(const std::string& target) {
   std::vector<fs::path> v;

@@ -25,6 +25,8 @@ using softcut::hardening::error_of;
 using softcut::hardening::put_file;
 using softcut::hardening::run_softcut;
 
+using softcut::test::slurp;
+
 namespace {
 
 // A 2x1x1-cell box held at x = 0, `duration` s at 10 fps, with `extra` Lua
@@ -52,11 +54,6 @@ struct Fixture {
     return run_softcut("run " + (scen / "s.lua").string() + " --quiet --no-render " + opts, work, prefix);
   }
 };
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
 
 softcut::lua::SandboxOptions tight() {
   softcut::lua::SandboxOptions o;

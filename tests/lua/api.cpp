@@ -12,14 +12,9 @@
 
 namespace fs = std::filesystem;
 
-namespace {
+using softcut::test::slurp;
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+namespace {
 
 std::string render(const char* fn) {
   softcut::lua::SandboxOptions opt;

@@ -47,13 +47,6 @@ inline void check_sample(const std::filesystem::path& path, int skipped) {
   else CHECK(!has_warning(diag, "skipped"));
 }
 
-inline std::string slurp(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
 inline void spit(const std::filesystem::path& p, const std::string& s) {
   std::ofstream out(p, std::ios::binary);
   out << s;

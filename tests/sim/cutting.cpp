@@ -19,6 +19,8 @@ using V = Eigen::Vector3d;
 namespace sim = softcut::sim;
 namespace tools = softcut::tools;
 
+using softcut::test::slurp;
+
 namespace {
 
 // A 0.1 x 0.02 x 0.02 m bar (10 x 4 x 4 cells) fixed at both ends, pressed
@@ -79,13 +81,6 @@ sim::ScenarioSpec zigzag_spec(const std::string& name, double xa, double xb, dou
 
 void run_all(const sim::Model& m, sim::State& s) {
   while (s.frame < m.num_frames - 1) sim::step(m, s);
-}
-
-std::string slurp(const std::filesystem::path& p) {
-  std::ifstream f(p, std::ios::binary);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return ss.str();
 }
 
 }  // namespace

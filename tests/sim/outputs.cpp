@@ -18,14 +18,9 @@
 namespace fs = std::filesystem;
 namespace sim = softcut::sim;
 
-namespace {
+using softcut::test::slurp;
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+namespace {
 
 // The cantilever with small frames, no MSAA: rendering without the cost.
 sim::ScenarioSpec rendering_cantilever_spec(const fs::path& dir, double duration) {

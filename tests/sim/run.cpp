@@ -15,14 +15,9 @@
 namespace fs = std::filesystem;
 namespace sim = softcut::sim;
 
-namespace {
+using softcut::test::slurp;
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+namespace {
 
 // Frame numbers of a displacements.csv, checking every row is complete.
 std::vector<int> csv_frames(const fs::path& p, size_t rows_per_frame) {
