@@ -47,26 +47,7 @@ struct Row {
 
 int parse_int(const Args& args, size_t& i, const char* flag) {
   if (i + 1 >= args.size()) usage_fail("bench assembly: ", flag, " needs a value");
-  const std::string& v = args[++i];
-  try {
-    size_t used = 0;
-    const long x = std::stol(v, &used);
-    if (used == v.size() && x > 0 && x <= 100000000) return int(x);
-  } catch (...) {
-  }
-  usage_fail("bench assembly: ", flag, " needs a positive integer, got '", v, "'");
-}
-
-// Minimum wall time (ms) of `repeat` calls.
-template <class F>
-double min_ms(int repeat, F&& f) {
-  double best = 1e300;
-  for (int r = 0; r < repeat; ++r) {
-    Timer t;
-    f();
-    best = std::min(best, t.ms());
-  }
-  return best;
+  return positive_int("assembly", flag, args[++i]);
 }
 
 Row measure(int target, int repeat, int threads, int direct_max) {

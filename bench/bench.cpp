@@ -14,6 +14,16 @@ int bench_render(const Args& args);    // render.cpp
 int bench_springs(const Args& args);   // springs.cpp
 int bench_cut(const Args& args);       // cut.cpp
 
+int positive_int(const char* bench, const std::string& flag, const std::string& value, long max) {
+  try {
+    size_t used = 0;
+    const long x = std::stol(value, &used);
+    if (used == value.size() && x > 0 && x <= max) return int(x);
+  } catch (...) {
+  }
+  usage_fail("bench ", bench, ": ", flag, " needs a positive integer, got '", value, "'");
+}
+
 // Add a line here when a bench/<name>.cpp lands.
 const std::vector<Benchmark>& benchmarks() {
   static const std::vector<Benchmark> all = {

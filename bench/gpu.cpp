@@ -35,16 +35,6 @@ struct Row {
   double cpu_iter_us = 0, gpu_iter_us = 0;
 };
 
-int positive(const std::string& flag, const std::string& v) {
-  try {
-    size_t used = 0;
-    const long x = std::stol(v, &used);
-    if (used == v.size() && x > 0 && x < 100000) return int(x);
-  } catch (...) {
-  }
-  usage_fail("bench gpu: ", flag, " needs a positive integer, got '", v, "'");
-}
-
 }  // namespace
 
 int bench_gpu(const Args& args) {
@@ -63,9 +53,9 @@ int bench_gpu(const Args& args) {
       std::fputs(kUsage, stdout);
       return 0;
     } else if (a == "--cells") {
-      cells.push_back(positive(a, value()));
+      cells.push_back(positive_int("gpu", a, value(), 99999));
     } else if (a == "--iterations") {
-      iterations = positive(a, value());
+      iterations = positive_int("gpu", a, value(), 99999);
     } else if (a == "--fp64") {
       fp64 = true;
     } else if (a == "--peak-gbs") {

@@ -117,18 +117,6 @@ BenchModel liver(int tets, int op_tets) {
 }
 
 // Median of `reps` timings of f(), ms.
-template <class F>
-double median_ms(int reps, F&& f) {
-  std::vector<double> t;
-  for (int r = 0; r < reps; ++r) {
-    Timer tm;
-    f();
-    t.push_back(tm.ms());
-  }
-  std::nth_element(t.begin(), t.begin() + t.size() / 2, t.end());
-  return t[t.size() / 2];
-}
-
 struct Result {
   Json json;  // one entry of "models"
   std::string table_row, precompute_row, update_row, poke_rows;
