@@ -5,8 +5,12 @@
 #include <unistd.h>
 
 #include <Eigen/Dense>
+#include <array>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
+#include <sstream>
 #include <vector>
 
 #include "core/binary_io.hpp"
@@ -14,6 +18,69 @@
 #include "spd_fixtures.hpp"
 
 using namespace softcut;
+
+namespace {
+
+// A saved supernodal factor taken apart (Cholesky::save's layout: an
+// 11-int64 header, then each array as a u64 count and its elements, then
+// lnz), so a test can change one entry and write it back with a valid CRC.
+struct SavedSupernodal {
+  std::array<std::int64_t, 11> header{};
+  std::vector<int> perm, colcount, super, pi, px, s;
+  std::vector<double> x;
+  double lnz = 0;
+
+  template <class T>
+  static std::vector<T> take(const std::string& b, size_t& at) {
+    std::uint64_t n = 0;
+    std::memcpy(&n, b.data() + at, 8);
+    std::vector<T> v(n);
+    std::memcpy(v.data(), b.data() + at + 8, n * sizeof(T));
+    at += 8 + n * sizeof(T);
+    return v;
+  }
+  explicit SavedSupernodal(const solve::Cholesky& chol) {
+    std::ostringstream out;
+    BinaryWriter w(out);
+    chol.save(w);
+    const std::string b = out.str();
+    size_t at = sizeof header;
+    std::memcpy(header.data(), b.data(), sizeof header);
+    perm = take<int>(b, at), colcount = take<int>(b, at), super = take<int>(b, at), pi = take<int>(b, at);
+    px = take<int>(b, at), s = take<int>(b, at), x = take<double>(b, at);
+    std::memcpy(&lnz, b.data() + at, 8);
+  }
+  // Written back through BinaryWriter (valid CRC) and loaded; the load's error or "".
+  std::string load() const {
+    const std::filesystem::path file = std::filesystem::temp_directory_path() / "softcut_test_crafted_factor.bin";
+    {
+      std::ofstream out(file, std::ios::binary);
+      BinaryWriter w(out);
+      w.pod(header);
+      w.array(perm.data(), perm.size()), w.array(colcount.data(), colcount.size());
+      w.array(super.data(), super.size()), w.array(pi.data(), pi.size()), w.array(px.data(), px.size());
+      w.array(s.data(), s.size()), w.array(x.data(), x.size());
+      w.pod(lnz);
+      w.finish();
+    }
+    const int fd = ::open(file.c_str(), O_RDONLY);
+    REQUIRE(fd >= 0);
+    std::string err;
+    try {
+      BinaryReader r(fd, std::filesystem::file_size(file), "crafted.bin", 1);
+      solve::Cholesky c;
+      c.load(r);
+      r.finish();
+    } catch (const Error& e) {
+      err = e.what();
+    }
+    ::close(fd);
+    std::filesystem::remove(file);
+    return err;
+  }
+};
+
+}  // namespace
 
 TEST_SUITE("solve/cholesky") {
   TEST_CASE("solves match a dense Cholesky for vectors, dense and sparse right-hand sides") {
@@ -129,5 +196,44 @@ TEST_SUITE("solve/cholesky") {
     const solve::Cholesky ok(test::grid_spd(3, 2));
     CHECK_THROWS_AS(ok.solve(Eigen::VectorXd(Eigen::VectorXd::Zero(7))), Error);
     CHECK_THROWS_AS(ok.solve(Eigen::MatrixXd(Eigen::MatrixXd::Zero(7, 2))), Error);
+  }
+
+  TEST_CASE("a cached factor with a valid checksum but a broken supernode layout is refused, not read past its end") {
+    const Eigen::SparseMatrix<double> A = test::grid_spd(12, 4);
+    const solve::Cholesky chol(A, "test matrix");
+    REQUIRE(chol.supernodal());
+    const SavedSupernodal good(chol);
+    const int n = int(A.rows());
+    REQUIRE(good.super.size() >= 3);
+    CHECK(good.load() == "");  // taken apart and written back unchanged: it loads
+    // Each break keeps the checksum valid. cholmod_check_factor refuses most;
+    // a last row equal to n, still increasing, passes it and only the layout
+    // check (supernodes_well_formed) stops it before a solve reads row n.
+    // A supernode with rows below its own columns.
+    size_t k = 0;
+    while (k + 1 < good.super.size() && good.pi[k + 1] - good.pi[k] <= good.super[k + 1] - good.super[k]) ++k;
+    REQUIRE(k + 1 < good.super.size());
+    const size_t below = size_t(good.pi[k] + (good.super[k + 1] - good.super[k]));  // its first row below
+    std::vector<std::pair<const char*, std::function<void(SavedSupernodal&)>>> breaks = {
+        {"a last row index equal to n (rows still increasing)", [&](SavedSupernodal& f) { f.s[size_t(good.pi[k + 1] - 1)] = n; }},
+        {"a row index equal to n", [&](SavedSupernodal& f) { f.s[below] = n; }},
+        {"a row index past n", [&](SavedSupernodal& f) { f.s[below] = n + 1000; }},
+        {"rows below the diagonal not increasing", [&](SavedSupernodal& f) {
+           if (good.pi[k + 1] - int(below) >= 2) std::swap(f.s[below], f.s[below + 1]);
+           else f.s[below] = good.super[k + 1] - 1;  // one row: at or above the diagonal block
+         }},
+        {"the first supernode not starting at 0", [&](SavedSupernodal& f) { f.super[0] = 1; }},
+        {"the supernodes ending before n", [&](SavedSupernodal& f) { f.super.back() = n - 1; }},
+        {"a supernode's block past the values", [&](SavedSupernodal& f) { f.px.back() = int(f.x.size()) + 1; }},
+        {"a supernode's own rows not its columns", [&](SavedSupernodal& f) { f.s[size_t(good.pi[k])] += 1; }},
+    };
+    for (const auto& [what, broken] : breaks) {
+      const std::string name = what;
+      CAPTURE(name);
+      SavedSupernodal f = good;
+      broken(f);
+      const std::string err = f.load();
+      CHECK(err.find("crafted.bin: the saved Cholesky factor is inconsistent") == 0);
+    }
   }
 }
