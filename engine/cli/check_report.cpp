@@ -1,12 +1,12 @@
 #include "cli/check_report.hpp"
 
-#include <nlohmann/json.hpp>
 
 #include <cstdio>
 #include <sstream>
 
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
+#include "core/json_text.hpp"
 
 namespace softcut::cli {
 
@@ -82,21 +82,21 @@ void write_junit(const std::filesystem::path& file, const std::vector<CheckedSce
 
 void write_check_json(const std::filesystem::path& file, const std::vector<CheckedScenario>& results,
                       double total_s) {
-  nlohmann::json j;
+  Json j;
   int passed = 0, failed = 0, skipped = 0;
-  j["scenarios"] = nlohmann::json::array();
+  j["scenarios"] = Json::array();
   for (const auto& r : results) {
     passed += r.status == CheckedScenario::Status::pass;
     failed += r.status == CheckedScenario::Status::fail;
     skipped += r.status == CheckedScenario::Status::skipped;
-    nlohmann::json s;
+    Json s;
     s["file"] = r.file.string();
     s["name"] = r.name;
     s["status"] = to_string(r.status);
     s["reason"] = r.reason;
     s["failures"] = r.failures;
     s["time_s"] = r.time_s;
-    s["expectations"] = nlohmann::json::array();
+    s["expectations"] = Json::array();
     for (const auto& e : r.expectations)
       s["expectations"].push_back(
           {{"name", e.name}, {"where", e.where}, {"reached", e.reached}, {"ok", e.ok}, {"message", e.message}});
@@ -106,7 +106,7 @@ void write_check_json(const std::filesystem::path& file, const std::vector<Check
     j["scenarios"].push_back(std::move(s));
   }
   j["passed"] = passed, j["failed"] = failed, j["skipped"] = skipped, j["time_s"] = total_s;
-  write_file_atomic(file, j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
+  write_file_atomic(file, json_text(j));
 }
 
 }  // namespace softcut::cli

@@ -23,7 +23,6 @@
 #include <cstdlib>
 #include <fstream>
 #include <mutex>
-#include <nlohmann/json.hpp>
 #include <optional>
 #include <thread>
 
@@ -34,6 +33,7 @@
 #include "core/atomic_file.hpp"
 #include "core/checked_file.hpp"
 #include "core/error.hpp"
+#include "core/json_text.hpp"
 #include "core/printable.hpp"
 #include "core/threads.hpp"
 #include "app/scenario_run.hpp"
@@ -143,14 +143,14 @@ std::string failure_of(int status, const fs::path& log) {
 // chunk, a value the scenario refuses, a crash) wrote no summary: the sweep
 // writes one saying so, so the merge tabulates it as failed instead of missing.
 void write_failure_summary(const fs::path& dir, const std::vector<std::string>& argv, const std::string& reason) {
-  nlohmann::ordered_json j;
+  Json j;
   j["schema"] = "softcut-summary/1";
   j["written_by"] = "softcut sweep: the run wrote no summary (see run.log)";
   j["command_line"] = argv;
   j["run"] = {{"frames", 0}, {"last_frame", -1}, {"last_time_s", nullptr}, {"exit_reason", "error"},
               {"message", reason}};
-  j["expectations"] = nlohmann::json::array();
-  write_file_atomic(dir / "summary.json", j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
+  j["expectations"] = Json::array();
+  write_file_atomic(dir / "summary.json", json_text(j));
 }
 
 int cmd_merge(const Args& args) {

@@ -238,7 +238,7 @@ TEST_SUITE("cli/cmd_check") {
     CHECK(contains(x, "skipped=\"1\""));
     CHECK(contains(x, "<testcase name=\"bad\" classname=\"" + (dir / "bad.lua").string() + "\""));
     CHECK(contains(x, "<failure message=\"" + (dir / "bad.lua").string() + ":8: expect &apos;holds&apos; failed"));
-    const nlohmann::json j = nlohmann::json::parse(slurp(json));
+    const nlohmann::ordered_json j = softcut::test::read_json(json);
     CHECK(j["passed"] == 1);
     CHECK(j["failed"] == 1);
     CHECK(j["skipped"] == 1);

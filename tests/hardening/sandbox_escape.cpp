@@ -342,8 +342,8 @@ s:on_frame(function(f) error("bad \1\2\27[31m \255\254 \0 end") end))"));
     const auto r = f.run();
     CHECK(r.status == 1);
     const std::string text = slurp(f.work / "renders" / "esc" / "summary.json");
-    nlohmann::json j;
-    REQUIRE_NOTHROW(j = nlohmann::json::parse(text));
+    nlohmann::ordered_json j;
+    REQUIRE_NOTHROW(j = softcut::test::parse_json(text));
     const std::string message = j["run"]["message"].get<std::string>();
     CHECK(contains(message, "bad \x01\x02\x1b[31m"));
     CHECK(contains(message, "\xEF\xBF\xBD"));  // the invalid bytes, replaced

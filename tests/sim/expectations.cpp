@@ -131,8 +131,7 @@ TEST_SUITE("sim/expectations") {
     hooks.max_frames = 9;  // frames 0 .. 8: the run ends at t = 0.8 s
     hooks.check = [](int, const sim::Model&, sim::State&) { return std::pair<bool, std::string>{true, ""}; };
     sim::run(m, s, rec, hooks);
-    std::ifstream in(dir / "summary.json");
-    const nlohmann::json j = nlohmann::json::parse(in);
+    const nlohmann::ordered_json j = softcut::test::read_json(dir / "summary.json");
     const auto& e = j.at("expectations");
     REQUIRE(e.size() == 4);
     CHECK(e[0].at("name") == "tip sags");
