@@ -68,21 +68,15 @@ int run_script(Runtime& rt, const ScriptRequest& req) {
 }
 
 SandboxOptions sandbox_of(const ScriptRequest& req) {
-  SandboxOptions opt;
-  opt.output = req.output;
+  SandboxOptions opt = req.sandbox;
   if (req.watchdog && req.watchdog->seconds() > 0)
     opt.deadline = &req.watchdog->expired(), opt.timeout_s = req.watchdog->seconds();
-  opt.trusted = req.trusted;
   // Resolved once: the checked opens then work below the real folder, and
   // any link below it is refused.
   std::error_code ec;
   const fs::path folder = fs::absolute(req.scenario).lexically_normal().parent_path();
   opt.read_dir = fs::canonical(folder, ec);
   if (ec) opt.read_dir = folder;
-  opt.instruction_budget = req.instruction_budget;
-  opt.memory_budget = req.memory_budget;
-  opt.max_tets = req.max_tets;
-  opt.interrupt = req.interrupt;
   return opt;
 }
 

@@ -3,31 +3,27 @@
 // runs in the sandbox, its tables become the ScenarioSpec, and its on_frame
 // and check functions are called through the interface. The application's
 // run (app/scenario_run.hpp) drives it; callers need no Lua headers.
-#include <atomic>
-#include <cstddef>
 #include <filesystem>
 #include <map>
 #include <memory>
 #include <string>
 
+#include "runtime.hpp"
 #include "sim/scenario_script.hpp"
 
 namespace softcut {
-class OutputBudget;
 class Watchdog;
-}  // namespace softcut
+}
 
 namespace softcut::lua {
 
 struct ScriptRequest {
   std::filesystem::path scenario;                // the .lua file
   std::map<std::string, std::string> overrides;  // --set key=value (the scenario's params{})
-  bool trusted = false;                          // --trust: no sandbox
-  long long instruction_budget = 200'000'000;    // sandbox: Lua VM instructions per call (main chunk, each on_frame)
-  std::size_t memory_budget = 512u << 20;        // sandbox: Lua heap, bytes
-  double max_tets = 2'000'000;                   // sandbox: tetrahedra of the scenario's mesh (--max-tets)
-  const std::atomic<bool>* interrupt = nullptr;  // set by SIGINT/SIGTERM: a running script stops
-  OutputBudget* output = nullptr;                // what the script writes is counted here (--max-output)
+  // Trust, budgets, interrupt and output budget. Its folders and deadline
+  // are set here: read_dir is the scenario's folder, the deadline the
+  // watchdog's.
+  SandboxOptions sandbox;
   const Watchdog* watchdog = nullptr;            // the run's wall-clock limit: a script past it stops
 };
 

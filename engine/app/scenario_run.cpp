@@ -184,12 +184,12 @@ std::unique_ptr<sim::ScenarioScript> open_lua_scenario(const RunRequest& req, Ou
   lua::ScriptRequest s;
   s.scenario = req.scenario;
   s.overrides = req.overrides;
-  s.trusted = req.trusted;
-  s.instruction_budget = req.instruction_budget;
-  s.memory_budget = req.memory_budget;
-  s.max_tets = req.max_tets;
-  s.interrupt = req.interrupt;
-  s.output = output;
+  s.sandbox.trusted = req.trusted;
+  s.sandbox.instruction_budget = req.instruction_budget;
+  s.sandbox.memory_budget = req.memory_budget;
+  s.sandbox.max_tets = req.max_tets;
+  s.sandbox.interrupt = req.interrupt;
+  s.sandbox.output = output;
   s.watchdog = watchdog;
   return lua::open_scenario(s);
 }

@@ -14,10 +14,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   using namespace softcut;
   lua::ScriptRequest req;
   req.scenario = fuzz::put_file("scenario.lua", fuzz::as_text(data, size));
-  req.instruction_budget = 100'000;
-  req.memory_budget = 8u << 20;
-  req.max_tets = 5000;  // a generator is refused before it allocates; the default
-                        // (2e6) would spend seconds per input on native work
+  req.sandbox.instruction_budget = 100'000;
+  req.sandbox.memory_budget = 8u << 20;
+  // A generator is refused before it allocates; the default (2e6) would
+  // spend seconds per input on native work.
+  req.sandbox.max_tets = 5000;
   fuzz::expect_clean([&] { lua::open_scenario(req)->spec(); });
   return 0;
 }

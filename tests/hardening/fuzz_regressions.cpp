@@ -48,8 +48,8 @@ void feed(const std::string& target, const std::string& bytes, const fs::path& d
   } else if (target == "lua") {
     softcut::lua::ScriptRequest req;
     req.scenario = put_file(dir / "scenario.lua", bytes);
-    req.instruction_budget = 100'000;  // the fuzz target's budgets
-    req.memory_budget = 8u << 20;
+    req.sandbox.instruction_budget = 100'000;  // the fuzz target's budgets
+    req.sandbox.memory_budget = 8u << 20;
     softcut::lua::open_scenario(req)->spec();
   } else {
     const char* ext = target == "gmsh" ? ".msh" : target == "medit" ? ".mesh" : target == "vtk" ? ".vtk" : ".vtu";
