@@ -69,6 +69,7 @@ int run_script(Runtime& rt, const ScriptRequest& req) {
 
 SandboxOptions sandbox_of(const ScriptRequest& req) {
   SandboxOptions opt = req.sandbox;
+  opt.write_dir.clear();  // no writes before confine_writes(): the output folder is made after the script ran
   if (req.watchdog && req.watchdog->seconds() > 0)
     opt.deadline = &req.watchdog->expired(), opt.timeout_s = req.watchdog->seconds();
   // Resolved once: the checked opens then work below the real folder, and

@@ -21,8 +21,8 @@ struct ScriptRequest {
   std::filesystem::path scenario;                // the .lua file
   std::map<std::string, std::string> overrides;  // --set key=value (the scenario's params{})
   // Trust, budgets, interrupt and output budget. Its folders and deadline
-  // are set here: read_dir is the scenario's folder, the deadline the
-  // watchdog's.
+  // are set here: read_dir is the scenario's folder, write_dir none until
+  // ScenarioScript::confine_writes, the deadline the watchdog's.
   SandboxOptions sandbox;
   const Watchdog* watchdog = nullptr;            // the run's wall-clock limit: a script past it stops
 };

@@ -142,7 +142,10 @@ int sandboxed_open(lua_State* L) {
       const fs::path& dir = writes(access) ? opt.write_dir : opt.read_dir;
       const fs::path rel = dir.empty() ? fs::path() : relative_below(dir, fs::path(name));
       const char* fn = lines ? "io.lines" : "io.open";
-      if (rel.empty()) {
+      if (dir.empty() && writes(access)) {
+        msg = cat(fn, ": '", printable(name), "': the script's main chunk may not write files (the output folder is "
+                  "made after it ran); write from on_frame, below the output folder, or run with --trust");
+      } else if (rel.empty()) {
         msg = cat(fn, ": '", printable(name), "' is outside the ", writes(access) ? "output folder '" : "scenario folder '",
                   printable(dir.string()), "' (the sandbox reads below the scenario folder and writes below the output "
                   "folder; run with --trust to lift this)");

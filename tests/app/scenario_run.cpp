@@ -366,4 +366,15 @@ return s
     CHECK(fs::exists(out.out_dir / "displacements.csv"));
     CHECK_FALSE(fs::exists(dir / "ignored"));
   }
+
+  TEST_CASE("the main chunk may not write a file: no output folder exists yet, whatever --out says") {
+    const fs::path file = write_scenario("runner_early_write", std::string(kBoxHead) + R"(
+local h = io.open("early.txt", "w")
+return s
+)");
+    const std::string err = scenario_error(file);
+    CHECK(contains(err, "scenario.lua:8: io.open: 'early.txt': the script's main chunk may not write files"));
+    CHECK_FALSE(fs::exists(file.parent_path() / "early.txt"));
+    CHECK_FALSE(fs::exists(file.parent_path() / "out" / "early.txt"));
+  }
 }
