@@ -57,7 +57,7 @@ sim::ScenarioSpec spec_from_table(lua_State* L, int s, const fs::path& source) {
   sim::ScenarioSpec spec;
   const std::string where = get_string(L, s, "where");
   spec.name = get_string(L, s, "name", "scenario");
-  spec.description = get_string(L, s, "description");
+  spec.description = printable(get_string(L, s, "description"), 2000);  // one line in summary.json, bounded
   spec.reference_tolerance = get_number(L, s, "tolerance", 1e-6);
   spec.source = source;
   spec.versions["lua"] = LUA_RELEASE;

@@ -377,4 +377,18 @@ return s
     CHECK_FALSE(fs::exists(file.parent_path() / "early.txt"));
     CHECK_FALSE(fs::exists(file.parent_path() / "out" / "early.txt"));
   }
+
+  TEST_CASE("a scenario's description reaches summary.json printable and bounded, whatever the script puts there") {
+    softcut::app::RunOutcome out;
+    const fs::path file = write_scenario("runner_description", std::string(kBoxHead) + R"(
+s.description = "lesion \27[31m\0" .. ("x"):rep(10 * 1024 * 1024)
+return s
+)");
+    REQUIRE(scenario_error(file, &out) == "");
+    const std::string d = softcut::test::read_json(out.out_dir / "summary.json")["scenario"]["description"];
+    CHECK(d.starts_with("lesion \\x1B[31m\\x00xxx"));
+    CHECK(d.ends_with("..."));
+    CHECK(d.size() <= 2100);
+    CHECK(fs::file_size(out.out_dir / "summary.json") < 20000);
+  }
 }
