@@ -52,7 +52,7 @@ sim::ScenarioSpec bench_spec(const std::string& backend, double radius, double s
   s.timeline.duration = 1.0;
   s.timeline.fps = frames - 1;
   s.outputs.csv = false;
-  s.solver.backend = sim::parse_backend(backend);
+  s.solver.backend = backend::parse_backend(backend);
   return s;
 }
 

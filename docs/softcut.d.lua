@@ -85,7 +85,7 @@ softcut.tissues = {}
 ---@type string
 softcut.version = ""
 
----Declares the scenario's parameters with their defaults; `softcut run --set key=value` overrides them (the value is converted to the default's type). Returns the table of effective values.
+---Declares the scenario's parameters with their defaults; `softcut run --set key=value` overrides them (the value is converted to the default's type). Returns the table of effective values. Names: at most 64 letters, digits, `_`, `.` or `-`, starting with a letter or `_`; at most 1000 parameters. summary.json lists them, values shown printable and cut at 2000 bytes.
 ---@param args table
 ---@return table
 function softcut.params(args) end

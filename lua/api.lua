@@ -78,7 +78,9 @@ api.structs = {
 api.functions = {
   { name = "softcut.params", summary = "Declares the scenario's parameters with their defaults; "
       .. "`softcut run --set key=value` overrides them (the value is converted to the default's type). "
-      .. "Returns the table of effective values.", free_fields = "number, boolean or string defaults",
+      .. "Returns the table of effective values. Names: at most 64 letters, digits, `_`, `.` or `-`, "
+      .. "starting with a letter or `_`; at most 1000 parameters. summary.json lists them, "
+      .. "values shown printable and cut at 2000 bytes.", free_fields = "number, boolean or string defaults",
     returns = "table", fields = {},
     example = 'local P = softcut.params{ force = 0.8, depth = 0.004, label = "poke" }' },
   { name = "softcut.scenario", summary = "Starts a scenario: its name, timeline and reference tolerance. "

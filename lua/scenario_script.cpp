@@ -172,8 +172,13 @@ class LuaScenario final : public sim::ScenarioScript {
       }
       lua_rawgeti(L, -1, 1);
       lua_rawgeti(L, -2, 2);
-      if (lua_type(L, -2) == LUA_TSTRING && lua_type(L, -1) == LUA_TSTRING)
-        spec.params.emplace_back(lua_tostring(L, -2), lua_tostring(L, -1));
+      if (lua_type(L, -2) == LUA_TSTRING && lua_type(L, -1) == LUA_TSTRING) {
+        size_t nk = 0, nv = 0;
+        const char* k = lua_tolstring(L, -2, &nk);
+        const char* v = lua_tolstring(L, -1, &nv);
+        // Bounded like the description: a string default may be any bytes.
+        spec.params.emplace_back(printable({k, nk}, 64), printable({v, nv}, 2000));
+      }
       lua_pop(L, 3);
     }
     lua_pop(L, 2);

@@ -34,6 +34,11 @@ function softcut.params(defaults)
   local names, out = {}, {}
   for k, v in pairs(defaults) do
     if type(k) ~= "string" then check.fail("params", "parameter names must be strings (found [%s])", tostring(k)) end
+    -- Names are typed after --set and become columns of a sweep's CSV.
+    if #k > 64 or not k:match("^[%a_][%w_%.%-]*$") then
+      check.fail("params", "parameter name '%s': use at most 64 letters, digits, '_', '.' or '-', starting with a letter or '_'", k)
+    end
+    if #names == 1000 then check.fail("params", "at most 1000 parameters") end
     local t = type(v)
     if t ~= "number" and t ~= "boolean" and t ~= "string" then
       check.fail("params", "parameter '%s' must default to a number, boolean or string, got %s", k, t)

@@ -228,7 +228,7 @@ sim::ScenarioSpec spec_from_table(lua_State* L, int s, const fs::path& source) {
     const int v = lua_gettop(L);
     spec.solver.cg_tolerance = get_number(L, v, "tolerance", spec.solver.cg_tolerance);
     spec.solver.cg_max_iterations = get_int(L, v, "max_iterations", 0);
-    spec.solver.backend = sim::parse_backend(get_string(L, v, "backend", "auto"));
+    spec.solver.backend = backend::parse_backend(get_string(L, v, "backend", "auto"));
     spec.solver.storage = hybrid::parse_storage(get_string(L, v, "mode", "auto"));
     spec.solver.gpu_fp64 = get_bool(L, v, "gpu_fp64", spec.solver.gpu_fp64);
   }

@@ -129,7 +129,7 @@ RunOutcome run_watched(const RunRequest& req, const OpenScript& open, const Watc
   // never creates one) and outliving the Model and the renderer.
   std::unique_ptr<gpu::EglContext> context;
   if (sim::wants_gpu_context(spec)) {
-    const bool required = spec.solver.backend == sim::Backend::gpu || spec.outputs.render.enabled;
+    const bool required = spec.solver.backend == backend::Backend::gpu || spec.outputs.render.enabled;
     try {
       context = std::make_unique<gpu::EglContext>();
     } catch (const Error& e) {
@@ -137,12 +137,12 @@ RunOutcome run_watched(const RunRequest& req, const OpenScript& open, const Watc
       out.warnings.push_back(cat("no OpenGL context (", first_line(e.what()), "); solver backend auto uses the CPU"));
     }
   }
-  const sim::Model model = sim::compile(spec, sim::RunResources{context.get()});
+  const sim::Model model = sim::compile(spec, backend::RunResources{context.get()});
   // Frames are drawn on a worker thread while the next frame is simulated,
   // unless the GPU solver needs the shared context on this thread.
   std::unique_ptr<render::FrameWriter> frames;
   if (spec.outputs.render.enabled) {
-    const bool solver_on_gpu = model.solver->backend().backend == sim::Backend::gpu;
+    const bool solver_on_gpu = model.solver->backend().backend == backend::Backend::gpu;
     frames = std::make_unique<render::FrameWriter>(*context,
                                                    solver_on_gpu || req.render_inline
                                                        ? render::FrameWriter::Mode::inline_draw

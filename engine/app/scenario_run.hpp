@@ -35,7 +35,7 @@ struct RunRequest {
   bool trusted = false;                           // --trust: no sandbox
   std::filesystem::path cache_dir;                // precompute cache folder (--no-cache: empty)
   bool render = true;                             // false: skip rendered frames (softcut check)
-  std::optional<sim::Backend> backend;            // --backend: overrides s:solver{ backend }; none: the scenario's
+  std::optional<backend::Backend> backend;            // --backend: overrides s:solver{ backend }; none: the scenario's
   int render_every = 0;                           // --render-every N: render every N-th frame, also when the
                                                   // scenario renders none; 0: the scenario's choice
   int width = 0, height = 0;                      // --size WxH: overrides the render size; 0: the scenario's

@@ -18,9 +18,9 @@ void add_override(std::map<std::string, std::string>& overrides, const std::stri
   overrides[pair.substr(0, eq)] = pair.substr(eq + 1);
 }
 
-sim::Backend parse_backend(const std::string& text) {
+backend::Backend parse_backend(const std::string& text) {
   try {
-    return sim::parse_backend(text);
+    return backend::parse_backend(text);
   } catch (const Error&) {
     usage_fail("--backend ", text, ": expected auto, cpu, gpu, direct or monolithic");
   }

@@ -16,7 +16,7 @@ namespace softcut::cli {
 // "key=value" -> overrides[key] = value; throws on a malformed pair.
 void add_override(std::map<std::string, std::string>& overrides, const std::string& pair);
 // --backend value: auto|cpu|gpu|direct|monolithic, else throws listing them.
-sim::Backend parse_backend(const std::string& text);
+backend::Backend parse_backend(const std::string& text);
 // A non-negative integer option value; throws naming the option.
 int parse_count(const std::string& text, const char* option);
 // "-j N", "--jobs N" or "-jN" at args[i] (check and sweep): returns true with

@@ -33,7 +33,7 @@ struct CutMesh {
   mesh::Surface surface;                   // its boundary, including the cut faces
   std::vector<fem::Material> tet_material; // (ntet)
   std::vector<char> operational_tet;       // (ntet) 1: operational (children of operational tets)
-  // Nodes the elastic solve does not solve for (what Solver::apply_cut
+  // Nodes the elastic solve does not solve for (what backend::Solver::apply_cut
   // eliminates): node_clamped or node_held.
   std::vector<char> node_fixed;            // (nnode)
   std::vector<char> node_clamped;          // (nnode) zero displacement: fixed nodes, copies/splits of fixed nodes only

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "core/error.hpp"
+#include "cut/cutter.hpp"
 #include "sim/model.hpp"
 
 namespace softcut::sim {
@@ -22,6 +23,15 @@ hybrid::NodeSet node_set(const Model& m, const State& s, int n) {
   return is_fixed_node(m, s, n) ? hybrid::NodeSet::fixed : hybrid::NodeSet::operational;
 }
 
+backend::CutBody cut_body(const CutMesh& cm, const cut::CutRecord* rec) {
+  backend::CutBody body{cm.mesh, cm.tet_material, cm.operational_tet, cm.node_fixed, -1, {}};
+  if (rec) {
+    body.nodes_before = rec->nodes_before;
+    body.carry = [rec](const Eigen::MatrixX3d& u) { return cut::map_node_field(*rec, u); };
+  }
+  return body;
+}
+
 std::vector<CutEvent> cut_stage(const Model& m, State& s, int frame, double t) {
   const cut::RestBody rest{m.mesh, m.surface, m.tet_material, m.partition.operational_tet, m.partition.fixed,
                            m.partition.interface};
@@ -38,7 +48,7 @@ std::vector<CutEvent> cut_stage(const Model& m, State& s, int frame, double t) {
                     .warnings = s.warnings,
                     .cg_iterations_before = s.last_cg_iterations,
                     .rebuild = [&](const CutMesh& cm, const cut::CutRecord& rec) {
-                      m.solver->apply_cut(cm, rec, s.solver_run);
+                      m.solver->apply_cut(cut_body(cm, &rec), s.solver_run);
                     }};
   std::vector<CutEvent> events = cut::cut_stage(rest, f);
   s.cut_events.insert(s.cut_events.end(), events.begin(), events.end());

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "backend/solver.hpp"
 #include "cut/cut_mesh.hpp"
 #include "cut/stage.hpp"
 #include "hybrid/partition.hpp"
@@ -35,6 +36,10 @@ bool is_fixed_node(const Model& m, const State& s, int n);
 bool is_held_node(const State& s, int n);
 // Node set of n; nodes made by cutting are operational (or fixed, also when held).
 hybrid::NodeSet node_set(const Model& m, const State& s, int n);
+
+// The cut body as the solver rebuilds from it; with `rec` (the step that made
+// it; must outlive the result) the warm start is carried onto its nodes.
+backend::CutBody cut_body(const CutMesh& cm, const cut::CutRecord* rec = nullptr);
 
 // The cutting stage of frame `frame` at time t (cut::cut_stage on the
 // Model's rest body and the State; the solver rebuilds through apply_cut).

@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "core/timer.hpp"
+#include "sim/cutting.hpp"
 #include "sim/mesh_source.hpp"
 #include "sim/tissue.hpp"
 
@@ -32,10 +34,10 @@ fem::Material resolve_material(const MaterialAssignment& a) {
 }  // namespace
 
 bool wants_gpu_context(const ScenarioSpec& spec) {
-  return spec.outputs.render.enabled || spec.solver.backend == Backend::gpu;
+  return spec.outputs.render.enabled || spec.solver.backend == backend::Backend::gpu;
 }
 
-Model compile(const ScenarioSpec& spec, const RunResources& resources) {
+Model compile(const ScenarioSpec& spec, const backend::RunResources& resources) {
   check_spec(spec);
   Model m;
   m.spec = spec;
@@ -95,7 +97,7 @@ Model compile(const ScenarioSpec& spec, const RunResources& resources) {
   for (int n : m.log_nodes) need_interior |= m.partition.node_set[n] == hybrid::NodeSet::interior;
   for (const auto& nodes : m.expectation_nodes)
     for (int n : nodes) need_interior |= m.partition.node_set[n] == hybrid::NodeSet::interior;
-  m.solver = make_solver(m.mesh, m.tet_material, m.partition, spec.solver, need_interior, resources, diag);
+  m.solver = backend::make_solver(m.mesh, m.tet_material, m.partition, spec.solver, need_interior, resources, diag);
   for (const auto& p : m.solver->precompute_ms()) m.precompute_ms.push_back(p);
 
   m.dt = 1.0 / spec.timeline.fps;
@@ -187,7 +189,10 @@ State copy_state(const Model& m, const State& s) {
   c.warnings = s.warnings;
   c.cut_events = s.cut_events;
   c.springs.enabled = s.springs.enabled;
-  if (m.solver) m.solver->start_run(c.solver_run, c.cut.get());
+  if (m.solver) {
+    const std::optional<backend::CutBody> body = c.cut ? std::optional(cut_body(*c.cut)) : std::nullopt;
+    m.solver->start_run(c.solver_run, body ? &*body : nullptr);
+  }
   return c;
 }
 

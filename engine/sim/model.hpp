@@ -15,7 +15,7 @@
 #include "sim/cutting.hpp"
 #include "sim/expectations.hpp"
 #include "sim/scenario_spec.hpp"
-#include "sim/solver.hpp"
+#include "backend/solver.hpp"
 #include "tools/springs.hpp"
 #include "tools/tool.hpp"
 
@@ -31,7 +31,7 @@ struct Model {
   hybrid::Partition partition;                           // node sets (fixed, 1, I, s, i), Table 2 counts
   std::vector<int> log_nodes;                            // sorted ids written to displacements.csv
   std::vector<std::vector<int>> expectation_nodes;       // (spec.expectations) node ids of bounds; empty for checks
-  std::unique_ptr<const Solver> solver;                  // solver->backend(): what runs and why
+  std::unique_ptr<const backend::Solver> solver;                  // solver->backend(): what runs and why
   std::vector<std::pair<std::string, double>> precompute_ms;  // Table 3 (+ mesh, selectors)
   std::vector<std::string> warnings;                     // from compile
   int num_frames = 1;                                    // see Timeline
@@ -43,7 +43,7 @@ struct Model {
 // Reads / generates the mesh, evaluates selectors, assigns materials,
 // partitions, precomputes the solver (in resources.context for backend gpu;
 // the context must outlive the Model). Throws softcut::Error naming the item.
-Model compile(const ScenarioSpec& spec, const RunResources& resources = {});
+Model compile(const ScenarioSpec& spec, const backend::RunResources& resources = {});
 
 // Whether the application should create an EGL context for this spec:
 // rendering is on, or the backend is gpu (auto runs on the CPU: it needs
@@ -102,7 +102,7 @@ struct RunBookkeeping {
   std::vector<ActiveLoad> loads;
   std::vector<tools::ToolSpec> tool_specs;  // copies; the script may change them between frames
   bool stop_requested = false;       // set by the script: finish after this frame
-  SolverRun solver_run;              // Solver::start_run: warm start, factors, column cache, device buffers
+  backend::SolverRun solver_run;              // Solver::start_run: warm start, factors, column cache, device buffers
   tools::SpringCache springs;        // implicit spring compliance (per run, tools/springs.hpp)
   FrameTimings last;                 // of the last frame
   int last_cg_iterations = 0;

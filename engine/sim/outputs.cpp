@@ -321,7 +321,7 @@ std::string summary_json(const Model& m, const State& s, const RunResult& r, con
                     {"operational", c.operational}, {"interface", c.interface}, {"surface", c.surface},
                     {"interior", c.interior}, {"unused", c.unused}};
   if (m.solver) {
-    const BackendChoice& bc = m.solver->backend();
+    const backend::BackendChoice& bc = m.solver->backend();
     j["solver"] = {{"backend", to_string(bc.backend)}, {"requested", to_string(bc.requested)}, {"reason", bc.reason},
                    {"device", bc.device}, {"gpu_fp64", bc.gpu_fp64}, {"description", m.solver->name()},
                    {"cg_tolerance", jnum(sp.solver.cg_tolerance)}};

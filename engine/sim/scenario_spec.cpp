@@ -111,26 +111,6 @@ void check_spec(const ScenarioSpec& s) {
     fail("cutting: min_dihedral_deg must lie in [0, 60), got ", s.cutting.min_dihedral_deg);
 }
 
-namespace {
-constexpr std::pair<Backend, const char*> kBackendNames[] = {{Backend::automatic, "auto"},
-                                                            {Backend::cpu, "cpu"},
-                                                            {Backend::gpu, "gpu"},
-                                                            {Backend::direct, "direct"},
-                                                            {Backend::monolithic, "monolithic"}};
-}  // namespace
-
-const char* to_string(Backend b) {
-  for (const auto& [v, name] : kBackendNames)
-    if (v == b) return name;
-  return "?";
-}
-
-Backend parse_backend(std::string_view text) {
-  for (const auto& [v, name] : kBackendNames)
-    if (text == name) return v;
-  fail("solver: unknown backend '", printable(text), "' (use auto, cpu, gpu, direct or monolithic)");
-}
-
 const char* to_string(LoadSpec::Direction d) { return d == LoadSpec::Direction::world ? "world" : "normal"; }
 
 std::array<double, 6> voigt_strain(const Eigen::Matrix3d& e) {

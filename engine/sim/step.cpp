@@ -88,7 +88,7 @@ void step(const Model& m, State& s) {
   drop_loads_on_held(s, frame, t);  // pieces cut free take no load
   double poke_drag_ms = timer.ms();
 
-  SolveStats st;
+  backend::SolveStats st;
   m.solver->solve(s.forces, s.displacement, s.solver_run, st);
   timer.reset();
   const bool springs = solve_implicit_springs(m, s, frame) > 0;

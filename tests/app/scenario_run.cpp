@@ -339,7 +339,7 @@ return s
     softcut::app::RunRequest req;
     req.scenario = dir / "bar.cpp";  // names the script in messages; never opened
     req.out_dir = dir / "out";
-    req.backend = softcut::sim::Backend::cpu;
+    req.backend = softcut::backend::Backend::cpu;
     const softcut::app::RunOutcome out =
         softcut::app::run_scenario(req, [&](const softcut::app::RunRequest& r, softcut::OutputBudget*, const softcut::Watchdog*) {
           CHECK(r.scenario == req.scenario);
@@ -390,5 +390,28 @@ return s
     CHECK(d.ends_with("..."));
     CHECK(d.size() <= 2100);
     CHECK(fs::file_size(out.out_dir / "summary.json") < 20000);
+  }
+
+  TEST_CASE("a scenario's params reach summary.json printable and bounded - names must be typeable after --set") {
+    softcut::app::RunOutcome out;
+    const fs::path file = write_scenario("runner_params_bound",
+        "local P = softcut.params{ note = \"a\\27[2J\\0\" .. (\"y\"):rep(10 * 1024 * 1024), force = 1 }\n" +
+            std::string(kBoxHead) + "return s\n");
+    REQUIRE(scenario_error(file, &out) == "");
+    const auto params = softcut::test::read_json(out.out_dir / "summary.json")["params"];
+    CHECK(params["force"] == "1");
+    const std::string note = params["note"];
+    CHECK(note.starts_with("a\\x1B[2J\\x00yyy"));
+    CHECK(note.ends_with("..."));
+    CHECK(note.size() <= 2100);
+    CHECK(fs::file_size(out.out_dir / "summary.json") < 20000);
+
+    const fs::path spaced = write_scenario("runner_params_name", "local P = softcut.params{ [\"a b\"] = 1 }\n" +
+                                                                     std::string(kBoxHead) + "return s\n");
+    CHECK(contains(scenario_error(spaced), "scenario.lua:1: params: parameter name 'a b': use at most 64 letters"));
+    const fs::path many = write_scenario("runner_params_many",
+        "local d = {} for i = 1, 1001 do d['p' .. i] = i end\nlocal P = softcut.params(d)\n" +
+            std::string(kBoxHead) + "return s\n");
+    CHECK(contains(scenario_error(many), "scenario.lua:2: params: at most 1000 parameters"));
   }
 }

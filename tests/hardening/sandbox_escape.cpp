@@ -329,7 +329,7 @@ s:solver{ mode = "dense" }
 return s)");
     req.scenario = dense.scen / "s.lua";
     req.out_dir = dense.root / "out";
-    req.backend = softcut::sim::Backend::cpu;
+    req.backend = softcut::backend::Backend::cpu;
     req.memory_budget = 8u << 20;
     const std::string msg = error_of([&] { softcut::app::run_scenario(req); });
     CHECK(contains(msg, "storage mode 'dense' needs"));
@@ -493,7 +493,7 @@ end))lua", "0.1"));
     softcut::app::RunRequest req;
     req.scenario = f.scen / "s.lua";
     req.out_dir = f.root / "out";
-    req.backend = softcut::sim::Backend::cpu;
+    req.backend = softcut::backend::Backend::cpu;
     softcut::app::RunOutcome out;
     CHECK(error_of([&] { out = softcut::app::run_scenario(req); }) == "");
     // The outcomes come from the engine (sim/expectations.hpp), which has

@@ -4,7 +4,7 @@
 # Fails naming the file, the include and both stages. lua/ (bindings) sits
 # after sim/ and before app/ (a scenario run) and cli/ (the commands); bench/
 # (the benchmarks) last.
-set(order core solve mesh fem hybrid gpu tools cut render sim lua app cli bench)
+set(order core solve mesh fem hybrid gpu backend tools cut render sim lua app cli bench)
 if(NOT ROOT)
   message(FATAL_ERROR "layers.cmake: pass -DROOT=<source dir>")
 endif()

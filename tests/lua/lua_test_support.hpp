@@ -47,7 +47,7 @@ inline std::string scenario_error(const std::filesystem::path& file, app::RunOut
                                   app::RunRequest req = {}) {
   req.scenario = file;
   if (req.out_dir.empty()) req.out_dir = file.parent_path() / "out";
-  if (!req.backend) req.backend = sim::Backend::cpu;  // no EGL context per test run (auto would probe for a GPU)
+  if (!req.backend) req.backend = softcut::backend::Backend::cpu;  // no EGL context per test run (auto would probe for a GPU)
   try {
     app::RunOutcome o = app::run_scenario(req);
     if (out) *out = o;

@@ -52,7 +52,7 @@ sim::ScenarioSpec bar_cut_spec(const std::string& name, double cut_pressure, con
   s.timeline.duration = 1.0;
   s.timeline.fps = 20.0;
   s.outputs.dir = softcut::test::scratch_dir(name);
-  s.solver.backend = sim::parse_backend(backend);
+  s.solver.backend = softcut::backend::parse_backend(backend);
   s.solver.cg_tolerance = 1e-12;
   return s;
 }
@@ -75,7 +75,7 @@ sim::ScenarioSpec zigzag_spec(const std::string& name, double xa, double xb, dou
   s.timeline.fps = fps;
   s.outputs.dir = softcut::test::scratch_dir(name);
   s.outputs.csv = false;
-  s.solver.backend = sim::Backend::direct;
+  s.solver.backend = softcut::backend::Backend::direct;
   return s;
 }
 

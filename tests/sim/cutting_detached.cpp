@@ -60,7 +60,7 @@ sim::ScenarioSpec free_cut_spec(const std::string& name, const std::string& back
   s.timeline.duration = 1.3;
   s.timeline.fps = 20.0;
   s.outputs.dir = softcut::test::scratch_dir(name);
-  s.solver.backend = sim::parse_backend(backend);
+  s.solver.backend = softcut::backend::parse_backend(backend);
   s.solver.cg_tolerance = 1e-12;
   return s;
 }

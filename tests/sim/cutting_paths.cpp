@@ -113,7 +113,7 @@ sim::ScenarioSpec path_spec(const PathCase& c) {
   s.timeline.fps = c.fps;
   s.outputs.dir = softcut::test::scratch_dir(s.name);
   s.outputs.csv = false;
-  s.solver.backend = sim::Backend::cpu;
+  s.solver.backend = softcut::backend::Backend::cpu;
   s.solver.cg_tolerance = 1e-12;
   return s;
 }
@@ -232,7 +232,7 @@ void run_cases(Body body, bool moving) {
     for (int n : cm.surface.nodes)
       if (!cm.node_fixed[size_t(n)]) f.row(n) = 1e-3 * V(unit(load_rng), unit(load_rng), unit(load_rng)).transpose();
     Eigen::MatrixX3d u = s.displacement;
-    sim::SolveStats stats;
+    softcut::backend::SolveStats stats;
     m.solver->solve(f, u, s.solver_run, stats);
     const Eigen::MatrixX3d whole = softcut::fem::solve_whole_mesh(cm.mesh, cm.tet_material, cm.node_fixed, f);
     const double scale = whole.cwiseAbs().maxCoeff();

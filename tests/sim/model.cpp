@@ -19,7 +19,7 @@ TEST_SUITE("sim/model") {
     auto spec = softcut::test::cantilever_spec(softcut::test::scratch_dir("sim_model_cantilever"));
     for (const char* backend : {"cpu", "direct", "monolithic"}) {
     CAPTURE(backend);
-    spec.solver.backend = sim::parse_backend(backend);
+    spec.solver.backend = softcut::backend::parse_backend(backend);
     const sim::Model m = sim::compile(spec);
     CHECK(m.mesh.num_nodes() == 6 * 3 * 3);
     CHECK(m.partition.fixed.size() == 9);
@@ -73,7 +73,7 @@ TEST_SUITE("sim/model") {
       spec.outputs.log_all_surface = false;  // log_nodes kind all: every node, interior included
       spec.loads[0].magnitude = softcut::tools::Ramp::sine_wave(0.0, 0.02, 2.0);
       const sim::Model hyb = sim::compile(spec);
-      spec.solver.backend = sim::Backend::monolithic;
+      spec.solver.backend = softcut::backend::Backend::monolithic;
       const sim::Model mono = sim::compile(spec);
       CHECK(hyb.solver->interior_valid());
       CHECK(!hyb.partition.interior.empty());

@@ -30,8 +30,8 @@ TEST_SUITE("sim/step") {
       for (Eigen::Index c = 0; c < m; ++c) {
         Eigen::MatrixX3d f = Eigen::MatrixX3d::Zero(probe_model.mesh.num_nodes(), 3), u;
         f(nodes[size_t(c / 3)], c % 3) = 1.0;
-        sim::SolverRun warm;
-        sim::SolveStats st;
+        softcut::backend::SolverRun warm;
+        softcut::backend::SolveStats st;
         probe_model.solver->solve(f, u, warm, st);
         for (size_t j = 0; j < nodes.size(); ++j) C.block<3, 1>(Eigen::Index(3 * j), c) = u.row(nodes[j]).transpose();
       }

@@ -13,6 +13,7 @@
 #include "test_support.hpp"
 
 using V = Eigen::Vector3d;
+namespace backend = softcut::backend;
 namespace sim = softcut::sim;
 namespace tools = softcut::tools;
 namespace fem = softcut::fem;
@@ -56,7 +57,7 @@ struct Monolithic {
 sim::ScenarioSpec grasp_spec(const std::string& scratch, const std::string& backend) {
   auto spec = softcut::test::cantilever_spec(softcut::test::scratch_dir(scratch), 0.3);
   spec.loads[0].magnitude = tools::Ramp::constant_value(0.01);
-  spec.solver.backend = sim::parse_backend(backend);
+  spec.solver.backend = backend::parse_backend(backend);
   const V p(0.07, 0.01, 0.02);
   spec.tools.push_back(softcut::test::spring_grasper(1.0, 0.011, tools::Path::polyline({0.0, 0.1}, {p, p + V(0, 0, 3e-3)})));  // stiffness set per test
   return spec;
@@ -106,28 +107,30 @@ double displacement_error(const sim::Model& m, const sim::State& s, const Monoli
 
 // Delegates to a real solver but reports a system generation the test sets,
 // standing in for cutting (which rebuilds the operational system).
-class GenerationProbe final : public sim::Solver {
+class GenerationProbe final : public backend::Solver {
  public:
-  explicit GenerationProbe(std::unique_ptr<const sim::Solver> inner) : inner_(std::move(inner)) {}
+  explicit GenerationProbe(std::unique_ptr<const backend::Solver> inner) : inner_(std::move(inner)) {}
   long generation = 0;
   std::string name() const override { return inner_->name(); }
-  void solve(const Eigen::MatrixX3d& f, Eigen::MatrixX3d& u, sim::SolverRun& w, sim::SolveStats& st) const override {
+  void solve(const Eigen::MatrixX3d& f, Eigen::MatrixX3d& u, backend::SolverRun& w, backend::SolveStats& st) const override {
     inner_->solve(f, u, w, st);
   }
   bool interior_valid() const override { return inner_->interior_valid(); }
   std::vector<std::pair<std::string, double>> precompute_ms() const override { return inner_->precompute_ms(); }
-  const sim::BackendChoice& backend() const override { return inner_->backend(); }
-  void unit_responses(const std::vector<int>& nodes, sim::SolverRun& w, Eigen::MatrixXd& out) const override {
+  const backend::BackendChoice& backend() const override { return inner_->backend(); }
+  void unit_responses(const std::vector<int>& nodes, backend::SolverRun& w, Eigen::MatrixXd& out) const override {
     inner_->unit_responses(nodes, w, out);
   }
-  void start_run(sim::SolverRun& w, const sim::CutMesh* cut) const override { inner_->start_run(w, cut); }
-  long system_generation(const sim::SolverRun&) const override { return generation; }
-  void apply_cut(const sim::CutMesh& cm, const softcut::cut::CutRecord& rec, sim::SolverRun& w) const override {
-    inner_->apply_cut(cm, rec, w);
+  void start_run(backend::SolverRun& w, const backend::CutBody* cut) const override {
+    inner_->start_run(w, cut);
+  }
+  long system_generation(const backend::SolverRun&) const override { return generation; }
+  void apply_cut(const backend::CutBody& cut, backend::SolverRun& w) const override {
+    inner_->apply_cut(cut, w);
   }
 
  private:
-  std::unique_ptr<const sim::Solver> inner_;
+  std::unique_ptr<const backend::Solver> inner_;
 };
 
 }  // namespace
@@ -248,7 +251,7 @@ TEST_SUITE("sim/step") {
       mat.poisson = 0.45;
       spec.materials.push_back(mat);
       spec.fixed = sim::NodeSelector::box(V(-1, -1, -1), V(1, 1, 0));
-      spec.solver.backend = sim::parse_backend("monolithic");
+      spec.solver.backend = backend::parse_backend("monolithic");
       spec.timeline.duration = 0.1;
       spec.timeline.fps = 10.0;
       spec.outputs.dir = softcut::test::scratch_dir("sim_springs_patch");
@@ -294,7 +297,7 @@ TEST_SUITE("sim/step") {
     spec.mesh.generator = "box";
     spec.mesh.options = {{"max.x", 0.04}, {"max.y", 0.04}, {"max.z", 0.01}, {"nx", 24}, {"ny", 24}, {"nz", 2}};
     spec.fixed = sim::NodeSelector::box(V(-1, -1, -1), V(1, 1, 0));
-    spec.solver.backend = sim::parse_backend("monolithic");
+    spec.solver.backend = backend::parse_backend("monolithic");
     spec.outputs.dir = softcut::test::scratch_dir("sim_springs_huge");
     // Its jaw radius covers the whole top face: 625 nodes.
     spec.tools.push_back(softcut::test::spring_grasper(10.0, 0.05, tools::Path::fixed_at(V(0.02, 0.02, 0.01))));

@@ -1,4 +1,4 @@
-#include "sim/solver.hpp"
+#include "backend/solver.hpp"
 
 #include <doctest/doctest.h>
 
@@ -6,12 +6,13 @@
 
 #include "core/error.hpp"
 #include "core/timer.hpp"
-#include "fixtures.hpp"
+#include "sim/fixtures.hpp"
 #include "gpu/egl_context.hpp"
 #include "sim/step.hpp"
 #include "test_support.hpp"
 
 using V = Eigen::Vector3d;
+namespace backend = softcut::backend;
 namespace sim = softcut::sim;
 namespace tools = softcut::tools;
 using softcut::Error;
@@ -27,7 +28,7 @@ softcut::gpu::EglContext& context() {
 // The cantilever with a grasper pulling its top middle up over the frames.
 sim::ScenarioSpec gpu_spec(const std::string& backend) {
   auto spec = softcut::test::cantilever_spec(softcut::test::scratch_dir("sim_solver_" + backend), 0.4, 0.02);
-  spec.solver.backend = sim::parse_backend(backend);
+  spec.solver.backend = backend::parse_backend(backend);
   spec.solver.cg_tolerance = 1e-10;
   const V p(0.07, 0.01, 0.02);
   spec.tools.push_back(softcut::test::spring_grasper(20.0, 0.011, tools::Path::polyline({0.0, 0.4}, {p, p + V(0, 0.002, 0.004)})));
@@ -42,13 +43,13 @@ std::pair<sim::Model, sim::Model> loaded_cpu_and_gpu_models() {
   spec.loads[0].magnitude = tools::Ramp::linear_ramp(0.01, 0.02, 0.0, 1.0);  // nonzero from frame 0
   spec.timeline.duration = 0.1;                                              // 2 frames
   sim::Model cpu = sim::compile(spec);
-  spec.solver.backend = sim::Backend::gpu;
-  return {std::move(cpu), sim::compile(spec, sim::RunResources{&context()})};
+  spec.solver.backend = backend::Backend::gpu;
+  return {std::move(cpu), sim::compile(spec, backend::RunResources{&context()})};
 }
 
 }  // namespace
 
-TEST_SUITE("sim/solver") {
+TEST_SUITE("backend/solver") {
   TEST_CASE("unit responses of operational nodes come in one batch equal to whole updates and to the monolithic solve") {
     // Nodes of the operational box (x in [0.04, 0.06]) and one on the
     // nonoperational surface: with the surface node the hybrid solver takes
@@ -61,7 +62,7 @@ TEST_SUITE("sim/solver") {
         spec.solver.storage = softcut::hybrid::parse_storage(storage);
         spec.outputs.vtu = vtu;
         const sim::Model m = sim::compile(spec);
-        spec.solver.backend = sim::Backend::monolithic;
+        spec.solver.backend = backend::Backend::monolithic;
         const sim::Model mono = sim::compile(spec);
         std::vector<int> op, all;
         for (int n = 0; n < m.mesh.num_nodes(); ++n) {
@@ -73,7 +74,7 @@ TEST_SUITE("sim/solver") {
         REQUIRE_FALSE(m.partition.surface.empty());
         all = op;
         all.push_back(m.partition.surface.front());
-        sim::SolverRun run, run_all, run_mono;
+        backend::SolverRun run, run_all, run_mono;
         m.solver->start_run(run, nullptr);
         m.solver->start_run(run_all, nullptr);
         mono.solver->start_run(run_mono, nullptr);
@@ -96,26 +97,26 @@ TEST_SUITE("sim/solver") {
   }
 
   TEST_CASE("a solve whose residual is not small is an error, never a result") {
-    CHECK_NOTHROW(sim::check_solve_residual(0.0, "x"));
-    CHECK_NOTHROW(sim::check_solve_residual(sim::kMaxRelativeResidual, "x"));
-    CHECK_THROWS_WITH_AS(sim::check_solve_residual(1e-6, "operational solve"),
+    CHECK_NOTHROW(backend::check_solve_residual(0.0, "x"));
+    CHECK_NOTHROW(backend::check_solve_residual(backend::kMaxRelativeResidual, "x"));
+    CHECK_THROWS_WITH_AS(backend::check_solve_residual(1e-6, "operational solve"),
                          doctest::Contains("operational solve: the relative residual of the solve is 1e-06"), Error);
-    CHECK_THROWS_AS(sim::check_solve_residual(std::nan(""), "x"), Error);
-    CHECK_THROWS_AS(sim::check_solve_residual(INFINITY, "x"), Error);
+    CHECK_THROWS_AS(backend::check_solve_residual(std::nan(""), "x"), Error);
+    CHECK_THROWS_AS(backend::check_solve_residual(INFINITY, "x"), Error);
   }
 
   TEST_CASE("backend choice without a context: auto gives the CPU's CHOLMOD and gpu is an error naming the fix") {
-    sim::SolverSpec s;
-    s.backend = sim::Backend::automatic;
-    const sim::BackendChoice a = sim::choose_backend(s, nullptr);
-    CHECK(a.backend == sim::Backend::direct);
-    CHECK(a.requested == sim::Backend::automatic);
+    backend::SolverSpec s;
+    s.backend = backend::Backend::automatic;
+    const backend::BackendChoice a = backend::choose_backend(s, nullptr);
+    CHECK(a.backend == backend::Backend::direct);
+    CHECK(a.requested == backend::Backend::automatic);
     CHECK(a.reason.find("CHOLMOD") != std::string::npos);
-    s.backend = sim::Backend::gpu;
-    CHECK_THROWS_WITH_AS(sim::choose_backend(s, nullptr), doctest::Contains("--backend cpu"), Error);
-    for (sim::Backend b : {sim::Backend::cpu, sim::Backend::direct, sim::Backend::monolithic}) {
+    s.backend = backend::Backend::gpu;
+    CHECK_THROWS_WITH_AS(backend::choose_backend(s, nullptr), doctest::Contains("--backend cpu"), Error);
+    for (backend::Backend b : {backend::Backend::cpu, backend::Backend::direct, backend::Backend::monolithic}) {
       s.backend = b;
-      CHECK(sim::choose_backend(s, nullptr).backend == b);
+      CHECK(backend::choose_backend(s, nullptr).backend == b);
     }
     auto spec = gpu_spec("gpu");
     CHECK_THROWS_WITH_AS(sim::compile(spec), doctest::Contains("backend 'gpu' needs an OpenGL context"), Error);
@@ -123,13 +124,13 @@ TEST_SUITE("sim/solver") {
 
   TEST_CASE("auto never picks llvmpipe: it stays on the CPU's CHOLMOD until GPU CG is measured faster, and says why") {
     const softcut::gpu::ContextInfo& info = context().info();
-    sim::SolverSpec s;
-    s.backend = sim::Backend::automatic;
-    const sim::BackendChoice c = sim::choose_backend(s, &context());
-    CHECK(c.backend == sim::Backend::direct);
+    backend::SolverSpec s;
+    s.backend = backend::Backend::automatic;
+    const backend::BackendChoice c = backend::choose_backend(s, &context());
+    CHECK(c.backend == backend::Backend::direct);
     CHECK(c.device.find(info.renderer) == 0);
     CHECK(c.reason.find("CHOLMOD") != std::string::npos);
-    const sim::Model m = sim::compile(gpu_spec("auto"), sim::RunResources{&context()});
+    const sim::Model m = sim::compile(gpu_spec("auto"), backend::RunResources{&context()});
     CHECK(m.solver->backend().backend == c.backend);
   }
 
@@ -141,7 +142,7 @@ TEST_SUITE("sim/solver") {
       return;
     }
     const auto [cpu, gpu] = loaded_cpu_and_gpu_models();
-    CHECK(gpu.solver->backend().backend == sim::Backend::gpu);
+    CHECK(gpu.solver->backend().backend == backend::Backend::gpu);
     CHECK(!gpu.solver->backend().gpu_fp64);
     CHECK(gpu.solver->name().find("gpu cg, fp32") != std::string::npos);
     sim::State a = sim::make_state(cpu), b = sim::make_state(gpu);
@@ -191,11 +192,11 @@ TEST_SUITE("sim/solver") {
     spec.timeline.duration = 0.1;  // 2 frames
     spec.loads[0].magnitude = tools::Ramp::linear_ramp(0.01, 0.02, 0.0, 1.0);  // the spring resists from frame 0
     const sim::Model cpu = sim::compile(spec);
-    spec.solver.backend = sim::Backend::gpu;
+    spec.solver.backend = backend::Backend::gpu;
     spec.solver.gpu_fp64 = true;
     sim::Model gpu = [&] {
       try {
-        return sim::compile(spec, sim::RunResources{&context()});
+        return sim::compile(spec, backend::RunResources{&context()});
       } catch (const Error& e) {
         return sim::Model{};  // a device without fp64 kernels: said below
       }

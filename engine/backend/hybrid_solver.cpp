@@ -1,100 +1,21 @@
-#include "sim/solver.hpp"
+#include "backend/hybrid_solver.hpp"
 
 #include <algorithm>
-#include <vector>
+#include <span>
 
 #include "core/timer.hpp"
-#include "fem/assembly.hpp"
 #include "fem/dof_map.hpp"
-#include "fem/whole_mesh.hpp"
-#include "gpu/egl_context.hpp"
 #include "gpu/dense_product.hpp"
+#include "gpu/egl_context.hpp"
 #include "gpu/operational_gpu_solver.hpp"
 #include "hybrid/loads.hpp"
 #include "hybrid/precompute.hpp"
-#include "hybrid/precompute_cache.hpp"
 #include "hybrid/update.hpp"
-#include "sim/scenario_spec.hpp"
 #include "solve/cholesky.hpp"
-#include "cut/cutter.hpp"
-#include "sim/cutting.hpp"
 
-namespace softcut::sim {
+namespace softcut::backend {
 
 namespace {
-
-// Whole-mesh reference (fem/whole_mesh.hpp): one CHOLMOD factor at compile
-// time (and one per cut, kept in the run state), one solve per frame.
-struct MonolithicSystem {
-  fem::WholeMeshSolver solver;
-  long generation = 0;
-
-  MonolithicSystem(const mesh::TetMesh& m, const std::vector<fem::Material>& tet_material,
-                   const std::vector<char>& node_fixed, long gen, double max_bytes)
-      : solver(m, tet_material, node_fixed, "whole-mesh stiffness (is every part of the body fixed somewhere?)",
-               max_bytes),
-        generation(gen) {}
-};
-
-struct MonolithicRunState final : SolverRunState {
-  std::shared_ptr<const MonolithicSystem> cut;  // system of the cut mesh, null before the first cut
-};
-
-class MonolithicSolver final : public Solver {
- public:
-  MonolithicSolver(const mesh::TetMesh& m, const std::vector<fem::Material>& tet_material,
-                   const hybrid::Partition& p, BackendChoice choice, double max_bytes)
-      : choice_(std::move(choice)), max_bytes_(max_bytes) {
-    std::vector<char> fixed(size_t(m.num_nodes()), 0);
-    for (int n : p.fixed) fixed[size_t(n)] = 1;
-    rest_ = std::make_shared<const MonolithicSystem>(m, tet_material, fixed, 0, max_bytes_);
-    timings_ = {{"assemble", rest_->solver.system().assemble_ms()}, {"factor", rest_->solver.factor_ms()}};
-  }
-
-  std::string name() const override { return "monolithic (whole-mesh CHOLMOD)"; }
-  bool interior_valid() const override { return true; }
-  std::vector<std::pair<std::string, double>> precompute_ms() const override { return timings_; }
-  const BackendChoice& backend() const override { return choice_; }
-  long system_generation(const SolverRun& warm) const override { return system(warm).generation; }
-
-  void start_run(SolverRun& warm, const CutMesh* cut) const override {
-    auto rs = std::make_unique<MonolithicRunState>();
-    if (cut)
-      rs->cut = std::make_shared<const MonolithicSystem>(cut->mesh, cut->tet_material, cut->node_fixed, 1, max_bytes_);
-    warm.backend = std::move(rs);
-  }
-
-  void apply_cut(const CutMesh& cm, const cut::CutRecord&, SolverRun& warm) const override {
-    if (!dynamic_cast<MonolithicRunState*>(warm.backend.get())) start_run(warm, nullptr);
-    auto& rs = static_cast<MonolithicRunState&>(*warm.backend);
-    const long gen = system(warm).generation + 1;
-    rs.cut = std::make_shared<const MonolithicSystem>(cm.mesh, cm.tet_material, cm.node_fixed, gen, max_bytes_);
-  }
-
-  void unit_responses(const std::vector<int>& nodes, SolverRun& warm, Eigen::MatrixXd& out) const override {
-    out = system(warm).solver.unit_responses(nodes);
-  }
-
-  void solve(const Eigen::MatrixX3d& forces, Eigen::MatrixX3d& u, SolverRun& warm,
-             SolveStats& stats) const override {
-    Timer t;
-    stats = SolveStats{};
-    u = system(warm).solver.solve(forces, &stats.relative_residual);
-    check_solve_residual(stats.relative_residual, "whole-mesh solve");
-    stats.operational_ms = t.ms();
-  }
-
- private:
-  const MonolithicSystem& system(const SolverRun& warm) const {
-    const auto* rs = dynamic_cast<const MonolithicRunState*>(warm.backend.get());
-    return rs && rs->cut ? *rs->cut : *rest_;
-  }
-
-  BackendChoice choice_;
-  double max_bytes_;  // the factor's bound (SolverSpec::max_bytes)
-  std::shared_ptr<const MonolithicSystem> rest_;
-  std::vector<std::pair<std::string, double>> timings_;
-};
 
 struct HybridRunState final : SolverRunState {
   hybrid::State state;  // its solver: CHOLMOD, CG, or the device CG with this run's buffers
@@ -149,7 +70,7 @@ class HybridSolver final : public Solver {
     hybrid::prefetch_columns(model_, run_state(warm).state, nodes);
   }
 
-  void start_run(SolverRun& warm, const CutMesh* cut) const override {
+  void start_run(SolverRun& warm, const CutBody* cut) const override {
     auto rs = std::make_unique<HybridRunState>();
     rs->state = hybrid::make_state(model_, make_operational_solver());
     if (device_product_)
@@ -163,12 +84,12 @@ class HybridSolver final : public Solver {
     return rs ? rs->state.operational->generation : model_.operational->generation;
   }
 
-  void apply_cut(const CutMesh& cm, const cut::CutRecord& rec, SolverRun& warm) const override {
+  void apply_cut(const CutBody& cm, SolverRun& warm) const override {
     HybridRunState& rs = run_state(warm);
     hybrid::set_operational_system(rs.state, cut_system(cm));
     // Warm start and running state onto the new nodes (the next update
     // gathers the CG start from u because the system generation changed).
-    if (rs.state.u.rows() == rec.nodes_before) rs.state.u = cut::map_node_field(rec, rs.state.u);
+    if (cm.carry && rs.state.u.rows() == cm.nodes_before) rs.state.u = cm.carry(rs.state.u);
     const Eigen::Index old = rs.state.forces.rows(), nn = cm.mesh.num_nodes();
     if (old < nn) {
       rs.state.forces.conservativeResize(nn, 3);
@@ -292,7 +213,7 @@ class HybridSolver final : public Solver {
     return static_cast<HybridRunState&>(*warm.backend);
   }
 
-  std::shared_ptr<const hybrid::OperationalSystem> cut_system(const CutMesh& cm) const {
+  std::shared_ptr<const hybrid::OperationalSystem> cut_system(const CutBody& cm) const {
     std::vector<int> op;
     for (int t = 0; t < cm.mesh.num_tets(); ++t)
       if (cm.operational_tet[size_t(t)]) op.push_back(t);
@@ -332,64 +253,10 @@ class HybridSolver final : public Solver {
 
 }  // namespace
 
-void check_solve_residual(double r, const char* what) {
-  if (!(r <= kMaxRelativeResidual))
-    fail(what, ": the relative residual of the solve is ", r, " (more than ", kMaxRelativeResidual,
-         "): the system is singular or nearly so; is a part of the body held only by a node or an edge?");
+std::unique_ptr<Solver> make_hybrid_solver(const mesh::TetMesh& m, const std::vector<fem::Material>& tet_material,
+                                           const hybrid::Partition& partition, const SolverSpec& spec,
+                                           bool need_interior, BackendChoice choice, gpu::EglContext* context) {
+  return std::make_unique<HybridSolver>(m, tet_material, partition, spec, need_interior, std::move(choice), context);
 }
 
-BackendChoice choose_backend(const SolverSpec& spec, const gpu::EglContext* context) {
-  BackendChoice c;
-  c.requested = spec.backend;
-  if (context) {
-    const gpu::ContextInfo& info = context->info();
-    c.device = info.renderer + (info.software ? ", software" : "");
-  }
-  switch (spec.backend) {
-    case Backend::cpu:
-    case Backend::direct:
-    case Backend::monolithic:
-      c.backend = spec.backend;
-      c.reason = "requested";
-      break;
-    case Backend::gpu:
-      if (!context)
-        fail("solver: backend 'gpu' needs an OpenGL context, and none was created (the CLI makes one for --backend "
-             "gpu; check the EGL error above, or use --backend cpu)");
-      if (!context->info().compute)
-        fail("solver: backend 'gpu': the OpenGL context (", context->info().summary(),
-             ") has no compute shaders (OpenGL 4.3 needed); use --backend cpu");
-      c.backend = Backend::gpu;
-      c.reason = context->info().software ? "requested (on a software rasteriser: correct but slower than cpu)"
-                                          : "requested";
-      break;
-    case Backend::automatic:
-      // Measured (bench hybrid, docs/bench-hybrid.md): the kept CHOLMOD factor
-      // of the operational system beats block-Jacobi CG (100-300 iterations)
-      // at every size. GPU CG has not been measured against it on a hardware
-      // GPU yet, so auto stays on the CPU there too; llvmpipe is never chosen.
-      c.backend = Backend::direct;
-      c.reason = context && !context->info().software && context->info().compute
-                     ? "auto: CHOLMOD on the operational system (kept factor); GPU CG is not yet measured faster on "
-                       "this machine"
-                     : "auto: CHOLMOD on the operational system (kept factor), the fastest exact solver on a CPU";
-      break;
-  }
-  c.gpu_fp64 = c.backend == Backend::gpu && spec.gpu_fp64;
-  return c;
-}
-
-std::unique_ptr<Solver> make_solver(const mesh::TetMesh& m, const std::vector<fem::Material>& tet_material,
-                                    const hybrid::Partition& partition, const SolverSpec& spec, bool need_interior,
-                                    const RunResources& resources, Diagnostics& diag) {
-  BackendChoice choice = choose_backend(spec, resources.context);
-  if (spec.gpu_fp64 && choice.backend != Backend::gpu)
-    diag.warn("solver: gpu_fp64 ignored: the operational backend is ", to_string(choice.backend), " (", choice.reason,
-              ")");
-  if (choice.backend == Backend::monolithic)
-    return std::make_unique<MonolithicSolver>(m, tet_material, partition, std::move(choice), spec.max_bytes);
-  return std::make_unique<HybridSolver>(m, tet_material, partition, spec, need_interior, std::move(choice),
-                                        resources.context);
-}
-
-}  // namespace softcut::sim
+}  // namespace softcut::backend

@@ -1,16 +1,19 @@
 #pragma once
-// The ONE place where the elastic solve is chosen: make_solver() returns the
-// hybrid backend (hybrid::precompute once, hybrid::update per frame) with the
-// operational backend named by SolverSpec::backend (cpu CG, gpu compute-shader
-// CG, direct CHOLMOD), or the whole-mesh CHOLMOD reference ("monolithic").
-// Nothing else in engine/sim knows which.
+// The elastic solve of a run, and the ONE place where it is chosen:
+// make_solver() returns the hybrid backend (hybrid::precompute once,
+// hybrid::update per frame; backend/hybrid_solver) with the operational
+// backend named by SolverSpec::backend (cpu CG, gpu compute-shader CG, direct
+// CHOLMOD), or the whole-mesh CHOLMOD reference ("monolithic";
+// backend/monolithic_solver). Nothing after this stage knows which.
 #include <Eigen/Core>
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "backend/spec.hpp"
 #include "core/error.hpp"
 #include "fem/material.hpp"
 #include "hybrid/columns.hpp"
@@ -22,16 +25,7 @@ namespace softcut::gpu {
 class EglContext;
 }
 
-namespace softcut::cut {
-struct CutMesh;
-struct CutRecord;
-}
-
-namespace softcut::sim {
-
-struct SolverSpec;
-using cut::CutMesh;
-enum class Backend;
+namespace softcut::backend {
 
 // What the application lends a run. The library never creates an OpenGL
 // context: the CLI makes one (for rendering or the GPU backend) and passes it
@@ -82,6 +76,19 @@ struct SolveStats {
   double nonoperational_ms = 0;   // stages 3 + 5
 };
 
+// The body a cut left, as a solver rebuilds its system from it: the fields of
+// cut::CutMesh (a later stage). `carry` maps a nodal field of the body before
+// the cut step (nodes_before rows) onto this body (the warm start); it is
+// empty when a run starts on a cut body (State's explicit copy).
+struct CutBody {
+  const mesh::TetMesh& mesh;
+  const std::vector<fem::Material>& tet_material;  // ntet
+  const std::vector<char>& operational_tet;        // ntet: 1 in the operational region
+  const std::vector<char>& node_fixed;             // nnode: 1 where the solve does not solve for the node
+  int nodes_before = -1;
+  std::function<Eigen::MatrixX3d(const Eigen::MatrixX3d&)> carry;
+};
+
 class Solver {
  public:
   virtual ~Solver() = default;
@@ -96,8 +103,8 @@ class Solver {
   virtual const BackendChoice& backend() const = 0;
   // A new run's solver data (on the device for backend gpu: its buffers,
   // sharing the kernels compiled with the Model). When `cut` is given the run
-  // starts on that cut mesh's system (State's explicit copy).
-  virtual void start_run(SolverRun& warm, const CutMesh* cut) const = 0;
+  // starts on that cut body's system (State's explicit copy).
+  virtual void start_run(SolverRun& warm, const CutBody* cut) const = 0;
   // Hint: these nodes will be loaded (scripted tool paths); the hybrid
   // backends compute their columns on a worker thread (hybrid/columns.hpp).
   virtual void prefetch(const std::vector<int>& nodes, SolverRun& warm) const {
@@ -121,10 +128,10 @@ class Solver {
   // Identifies the system solve() uses now (changes when cutting rebuilds
   // the operational system); caches of unit_responses() are keyed by it.
   virtual long system_generation(const SolverRun& warm) const = 0;
-  // After a cut step changed the mesh to `cm` (rec: the change): rebuilds the
-  // run's system (hybrid: only the operational one, K' and the rest stay),
-  // maps the warm start onto the new nodes, bumps system_generation().
-  virtual void apply_cut(const CutMesh& cm, const cut::CutRecord& rec, SolverRun& warm) const = 0;
+  // After a cut step changed the body to `cut`: rebuilds the run's system
+  // (hybrid: only the operational one, K' and the rest stay), carries the
+  // warm start onto the new nodes, bumps system_generation().
+  virtual void apply_cut(const CutBody& cut, SolverRun& warm) const = 0;
 };
 
 // tet_material (ntet). need_interior: interior nonoperational rows of u are
@@ -135,4 +142,4 @@ std::unique_ptr<Solver> make_solver(const mesh::TetMesh& m, const std::vector<fe
                                     const hybrid::Partition& partition, const SolverSpec& spec, bool need_interior,
                                     const RunResources& resources, Diagnostics& diag);
 
-}  // namespace softcut::sim
+}  // namespace softcut::backend
