@@ -107,7 +107,13 @@ class HybridSolver final : public Solver {
       return;
     }
     // A nonoperational surface node among them: each column through a whole update.
-    if (!rs.unit) rs.unit = std::make_unique<hybrid::State>(hybrid::make_state(model_));
+    if (!rs.unit) {
+      // The run's solver (and its helper thread) does stage 4; the scratch
+      // state's stage 5 stays on this thread: one helper thread per run.
+      hybrid::StateOptions one;
+      one.product_threads = 1;
+      rs.unit = std::make_unique<hybrid::State>(hybrid::make_state(model_, nullptr, one));
+    }
     hybrid::State& scratch = *rs.unit;
     if (scratch.operational != rs.state.operational) hybrid::set_operational_system(scratch, rs.state.operational);
     hybrid::UpdateOptions opt;

@@ -6,7 +6,10 @@
 #include <Eigen/Core>
 #include <memory>
 #include <string>
+#include <utility>
+#include <vector>
 
+#include "core/helper_thread.hpp"
 #include "hybrid/operational_system.hpp"
 #include "solve/cg.hpp"
 #include "solve/cholesky.hpp"
@@ -29,6 +32,9 @@ class OperationalSolver {
   virtual ~OperationalSolver() = default;
   virtual std::string name() const = 0;
   virtual SolveReport solve(const OperationalSystem& sys, const Eigen::VectorXd& b, Eigen::VectorXd& x) = 0;
+  // The run's second thread for dense products (hybrid::State::helper);
+  // solvers without such products ignore it.
+  virtual void share_helper(std::shared_ptr<HelperThread> helper) { (void)helper; }
 };
 
 // Preconditioned CG, warm-started. Preconditioners:
@@ -86,9 +92,11 @@ class CholmodSolver : public OperationalSolver {
   long refactors() const { return refactors_; }      // factors made (the first included)
   long adopted() const { return adopted_; }          // of those, made on the second thread
   long fallbacks() const { return fallbacks_; }      // corrected solves whose residual needed a refactor
+  void share_helper(std::shared_ptr<HelperThread> helper) override { helper_ = std::move(helper); }
+  static constexpr int kDenseMax = 500;  // unknowns: up to here a dense LL' is used
 
  private:
-  static constexpr int kDenseMax = 500;  // unknowns: up to here a dense LL' is used
+  void dense_product(const Eigen::VectorXd& b, Eigen::VectorXd& x);
   static constexpr int kAdoptAfterSolves = 8;
   struct Refactor;  // a factor being made on a second thread
   void refactor(const OperationalSystem& sys);
@@ -107,7 +115,9 @@ class CholmodSolver : public OperationalSolver {
   int solves_since_launch_ = 0;
   long refactors_ = 0, adopted_ = 0, fallbacks_ = 0;
   std::unique_ptr<Eigen::LLT<Eigen::MatrixXd>> dense_;  // systems of up to kDenseMax unknowns
-  Eigen::MatrixXd dense_inverse_;                        // their inverse (lower triangle read)
+  Eigen::MatrixXd dense_inverse_;                        // their inverse (n x n, both triangles)
+  std::vector<std::pair<Eigen::Index, Eigen::Index>> runs_;  // nonzero runs of b: (start, length)
+  std::shared_ptr<HelperThread> helper_;                 // the run's second thread, or null
   solve::SolveWorkspace ws_;  // CHOLMOD's solve buffers, kept between frames
   Eigen::VectorXd r_;  // residual scratch
   long generation_ = -1;

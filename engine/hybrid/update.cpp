@@ -1,7 +1,6 @@
 #include "hybrid/update.hpp"
 
 #include <algorithm>
-#include <thread>
 
 #include "core/error.hpp"
 #include "core/threads.hpp"
@@ -26,18 +25,26 @@ void scatter_interior(const Model& M, const Eigen::VectorXd& w, State& S) {
     S.u.row(interior[k]) = w.segment<3>(off + 3 * Eigen::Index(k)).transpose();
 }
 
-// out = A x over row blocks on `threads` threads (A column-major: each thread
-// streams its rows of every column; the product is bandwidth-bound).
-void product_rows(const Eigen::MatrixXd& A, const Eigen::VectorXd& x, Eigen::VectorXd& out, int threads) {
+// out = A x in two fixed row halves (A column-major: each half streams its
+// rows of every column; the product is bandwidth-bound), the second on the
+// helper thread when there is one. Same halves either way: same bits.
+void product_rows(const Eigen::MatrixXd& A, const Eigen::VectorXd& x, Eigen::VectorXd& out, HelperThread* helper) {
   out.resize(A.rows());
-  if (threads <= 1 || A.rows() < 64) {
+  const Eigen::Index h = (A.rows() / 2 + 7) / 8 * 8;  // aligned halves
+  if (A.rows() < 64) {
     out.noalias() = A * x;
     return;
   }
-  const Eigen::Index h = (A.rows() / 2 + 7) / 8 * 8;  // aligned halves
-  std::thread other([&] { out.tail(A.rows() - h).noalias() = A.bottomRows(A.rows() - h) * x; });
-  out.head(h).noalias() = A.topRows(h) * x;
-  other.join();
+  const auto half = [&](int k) {
+    if (k == 0) out.head(h).noalias() = A.topRows(h) * x;
+    else out.tail(A.rows() - h).noalias() = A.bottomRows(A.rows() - h) * x;
+  };
+  if (helper) {
+    helper->run_halves(half);
+  } else {
+    half(0);
+    half(1);
+  }
 }
 
 }  // namespace
@@ -54,12 +61,18 @@ State make_state(const Model& M, std::unique_ptr<OperationalSolver> solver, cons
   S.slot.assign(size_t(M.ns()), -1);
   if (M.storage != Storage::dense && M.ns() > 0)
     S.columns = std::make_unique<ColumnCache>(M, opt.column_cache_bytes);
-  // Two threads pay for the dense product once it is far larger than the
-  // caches (measured: 3.7 -> 2.6 ms for 11k x 1.5k on 2 cores); below that
-  // the thread start costs more than it saves.
-  S.product_threads = opt.product_threads > 0 ? opt.product_threads
-                      : double(M.Kstar_inv_Pstar.size()) >= 4e6 ? std::min(2, thread_policy().threads)
-                                                                : 1;
+  // A second thread pays for the frame's dense products once they are past
+  // the caches' fastest level (kHelperMinEntries); it needs an idle core.
+  const double n_op = M.operational ? M.operational->size() : 0;
+  const double dense_entries =
+      double(M.Kstar_inv_Pstar.size()) + (n_op <= CholmodSolver::kDenseMax ? n_op * n_op : 0.0);
+  const int threads = opt.product_threads > 0 ? opt.product_threads
+                      : dense_entries >= kHelperMinEntries ? std::min(2, thread_policy().threads)
+                                                           : 1;
+  if (threads >= 2) {
+    S.helper = std::make_shared<HelperThread>();
+    S.solver->share_helper(S.helper);
+  }
   return S;
 }
 
@@ -84,6 +97,7 @@ const FrameReport& update(const Model& M, State& S, std::span<const Load> loads,
                           const UpdateOptions& opt) {
   Timer total, t;
   FrameReport rep;
+  if (S.helper) S.helper->wake();  // spinning by the time stages 4 and 5 come
   const OperationalSystem& op = *S.operational;
   const int nn_op = int(op.node_index.size());
   if (S.u.rows() < nn_op) {  // nodes appended by cutting
@@ -199,7 +213,7 @@ const FrameReport& update(const Model& M, State& S, std::span<const Load> loads,
       As += prod;
     } else if (ni3 > 0) {
       Eigen::VectorXd prod;
-      product_rows(M.Kstar_inv_Pstar, AI, prod, S.product_threads);
+      product_rows(M.Kstar_inv_Pstar, AI, prod, S.helper.get());
       As += prod;
     }
     scatter_nodes(As, M.partition.surface, S.u);

@@ -9,6 +9,8 @@
 #include "core/error.hpp"
 #include "fixtures.hpp"
 #include "fem/whole_mesh.hpp"
+#include "mesh/generate/presets.hpp"
+#include "mesh/generate/tube.hpp"
 
 using namespace softcut;
 using namespace softcut::hybrid;
@@ -374,5 +376,50 @@ TEST_SUITE("hybrid/update") {
     CHECK(state.loaded_surface.size() == 1);
     update(model, state, good);  // still consistent after the refusals
     CHECK((state.u - before).cwiseAbs().maxCoeff() <= 1e-12 * before.cwiseAbs().maxCoeff());
+  }
+
+  TEST_CASE("a second thread for the dense products changes no bit of a frame") {
+    // The upper leg of the paper (its stage 5 block, 837 x 153, and its
+    // 321-unknown operational inverse are split in halves): one state with
+    // the helper thread, one without, the same 30 frames of loads on
+    // operational, interface and surface nodes; u must be identical, and
+    // equal to the monolithic solve.
+    const mesh::TubeOptions o = mesh::upper_leg_preset();
+    const mesh::TetMesh m = mesh::generate_tube(o);
+    const std::vector<int> fixed = mesh::tube_hole_nodes(m, o);
+    const Eigen::Vector3d c = o.base_center + Eigen::Vector3d(o.outer_radius, 0, 0.5 * o.length);
+    const Partition p = make_partition(m, tets_in_sphere(m, c, 0.3 * o.outer_radius), fixed);
+    REQUIRE(p.interface.size() > 20);
+    const std::vector<fem::Material> mat(size_t(m.num_tets()), fem::Material{3e3, 0.45});
+    const Model M = precompute(m, mat, p, {});
+    REQUIRE(M.has_Kstar_inv_Pstar());
+    StateOptions one, two;
+    one.product_threads = 1;
+    two.product_threads = 2;
+    State a = make_state(M, std::make_unique<CholmodSolver>(), one);
+    State b = make_state(M, std::make_unique<CholmodSolver>(), two);
+    CHECK(!a.helper);
+    REQUIRE(b.helper);
+    std::vector<Load> loads;
+    for (int f = 0; f < 30; ++f) {
+      loads = {{p.surface[size_t(f) % p.surface.size()], Eigen::Vector3d(0.01, 0.002 * f, 0)},
+               {p.interface[0], Eigen::Vector3d(0, 0, -0.005)}};
+      if (f % 2) loads.push_back({p.operational[0], Eigen::Vector3d(0, 0.003, 0)});
+      update(M, a, loads);
+      update(M, b, loads);
+      REQUIRE((a.u.array() == b.u.array()).all());
+    }
+    const auto* direct = dynamic_cast<const CholmodSolver*>(b.solver.get());
+    REQUIRE(direct);
+    CHECK(direct->uses_dense());
+    CHECK(M.operational->size() >= 64);
+    Eigen::MatrixX3d F = Eigen::MatrixX3d::Zero(m.num_nodes(), 3);
+    for (const Load& l : loads) F.row(l.node) += l.force.transpose();
+    std::vector<char> fixed_mask(size_t(m.num_nodes()), 0);
+    for (int v : fixed) fixed_mask[size_t(v)] = 1;
+    const Eigen::MatrixX3d mono = fem::solve_whole_mesh(m, mat, fixed_mask, F);
+    double err = 0;
+    for (int v : visible_nodes(p)) err = std::max(err, (b.u.row(v) - mono.row(v)).norm());
+    CHECK(err <= 1e-8 * mono.rowwise().norm().maxCoeff());
   }
 }

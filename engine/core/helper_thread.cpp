@@ -1,0 +1,98 @@
+#include "core/helper_thread.hpp"
+
+#include <chrono>
+
+#if defined(__x86_64__) || defined(__i386__)
+#include <immintrin.h>
+#define SOFTCUT_PAUSE() _mm_pause()
+#else
+#define SOFTCUT_PAUSE() std::this_thread::yield()
+#endif
+
+namespace softcut {
+
+namespace {
+constexpr uint64_t kHalves = 2;
+constexpr uint64_t kIdUnit = uint64_t(1) << 32;
+uint64_t next_id(uint64_t job) { return ((job >> 32) + 1) << 32; }
+}  // namespace
+
+HelperThread::HelperThread() : thread_([this] { loop(); }) {}
+
+HelperThread::~HelperThread() {
+  stop_.store(true);
+  job_.store(next_id(job_.load()) | kHalves);  // a job with nothing to claim
+  job_.notify_one();
+  thread_.join();
+}
+
+bool HelperThread::claim(uint64_t job, int& half) {
+  // job: the last value read; retried until no half of the current job is left.
+  while ((job & (kIdUnit - 1)) < kHalves)
+    if (job_.compare_exchange_weak(job, job + 1, std::memory_order_acq_rel, std::memory_order_acquire)) {
+      half = int(job & (kIdUnit - 1));
+      return true;
+    }
+  return false;
+}
+
+void HelperThread::wake() {
+  job_.store(next_id(job_.load(std::memory_order_relaxed)) | kHalves);
+  if (sleeping_.load()) job_.notify_one();
+}
+
+void HelperThread::run_halves(const std::function<void(int)>& fn) {
+  fn_ = &fn;
+  done_.store(0, std::memory_order_relaxed);
+  // Published with half 0 already taken: it is the caller's, so each core
+  // keeps reading the same rows.
+  job_.store(next_id(job_.load(std::memory_order_relaxed)) | 1);  // publishes fn_ and done_
+  if (sleeping_.load()) job_.notify_one();
+  fn(0);
+  done_.fetch_add(1, std::memory_order_release);
+  int half = 0;
+  if (claim(job_.load(std::memory_order_acquire), half)) {  // the helper was not there in time
+    fn(half);
+    done_.fetch_add(1, std::memory_order_release);
+  }
+  // Else the helper holds the other half: it is running it now.
+  for (int spins = 0; done_.load(std::memory_order_acquire) < int(kHalves); ++spins)
+    if (spins < 4096) SOFTCUT_PAUSE();
+    else std::this_thread::yield();
+}
+
+void HelperThread::loop() {
+  using Clock = std::chrono::steady_clock;
+  uint64_t seen = job_.load();
+  while (!stop_.load()) {
+    Clock::time_point since = Clock::now();
+    for (int spins = 0;; ++spins) {
+      const uint64_t job = job_.load(std::memory_order_acquire);
+      if (job != seen) {
+        int half = 0;
+        while (claim(job_.load(std::memory_order_acquire), half)) {
+          (*fn_)(half);
+          helped_.fetch_add(1, std::memory_order_relaxed);
+          done_.fetch_add(1, std::memory_order_release);
+        }
+        seen = job_.load(std::memory_order_acquire);
+        since = Clock::now();
+        spins = 0;
+        continue;
+      }
+      if (stop_.load(std::memory_order_relaxed)) return;
+      SOFTCUT_PAUSE();
+      if (spins % 64 == 63 &&
+          Clock::now() - since > std::chrono::microseconds(kSpinMicroseconds))
+        break;
+    }
+    // Sleep until the next job (or wake): the store of sleeping_ and the
+    // caller's store of job_ are both seq_cst, so either the caller sees
+    // sleeping_ and notifies, or this thread sees the new job and skips the wait.
+    sleeping_.store(true);
+    if (job_.load() == seen && !stop_.load()) job_.wait(seen);
+    sleeping_.store(false);
+  }
+}
+
+}  // namespace softcut
