@@ -10,6 +10,7 @@
 #include <thread>
 
 #include "bench/bench.hpp"
+#include "cli/options.hpp"
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "core/timer.hpp"
@@ -23,18 +24,6 @@ namespace softcut::bench {
 
 namespace {
 
-constexpr const char* kUsage =
-    "usage: softcut bench assembly [--tets N ...] [--repeat R] [--threads T]\n"
-    "                              [--direct-max-tets N] [--json FILE]\n"
-    "  --tets N            target tet count of a Kuhn box (repeatable; default\n"
-    "                      1000 5000 20000 50000 100000 200000)\n"
-    "  --repeat R          timings are the minimum over R runs (default 3)\n"
-    "  --threads T         threads of the block assembler (default: the engine's\n"
-    "                      automatic choice, 1 below 20000 tets, else %u here)\n"
-    "  --direct-max-tets N CHOLMOD only up to N tets (default 60000; its fill\n"
-    "                      grows fast on cubes)\n"
-    "  --json FILE         also write the rows as JSON\n";
-
 struct Row {
   int tets = 0, nodes = 0, dofs = 0;
   double block_ms = 0, serial_ms = 0, serial_cpu_ms = 0, triplet_ms = 0;
@@ -44,11 +33,6 @@ struct Row {
   bool cg_converged = false;
   double cg_vs_direct = -1;  // relative difference of the two solutions
 };
-
-int parse_int(const Args& args, size_t& i, const char* flag) {
-  if (i + 1 >= args.size()) usage_fail("bench assembly: ", flag, " needs a value");
-  return positive_int("assembly", flag, args[++i]);
-}
 
 Row measure(int target, int repeat, int threads, int direct_max) {
   // Near-cubic box with about `target` tets (6 per cell).
@@ -120,30 +104,28 @@ std::string num(double v, const char* fmt = "%.1f") {
 }  // namespace
 
 int bench_assembly(const Args& args) {
+  cli::Options o("softcut bench assembly", "Stiffness assembly of Kuhn boxes against Eigen's setFromTriplets in "
+                 "the same run; CHOLMOD and CG solve times by tet count.");
+  std::vector<std::string> tets;
+  std::string repeat_text, threads_text, direct_text, json;
+  o.add_list("--tets", tets, "target tet count of a Kuhn box (repeatable; default 1000 5000 20000 50000 100000 "
+             "200000)")->type_name("N");
+  o.app().add_option("--repeat", repeat_text, "timings are the minimum over R runs (default 3)")->type_name("R");
+  o.app().add_option("--threads", threads_text, cat("threads of the block assembler (default: the engine's "
+                     "automatic choice, 1 below 20000 tets, else ", std::thread::hardware_concurrency(), " here)"))
+      ->type_name("T");
+  o.app().add_option("--direct-max-tets", direct_text, "CHOLMOD only up to N tets (default 60000; its fill grows "
+                     "fast on cubes)")->type_name("N");
+  o.app().add_option("--json", json, "also write the rows as JSON")->type_name("FILE");
+  o.needs("--json", "a file name");
+  if (!o.parse(args)) return 0;
   std::vector<int> sizes;
-  int repeat = 3, direct_max = 60000;
-  int threads = 0;  // assemble_stiffness decides, as in the engine
-  std::string json;
-  for (size_t i = 0; i < args.size(); ++i) {
-    const std::string& a = args[i];
-    if (a == "--help" || a == "-h") {
-      std::printf(kUsage, std::thread::hardware_concurrency());
-      return 0;
-    } else if (a == "--tets") {
-      sizes.push_back(parse_int(args, i, "--tets"));
-    } else if (a == "--repeat") {
-      repeat = parse_int(args, i, "--repeat");
-    } else if (a == "--threads") {
-      threads = parse_int(args, i, "--threads");
-    } else if (a == "--direct-max-tets") {
-      direct_max = parse_int(args, i, "--direct-max-tets");
-    } else if (a == "--json") {
-      if (i + 1 >= args.size()) usage_fail("bench assembly: --json needs a file name");
-      json = args[++i];
-    } else {
-      usage_fail("bench assembly: unknown option '", a, "' (softcut bench assembly --help)");
-    }
-  }
+  for (const auto& t : tets) sizes.push_back(positive_int("assembly", "--tets", t));
+  const int repeat = o.app().count("--repeat") ? positive_int("assembly", "--repeat", repeat_text) : 3;
+  const int threads = o.app().count("--threads") ? positive_int("assembly", "--threads", threads_text)
+                                                 : 0;  // assemble_stiffness decides, as in the engine
+  const int direct_max = o.app().count("--direct-max-tets") ? positive_int("assembly", "--direct-max-tets", direct_text)
+                                                            : 60000;
   if (sizes.empty()) sizes = {1000, 5000, 20000, 50000, 100000, 200000};
 
   std::printf("Stiffness assembly on Kuhn boxes (E = 3 kPa, nu = 0.45), minimum of %d runs, threads: %s;\n"

@@ -16,6 +16,7 @@
 #include <memory>
 
 #include "bench/bench.hpp"
+#include "cli/options.hpp"
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "core/timer.hpp"
@@ -278,19 +279,14 @@ Json json_of(const SizeResult& r) {
 }  // namespace
 
 int bench_cut(const Args& args) {
+  cli::Options o("softcut bench cut", "Sweeps a blade through operational regions of growing size in a jittered "
+                 "Kuhn box (15^3 cells, 20250 tets; --quick: 8^3 cells, two small regions) and times cut, rebuild "
+                 "and the frame after each step against a monolithic CHOLMOD solve of the cut mesh.");
   bool quick = false;
   std::string json_path;
-  const char* usage = "usage: softcut bench cut [--quick] [--json FILE]";
-  for (size_t i = 0; i < args.size(); ++i) {
-    if (args[i] == "--quick") quick = true;
-    else if (args[i] == "--json" && i + 1 < args.size()) json_path = args[++i];
-    else if (args[i] == "--help" || args[i] == "-h") {
-      std::printf("%s\n  sweeps a blade through operational regions of growing size in a jittered Kuhn box\n"
-                  "  (15^3 cells, 20250 tets; --quick: 8^3 cells, two small regions) and times cut, rebuild\n"
-                  "  and the frame after each step against a monolithic CHOLMOD solve of the cut mesh\n", usage);
-      return 0;
-    } else usage_fail("bench cut: unknown option '", args[i], "' (", usage, ")");
-  }
+  o.app().add_flag("--quick", quick, "the small box and two regions");
+  o.app().add_option("--json", json_path, "also write the results as JSON")->type_name("FILE");
+  if (!o.parse(args)) return 0;
   const int cells = quick ? 8 : 15, steps = 10;
   const std::vector<int> targets = quick ? std::vector<int>{300, 800} : std::vector<int>{500, 1000, 2000, 5000, 8000};
   std::vector<SizeResult> rows;

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "bench/bench.hpp"
+#include "cli/options.hpp"
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "core/timer.hpp"
@@ -20,14 +21,6 @@
 namespace softcut::bench {
 namespace {
 
-constexpr const char* kUsage =
-    "usage: softcut bench gpu [--cells N ...] [--iterations K] [--fp64] [--peak-gbs G] [--json FILE]\n"
-    "  --cells N       box of 2N x N x N Kuhn cells (repeatable; default 4 8 12 16 24)\n"
-    "  --iterations K  CG iterations timed per size (default 50)\n"
-    "  --fp64          double-precision kernels\n"
-    "  --peak-gbs G    the device's peak memory bandwidth, to report the fraction reached\n"
-    "  --json FILE     also write the rows as JSON\n";
-
 struct Row {
   int cells = 0, dofs = 0;
   long nnz = 0;
@@ -38,41 +31,31 @@ struct Row {
 }  // namespace
 
 int bench_gpu(const Args& args) {
-  std::vector<int> cells;
-  int iterations = 50;
+  cli::Options o("softcut bench gpu", "Compute-shader SpMV bandwidth and CG iteration time against the CPU, by "
+                 "system size.");
+  std::vector<std::string> cells_text;
+  std::string iterations_text, peak_text, json;
   bool fp64 = false;
+  o.add_list("--cells", cells_text, "box of 2N x N x N Kuhn cells (repeatable; default 4 8 12 16 24)")->type_name("N");
+  o.app().add_option("--iterations", iterations_text, "CG iterations timed per size (default 50)")->type_name("K");
+  o.app().add_flag("--fp64", fp64, "double-precision kernels");
+  o.app().add_option("--peak-gbs", peak_text, "the device's peak memory bandwidth, to report the fraction reached")
+      ->type_name("G");
+  o.app().add_option("--json", json, "also write the rows as JSON")->type_name("FILE");
+  if (!o.parse(args)) return 0;
+  std::vector<int> cells;
+  for (const auto& c : cells_text) cells.push_back(positive_int("gpu", "--cells", c, 99999));
+  const int iterations = o.app().count("--iterations") ? positive_int("gpu", "--iterations", iterations_text, 99999) : 50;
   double peak = 0;
-  std::string json;
-  for (size_t i = 0; i < args.size(); ++i) {
-    const std::string& a = args[i];
-    auto value = [&]() -> const std::string& {
-      if (i + 1 >= args.size()) usage_fail("bench gpu: ", a, " needs a value");
-      return args[++i];
-    };
-    if (a == "--help" || a == "-h") {
-      std::fputs(kUsage, stdout);
-      return 0;
-    } else if (a == "--cells") {
-      cells.push_back(positive_int("gpu", a, value(), 99999));
-    } else if (a == "--iterations") {
-      iterations = positive_int("gpu", a, value(), 99999);
-    } else if (a == "--fp64") {
-      fp64 = true;
-    } else if (a == "--peak-gbs") {
-      const std::string& v = value();
-      size_t used = 0;
-      try {
-        peak = std::stod(v, &used);
-      } catch (...) {
-        used = 0;
-      }
-      if (used != v.size() || !(peak > 0 && std::isfinite(peak)))
-        usage_fail("bench gpu: --peak-gbs ", v, ": expected a positive bandwidth in GB/s");
-    } else if (a == "--json") {
-      json = value();
-    } else {
-      usage_fail("bench gpu: unknown option '", a, "' (see softcut bench gpu --help)");
+  if (o.app().count("--peak-gbs")) {
+    size_t used = 0;
+    try {
+      peak = std::stod(peak_text, &used);
+    } catch (...) {
+      used = 0;
     }
+    if (used != peak_text.size() || !(peak > 0 && std::isfinite(peak)))
+      usage_fail("bench gpu: --peak-gbs ", peak_text, ": expected a positive bandwidth in GB/s");
   }
   if (cells.empty()) cells = {4, 8, 12, 16, 24};
 

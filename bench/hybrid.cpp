@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "bench/bench.hpp"
+#include "cli/options.hpp"
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "core/threads.hpp"
@@ -348,24 +349,23 @@ const char* kPaper = R"(## The paper's numbers (Wu & Heng 2005; Pentium 4 1.5 GH
 }  // namespace
 
 int bench_hybrid(const Args& args) {
+  cli::Options o("softcut bench hybrid", "The hybrid condensed model against monolithic solves of the same mesh in "
+                 "the same run (the paper's Tables 2-5), at paper and organ sizes.");
   bool quick = false;
-  std::string json_path, md_path, only;
+  std::string json_path, md_path, only, storage_text;
+  o.app().add_flag("--quick", quick, "smaller models and fewer frames");
+  o.app().add_option("--only", only, "only the model of this name")->type_name("MODEL");
+  o.app().add_option("--storage", storage_text, "nonoperational storage: dense, product, factor or automatic")
+      ->type_name("S");
+  o.app().add_option("--json", json_path, "also write the results as JSON")->type_name("FILE");
+  o.app().add_option("--md", md_path, "also write the tables as Markdown")->type_name("FILE");
+  if (!o.parse(args)) return 0;
   Storage storage = Storage::automatic;
-  for (size_t i = 0; i < args.size(); ++i) {
-    if (args[i] == "--quick") quick = true;
-    else if (args[i] == "--json" && i + 1 < args.size()) json_path = args[++i];
-    else if (args[i] == "--md" && i + 1 < args.size()) md_path = args[++i];
-    else if (args[i] == "--only" && i + 1 < args.size()) only = args[++i];
-    else if (args[i] == "--storage" && i + 1 < args.size()) {
-      const std::string v = args[++i];
-      storage = v == "dense" ? Storage::dense : v == "product" ? Storage::product : v == "factor" ? Storage::factor : Storage::automatic;
-      if (v != "dense" && v != "product" && v != "factor" && v != "automatic")
-        usage_fail("bench hybrid: --storage takes dense, product, factor or automatic, got '", v, "'");
-    }
-    else if (args[i] == "--help" || args[i] == "-h") {
-      std::printf("usage: softcut bench hybrid [--quick] [--only MODEL] [--storage dense|product|factor|automatic] [--json FILE] [--md FILE]\n");
-      return 0;
-    } else usage_fail("bench hybrid: unknown option '", args[i], "' (usage: softcut bench hybrid [--quick] [--only MODEL] [--storage dense|product|factor|automatic] [--json FILE] [--md FILE])");
+  if (o.app().count("--storage")) {
+    const std::string& v = storage_text;
+    storage = v == "dense" ? Storage::dense : v == "product" ? Storage::product : v == "factor" ? Storage::factor : Storage::automatic;
+    if (v != "dense" && v != "product" && v != "factor" && v != "automatic")
+      usage_fail("bench hybrid: --storage takes dense, product, factor or automatic, got '", v, "'");
   }
   std::vector<ModelEntry> models;
   models.push_back({"ligament", ligament});

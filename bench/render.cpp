@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "bench/bench.hpp"
+#include "cli/options.hpp"
 #include "cli/run_support.hpp"
 #include "core/error.hpp"
 #include "app/scenario_run.hpp"
@@ -19,33 +20,21 @@
 namespace softcut::bench {
 
 int bench_render(const Args& args) {
-  int width = 640, height = 480, samples = 4, frames = -1;
+  cli::Options o("softcut bench render", "Runs each scenario (default: scenarios/knee_ligament.lua and "
+                 "scenarios/upper_leg.lua, the paper's models; run from the repository root) without frames, "
+                 "rendering every frame inline and rendering every frame on the worker thread, and compares the "
+                 "time per frame.");
   std::vector<std::string> scenarios;
-  for (size_t i = 0; i < args.size(); ++i) {
-    const std::string& a = args[i];
-    auto value = [&]() -> const std::string& {
-      if (i + 1 >= args.size()) usage_fail("bench render: ", a, " needs a value");
-      return args[++i];
-    };
-    if (a == "--help" || a == "-h") {
-      std::puts("usage: softcut bench render [--size WxH] [--msaa S] [--frames N] [SCENARIO.lua ...]\n"
-                "  runs each scenario (default: scenarios/knee_ligament.lua and scenarios/upper_leg.lua,\n"
-                "  the paper's models; run from the repository root) without frames, rendering every\n"
-                "  frame inline and rendering every frame on the worker thread, at W x H (640x480)\n"
-                "  with S MSAA samples (4), and compares the time per frame");
-      return 0;
-    } else if (a == "--size") {
-      std::tie(width, height) = cli::parse_size(value(), "--size");
-    } else if (a == "--msaa") {
-      samples = cli::parse_count(value(), "--msaa");
-    } else if (a == "--frames") {
-      frames = cli::parse_count(value(), "--frames");
-    } else if (a.rfind("-", 0) == 0) {
-      usage_fail("bench render: unknown option '", a, "' (see softcut bench render --help)");
-    } else {
-      scenarios.push_back(a);
-    }
-  }
+  std::string size_text, msaa_text, frames_text;
+  o.app().add_option("scenario", scenarios, "scenario files")->type_name("SCENARIO.lua...");
+  o.app().add_option("--size", size_text, "frame size (default 640x480)")->type_name("WxH");
+  o.app().add_option("--msaa", msaa_text, "MSAA samples (default 4)")->type_name("S");
+  o.app().add_option("--frames", frames_text, "frames per run (default: the scenario's)")->type_name("N");
+  if (!o.parse(args)) return 0;
+  int width = 640, height = 480;
+  if (o.app().count("--size")) std::tie(width, height) = cli::parse_size(size_text, "--size");
+  const int samples = o.app().count("--msaa") ? cli::parse_count(msaa_text, "--msaa") : 4;
+  const int frames = o.app().count("--frames") ? cli::parse_count(frames_text, "--frames") : -1;
   if (scenarios.empty()) scenarios = {"scenarios/knee_ligament.lua", "scenarios/upper_leg.lua"};
   for (const auto& s : scenarios)
     if (!std::filesystem::is_regular_file(s))

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "bench/bench.hpp"
+#include "cli/options.hpp"
 #include "cli/run_support.hpp"
 #include "core/error.hpp"
 #include "core/timer.hpp"
@@ -79,30 +80,25 @@ Row measure(const sim::Model& m, bool implicit, bool cache) {
 }  // namespace
 
 int bench_springs(const Args& args) {
-  int frames = 31;
+  cli::Options o("softcut bench springs", "Steps a grasped box with an explicit spring, an implicit spring with the "
+                 "compliance cache, and without it.");
+  std::string frames_text, radius_text;
+  o.app().add_option("--frames", frames_text, "frames (default 31)")->type_name("N");
+  o.app().add_option("--radius", radius_text, "grasper radius in m (default 0.009: a grip on 17 nodes)")
+      ->type_name("R");
+  if (!o.parse(args)) return 0;
+  const int frames = o.app().count("--frames") ? std::max(2, cli::parse_count(frames_text, "bench springs: --frames"))
+                                               : 31;
   double radius = 0.009;
-  for (size_t i = 0; i < args.size(); ++i) {
-    const std::string& a = args[i];
-    if (a == "--help" || a == "-h") {
-      std::puts("usage: softcut bench springs [--frames N] [--radius R]\n"
-                "  steps a grasped box N frames (default 31) with an explicit spring, an implicit spring with\n"
-                "  the compliance cache, and without it (R: grasper radius in m, default 0.009: a grip on 17 nodes)");
-      return 0;
-    } else if (a == "--frames" && i + 1 < args.size()) {
-      frames = std::max(2, cli::parse_count(args[++i], "bench springs: --frames"));
-    } else if (a == "--radius" && i + 1 < args.size()) {
-      const std::string& v = args[++i];
-      size_t used = 0;
-      try {
-        radius = std::stod(v, &used);
-      } catch (...) {
-        used = 0;
-      }
-      if (used != v.size() || !(radius > 0 && radius < 1))
-        usage_fail("bench springs: --radius ", v, ": expected a grasper radius in m, greater than 0 and below 1");
-    } else {
-      usage_fail("bench springs: unknown option '", a, "' (see softcut bench springs --help)");
+  if (o.app().count("--radius")) {
+    size_t used = 0;
+    try {
+      radius = std::stod(radius_text, &used);
+    } catch (...) {
+      used = 0;
     }
+    if (used != radius_text.size() || !(radius > 0 && radius < 1))
+      usage_fail("bench springs: --radius ", radius_text, ": expected a grasper radius in m, greater than 0 and below 1");
   }
   std::printf("| backend | spring | grasped nodes | frame ms (mean) | springs ms/frame w/o builds | compliance builds | "
               "build ms total | frame / explicit |\n|---|---|---|---|---|---|---|---|\n");

@@ -18,6 +18,7 @@
 
 #include "cli/check_report.hpp"
 #include "cli/commands.hpp"
+#include "cli/options.hpp"
 #include "cli/reference_log.hpp"
 #include "cli/run_support.hpp"
 #include "core/atomic_file.hpp"
@@ -31,30 +32,15 @@ namespace softcut::cli {
 
 namespace {
 
-const char* kCheckUsage =
-    "usage: softcut check PATH... [-j N] [--only PAT] [--exclude PAT] [--timeout S] [--set key=value]\n"
-    "                     [--junit FILE] [--json FILE] [--record] [--out DIR] [--backend B] [--max-tets N]\n"
-    "                     [--trust] [--no-cache]\n"
-    "\n"
+const char* kCheckAbout =
     "Runs each scenario (PATH: a .lua file, or a folder searched for *.lua), evaluates its\n"
     "s:expect{...} checks and compares its displacements.csv with the reference log next to it\n"
     "(<file stem>.ref.csv, tolerance from softcut.scenario{ tolerance = ... }). Files that make no\n"
-    "scenario (helper modules) are skipped and listed as such.\n"
-    "  -j N        scenarios run at once (default: the machine's cores)\n"
-    "  --only PAT  run only scenarios whose name or file stem matches the glob PAT (repeatable)\n"
-    "  --exclude PAT  leave out scenarios whose name or file stem matches PAT (repeatable)\n"
-    "  --timeout S  wall-clock limit per scenario, s (default 3600; 0: none); past it the scenario fails\n"
-    "  --set key=value  override a parameter of every scenario (each must declare it in softcut.params)\n"
-    "  --junit FILE  write a JUnit XML report (one testcase per scenario, expectations as assertions)\n"
-    "  --json FILE   write a JSON report (docs/outputs.md, \"softcut check\")\n"
-    "  --record   (re)write the reference logs of the scenarios whose expectations pass\n"
-    "  --out DIR  keep the outputs under DIR/<scenario name>/ (default: a temporary folder, removed)\n"
-    "  --backend B  operational solver for every scenario: auto, cpu, gpu, direct or monolithic\n"
-    "  --max-tets N  sandbox: largest mesh a scenario may load or generate (default 2000000 tets)\n"
-    "  --trust    no sandbox\n"
-    "  --no-cache  redo every hybrid precompute instead of loading it from the cache\n"
+    "scenario (helper modules) are skipped and listed as such.";
+
+const char* kCheckFooter =
     "Prints one line per scenario and closes with 'N passed, N failed'. Exit status: 0 all passed,\n"
-    "1 a scenario failed, 2 usage error (bad option, no scenario, two scenarios with one name).\n";
+    "1 a scenario failed, 2 usage error (bad option, no scenario, two scenarios with one name).";
 
 std::vector<fs::path> collect(const std::vector<std::string>& paths) {
   std::vector<fs::path> out;
@@ -149,41 +135,51 @@ void check_one(CheckedScenario& r, bool record, const fs::path& out_root, app::R
 }  // namespace
 
 int cmd_check(const Args& args) {
-  if (args.empty() || args[0] == "--help" || args[0] == "-h") {
-    std::fputs(kCheckUsage, args.empty() ? stderr : stdout);
-    return args.empty() ? 2 : 0;
+  Options o("softcut check", kCheckAbout, kCheckFooter);
+  CLI::App& app = o.app();
+  std::vector<std::string> paths, only, exclude, sets;
+  std::string jobs_text, timeout, backend, max_tets, out, junit_text, json_text;
+  bool record = false, trust = false, no_cache = false;
+  app.add_option("path", paths, "scenario files, or folders searched for *.lua")->type_name("PATH...");
+  app.add_option("-j,--jobs", jobs_text, "scenarios run at once (default: the machine's cores)")->type_name("N");
+  o.add_list("--only", only, "run only scenarios whose name or file stem matches the glob PAT (repeatable)")
+      ->type_name("PAT");
+  o.add_list("--exclude", exclude, "leave out scenarios whose name or file stem matches PAT (repeatable)")
+      ->type_name("PAT");
+  app.add_option("--timeout", timeout, "wall-clock limit per scenario, s (default 3600; 0: none); past it the "
+                 "scenario fails")->type_name("S");
+  o.add_list("--set", sets, "override a parameter of every scenario (each must declare it in softcut.params)")
+      ->type_name("key=value");
+  app.add_option("--junit", junit_text, "write a JUnit XML report (one testcase per scenario, expectations as "
+                 "assertions)")->type_name("FILE");
+  app.add_option("--json", json_text, "write a JSON report (docs/outputs.md, \"softcut check\")")->type_name("FILE");
+  app.add_flag("--record", record, "(re)write the reference logs of the scenarios whose expectations pass");
+  app.add_option("--out", out, "keep the outputs under DIR/<scenario name>/ (default: a temporary folder, removed)")
+      ->type_name("DIR");
+  app.add_option("--backend", backend, "operational solver for every scenario: auto, cpu, gpu, direct or monolithic")
+      ->type_name("B");
+  app.add_option("--max-tets", max_tets, "sandbox: largest mesh a scenario may load or generate (default 2000000 "
+                 "tets)")->type_name("N");
+  app.add_flag("--trust", trust, "no sandbox");
+  app.add_flag("--no-cache", no_cache, "redo every hybrid precompute instead of loading it from the cache");
+  if (args.empty()) {
+    std::fputs(o.help().c_str(), stderr);
+    return 2;
   }
-  bool record = false;
+  if (!o.parse(args)) return 0;
   app::RunRequest base;
-  base.cache_dir = hybrid::default_cache_dir();
+  base.cache_dir = no_cache ? fs::path() : hybrid::default_cache_dir();
   base.command_line = {"softcut", "check"};
   base.command_line.insert(base.command_line.end(), args.begin(), args.end());
-  fs::path out_root, junit, json;
-  std::vector<std::string> paths, only, exclude;
-  int jobs = std::max(1, int(std::thread::hardware_concurrency()));
-  for (size_t i = 0; i < args.size(); ++i) {
-    const std::string& a = args[i];
-    auto value = [&](const char* what) -> const std::string& {
-      if (i + 1 >= args.size()) usage_fail("softcut check: ", a, " needs ", what, " (see softcut check --help)");
-      return args[++i];
-    };
-    if (a == "--record") record = true;
-    else if (a == "--trust") base.trusted = true;
-    else if (a == "--no-cache") base.cache_dir.clear();
-    else if (a == "--backend") base.backend = parse_backend(value("a value"));
-    else if (a == "--max-tets") base.max_tets = parse_count(value("a number"), "--max-tets");
-    else if (a == "--out") out_root = value("a folder");
-    else if (parse_jobs(args, i, "softcut check", &jobs)) continue;
-    else if (a == "--only") only.push_back(value("a name or glob"));
-    else if (a == "--exclude") exclude.push_back(value("a name or glob"));
-    else if (a == "--timeout") base.timeout_s = parse_seconds(value("seconds"), "--timeout");
-    else if (a == "--set") add_override(base.overrides, value("key=value"));
-    else if (a.rfind("--set=", 0) == 0) add_override(base.overrides, a.substr(6));
-    else if (a == "--junit") junit = value("a file");
-    else if (a == "--json") json = value("a file");
-    else if (a.rfind("-", 0) == 0) usage_fail("softcut check: unknown option '", a, "' (see softcut check --help)");
-    else paths.push_back(a);
-  }
+  base.trusted = trust;
+  if (app.count("--backend")) base.backend = parse_backend(backend);
+  if (app.count("--max-tets")) base.max_tets = parse_count(max_tets, "--max-tets");
+  if (app.count("--timeout")) base.timeout_s = parse_seconds(timeout, "--timeout");
+  for (const auto& s : sets) add_override(base.overrides, s);
+  const int jobs = app.count("--jobs") ? parse_jobs(jobs_text, "softcut check")
+                                       : std::max(1, int(std::thread::hardware_concurrency()));
+  fs::path out_root = out;
+  const fs::path junit = junit_text, json = json_text;
   if (paths.empty()) usage_fail("softcut check: give a scenario file or folder (see softcut check --help)");
   const auto t0 = std::chrono::steady_clock::now();
   const SignalGuard signals;

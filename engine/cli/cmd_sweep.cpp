@@ -27,6 +27,7 @@
 #include <thread>
 
 #include "cli/commands.hpp"
+#include "cli/options.hpp"
 #include "cli/run_support.hpp"
 #include "cli/sweep_merge.hpp"
 #include "cli/sweep_plan.hpp"
@@ -47,33 +48,25 @@ namespace softcut::cli {
 
 namespace {
 
-const char* kSweepUsage =
-    "usage: softcut sweep SCENARIO.lua (--grid key=v1,v2,... [--grid ...] | --table FILE.csv)\n"
-    "                     [--out DIR] [-j N] [--shard I/N | --shards N] [--set key=value ...] [--dry-run]\n"
-    "                     [--frames N] [--backend B] [--render-every N] [--size WxH] [--msaa N]\n"
-    "                     [--max-tets N] [--timeout S] [--max-output BYTES] [--trust] [--no-render] [--no-cache]\n"
-    "       softcut sweep merge DIR [--csv FILE] [--json FILE]\n"
-    "\n"
+const char* kSweepAbout =
     "Runs a scenario once per parameter combination. --grid gives a parameter's values (the\n"
     "Cartesian product of all grids, the last varying fastest); --table gives one run per CSV row\n"
     "(a header of parameter names). Each parameter must be declared in the scenario's\n"
     "softcut.params. Run i is DIR/run_000i/ (its outputs, run.log and summary.json); every shard\n"
-    "writes the same DIR/sweep_plan.json. Each run is a `softcut run` process with the options\n"
-    "below passed on.\n"
-    "  --out DIR     sweep folder (default: renders/<scenario file stem>-sweep)\n"
-    "  -j N          runs at once (default: the cores this process may use)\n"
-    "  --shard I/N   run only runs i with i % N == I (0 <= I < N), so N machines share a sweep;\n"
-    "                without it: SLURM_ARRAY_TASK_ID - SLURM_ARRAY_TASK_MIN of SLURM_ARRAY_TASK_COUNT\n"
-    "                (a Slurm array job), or JOB_COMPLETION_INDEX of --shards N (a Kubernetes\n"
-    "                indexed Job), else every run\n"
-    "  --set key=value  a fixed parameter for every run\n"
-    "  --dry-run     print this shard's runs and their parameters, run nothing\n"
-    "  merge DIR     gather every run's summary.json into DIR/sweep.csv and DIR/sweep.json (or\n"
-    "                --csv FILE, --json FILE); fails naming the runs that have no summary\n"
+    "writes the same DIR/sweep_plan.json. Each run is a `softcut run` process with the run options\n"
+    "below passed on (see softcut run --help).\n"
+    "       softcut sweep merge DIR [--csv FILE] [--json FILE]\n"
+    "gathers every run's summary.json into DIR/sweep.csv and DIR/sweep.json (or --csv FILE,\n"
+    "--json FILE); it fails naming the runs that have no summary.";
+
+const char* kSweepFooter =
+    "--shard I/N runs only the runs i with i % N == I (0 <= I < N), so N machines share a sweep;\n"
+    "without it: SLURM_ARRAY_TASK_ID - SLURM_ARRAY_TASK_MIN of SLURM_ARRAY_TASK_COUNT (a Slurm\n"
+    "array job), or JOB_COMPLETION_INDEX of --shards N (a Kubernetes indexed Job), else every run.\n"
     "Prints one line per run (PASS/FAIL, id, parameters) and closes with 'N passed, N failed'.\n"
     "Exit status: 0 all passed; 1 a run failed, or the sweep could not start (a bad table, a\n"
     "parameter the scenario does not declare, a folder holding another sweep), or for merge a run\n"
-    "failed or is missing; 2 usage error (bad option or grid); 130 interrupted.\n";
+    "failed or is missing; 2 usage error (bad option or grid); 130 interrupted.";
 
 // CPUs this process may run on (Slurm and containers restrict the affinity).
 int usable_cores() {
@@ -154,20 +147,18 @@ void write_failure_summary(const fs::path& dir, const std::vector<std::string>& 
 }
 
 int cmd_merge(const Args& args) {
-  fs::path dir, csv, json;
-  for (size_t i = 0; i < args.size(); ++i) {
-    const std::string& a = args[i];
-    auto value = [&](const char* what) -> const std::string& {
-      if (i + 1 >= args.size()) usage_fail("softcut sweep merge: ", a, " needs ", what);
-      return args[++i];
-    };
-    if (a == "--csv") csv = value("a file");
-    else if (a == "--json") json = value("a file");
-    else if (a.rfind("-", 0) == 0) usage_fail("softcut sweep merge: unknown option '", a, "' (see softcut sweep --help)");
-    else if (dir.empty()) dir = a;
-    else usage_fail("softcut sweep merge: give one sweep folder (got '", a, "' too)");
-  }
-  if (dir.empty()) usage_fail("softcut sweep merge: give the sweep folder (see softcut sweep --help)");
+  Options o("softcut sweep merge", "Gathers every run's summary.json of a sweep into DIR/sweep.csv and "
+            "DIR/sweep.json; fails naming the runs that have no summary.");
+  std::vector<std::string> dirs;
+  std::string csv_text, json_text_path;
+  o.app().add_option("dir", dirs, "the sweep folder")->type_name("DIR");
+  o.app().add_option("--csv", csv_text, "write the table here instead")->type_name("FILE");
+  o.app().add_option("--json", json_text_path, "write the JSON here instead")->type_name("FILE");
+  if (!o.parse(args)) return 0;
+  if (dirs.size() > 1) usage_fail("softcut sweep merge: give one sweep folder (got '", dirs[1], "' too)");
+  if (dirs.empty()) usage_fail("softcut sweep merge: give the sweep folder (see softcut sweep --help)");
+  const fs::path dir = dirs[0];
+  fs::path csv = csv_text, json = json_text_path;
   if (!fs::exists(dir / "sweep_plan.json"))
     fail("softcut sweep merge: ", (dir / "sweep_plan.json").string(), " does not exist (not a sweep folder, or no "
          "shard has started yet)");
@@ -191,66 +182,64 @@ int cmd_merge(const Args& args) {
 }  // namespace
 
 int cmd_sweep(const Args& args) {
-  if (args.empty() || args[0] == "--help" || args[0] == "-h") {
-    std::fputs(kSweepUsage, args.empty() ? stderr : stdout);
-    return args.empty() ? 2 : 0;
-  }
-  if (args[0] == "merge") return cmd_merge(Args(args.begin() + 1, args.end()));
-
-  std::vector<std::string> grids, files, run_options;
-  std::map<std::string, std::string> fixed;
-  fs::path table, out;
-  std::optional<std::string> shard_arg;
-  std::optional<int> shards;
-  int jobs = usable_cores();
+  if (!args.empty() && args[0] == "merge") return cmd_merge(Args(args.begin() + 1, args.end()));
+  Options o("softcut sweep", kSweepAbout, kSweepFooter);
+  CLI::App& app = o.app();
+  std::vector<std::string> grids, files, sets;
+  std::string table_text, out_text, shard_text, shards_text, jobs_text;
   bool dry_run = false;
-  int max_tets = -1;  // --max-tets, also for the check before the runs
-  for (size_t i = 0; i < args.size(); ++i) {
-    const std::string& a = args[i];
-    auto value = [&](const char* what) -> const std::string& {
-      if (i + 1 >= args.size()) usage_fail("softcut sweep: ", a, " needs ", what, " (see softcut sweep --help)");
-      return args[++i];
-    };
-    // Options for each `softcut run`, checked here so a typo fails once, not per run.
-    const std::string opt = a;
-    auto pass_on = [&](const std::string& v) { run_options.insert(run_options.end(), {opt, v}); };
-    if (a == "--grid") grids.push_back(value("key=v1,v2,..."));
-    else if (a == "--table") table = value("a CSV file");
-    else if (a == "--out") out = value("a folder");
-    else if (a == "--shard") shard_arg = value("I/N");
-    else if (a == "--shards") shards = std::max(1, parse_count(value("a number"), "--shards"));
-    else if (parse_jobs(args, i, "softcut sweep", &jobs)) continue;
-    else if (a == "--set") {
-      const std::string& kv = value("key=value");
-      add_override(fixed, kv);
-      pass_on(kv);
-    } else if (a == "--dry-run") dry_run = true;
-    else if (a == "--frames" || a == "--render-every" || a == "--msaa" || a == "--max-tets") {
-      const std::string& v = value("a number");
-      const int n = parse_count(v, opt.c_str());
-      if (opt == "--max-tets") max_tets = n;
-      pass_on(v);
-    } else if (a == "--backend") {
-      const std::string& v = value("a backend");
-      parse_backend(v);
-      pass_on(v);
-    } else if (a == "--size") {
-      const std::string& v = value("WxH");
-      parse_size(v, "--size");
-      pass_on(v);
-    } else if (a == "--timeout") {
-      const std::string& v = value("seconds");
-      parse_seconds(v, "--timeout");
-      pass_on(v);
-    } else if (a == "--max-output") {
-      const std::string& v = value("bytes");
-      parse_bytes(v, "--max-output");
-      pass_on(v);
-    }
-    else if (a == "--trust" || a == "--no-render" || a == "--no-cache") run_options.push_back(a);
-    else if (a.rfind("-", 0) == 0) usage_fail("softcut sweep: unknown option '", a, "' (see softcut sweep --help)");
-    else files.push_back(a);
+  app.add_option("scenario", files, "the scenario file")->type_name("SCENARIO.lua");
+  o.add_list("--grid", grids, "a parameter's values (repeatable; the runs are the product of all grids)")
+      ->type_name("key=v1,v2,...");
+  app.add_option("--table", table_text, "one run per CSV row (a header of parameter names)")->type_name("FILE.csv");
+  app.add_option("--out", out_text, "sweep folder (default: renders/<scenario file stem>-sweep)")->type_name("DIR");
+  app.add_option("-j,--jobs", jobs_text, "runs at once (default: the cores this process may use)")->type_name("N");
+  app.add_option("--shard", shard_text, "run only runs i with i % N == I (see below)")->type_name("I/N");
+  app.add_option("--shards", shards_text, "shard count of a Kubernetes indexed Job (see below)")->type_name("N");
+  o.add_list("--set", sets, "a fixed parameter for every run")->type_name("key=value");
+  app.add_flag("--dry-run", dry_run, "print this shard's runs and their parameters, run nothing");
+  // Options for each `softcut run`, checked here so a typo fails once, not per run.
+  const std::vector<std::pair<std::string, std::string>> valued = {
+      {"--frames", "N"}, {"--backend", "B"}, {"--render-every", "N"}, {"--size", "WxH"}, {"--msaa", "N"},
+      {"--max-tets", "N"}, {"--timeout", "S"}, {"--max-output", "BYTES"}};
+  std::map<std::string, std::string> run_values;
+  for (const auto& [name, type] : valued)
+    app.add_option(name, run_values[name], "passed on to each run")->type_name(type);
+  std::map<std::string, bool> run_flags = {{"--trust", false}, {"--no-render", false}, {"--no-cache", false}};
+  for (auto& [name, on] : run_flags) app.add_flag(name, on, "passed on to each run");
+  if (args.empty()) {
+    std::fputs(o.help().c_str(), stderr);
+    return 2;
   }
+  if (!o.parse(args)) return 0;
+
+  std::vector<std::string> run_options;
+  std::map<std::string, std::string> fixed;
+  for (const auto& kv : sets) {
+    add_override(fixed, kv);
+    run_options.insert(run_options.end(), {"--set", kv});
+  }
+  int max_tets = -1;  // --max-tets, also for the check before the runs
+  for (const auto& [name, type] : valued) {
+    if (!app.count(name)) continue;
+    const std::string& v = run_values[name];
+    if (name == "--backend") parse_backend(v);
+    else if (name == "--size") parse_size(v, "--size");
+    else if (name == "--timeout") parse_seconds(v, "--timeout");
+    else if (name == "--max-output") parse_bytes(v, "--max-output");
+    else if (name == "--max-tets") max_tets = parse_count(v, "--max-tets");
+    else parse_count(v, name.c_str());
+    run_options.insert(run_options.end(), {name, v});
+  }
+  for (const auto& [name, on] : run_flags)
+    if (on) run_options.push_back(name);
+  const fs::path table = table_text;
+  fs::path out = out_text;
+  std::optional<std::string> shard_arg;
+  if (app.count("--shard")) shard_arg = shard_text;
+  std::optional<int> shards;
+  if (app.count("--shards")) shards = std::max(1, parse_count(shards_text, "--shards"));
+  const int jobs = app.count("--jobs") ? parse_jobs(jobs_text, "softcut sweep") : usable_cores();
   if (files.size() != 1) usage_fail("softcut sweep: give exactly one scenario file (got ", files.size(), ")");
   if (grids.empty() == table.empty()) usage_fail("softcut sweep: give the runs as --grid key=v1,v2,... or as --table FILE.csv (one of them)");
   if (!fs::is_regular_file(files[0])) usage_fail("softcut sweep: ", files[0], ": no such scenario file");

@@ -1,7 +1,5 @@
 #include "cli/run_support.hpp"
 
-#include <cctype>
-
 #include <time.h>
 
 #include <csignal>
@@ -38,14 +36,10 @@ int parse_count(const std::string& text, const char* option) {
   return int(v);
 }
 
-bool parse_jobs(const std::vector<std::string>& args, std::size_t& i, const char* command, int* jobs) {
-  const std::string& a = args[i];
-  const bool joined = a.size() > 2 && a.rfind("-j", 0) == 0 && std::isdigit(static_cast<unsigned char>(a[2]));
-  if (a != "-j" && a != "--jobs" && !joined) return false;
-  if (!joined && i + 1 >= args.size()) usage_fail(command, ": ", a, " needs a number (see ", command, " --help)");
-  *jobs = parse_count(joined ? a.substr(2) : args[++i], "-j");
-  if (*jobs < 1) usage_fail(command, ": -j needs at least 1");
-  return true;
+int parse_jobs(const std::string& text, const char* command) {
+  const int jobs = parse_count(text, "-j");
+  if (jobs < 1) usage_fail(command, ": -j needs at least 1");
+  return jobs;
 }
 
 std::pair<int, int> parse_size(const std::string& text, const char* option) {

@@ -19,10 +19,8 @@ void add_override(std::map<std::string, std::string>& overrides, const std::stri
 backend::Backend parse_backend(const std::string& text);
 // A non-negative integer option value; throws naming the option.
 int parse_count(const std::string& text, const char* option);
-// "-j N", "--jobs N" or "-jN" at args[i] (check and sweep): returns true with
-// *jobs set (at least 1) and i moved past a separate value; false for any
-// other argument. Throws naming `command` ("softcut check").
-bool parse_jobs(const std::vector<std::string>& args, std::size_t& i, const char* command, int* jobs);
+// The value of -j/--jobs: at least 1; throws naming `command` ("softcut check").
+int parse_jobs(const std::string& text, const char* command);
 // Seconds (>= 0; 0: no limit); throws naming the option.
 double parse_seconds(const std::string& text, const char* option);
 // Bytes with an optional K/M/G suffix (0: no limit); throws naming the option.
