@@ -17,6 +17,7 @@ pkgs=(
   libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri
   libstb-dev doctest-dev zlib1g-dev
   libcgal-dev  # CGAL Mesh_3: smooth, graded, labelled organ meshes (engine/mesh/mesher, docs/meshing.md)
+  libpugixml-dev  # pugixml: VTU files read as XML (entities, CDATA, comments), not by a hand-written tag scanner
   libcli11-dev  # CLI11: the commands' options declared once, parsed and shown in --help from one declaration
   nlohmann-json3-dev  # JSON strings escaped by a well-kept library: summary.json is valid for every byte
   libopenblas0-pthread  # optimised BLAS/LAPACK behind CHOLMOD's supernodal factor (reference BLAS is ~10x slower)

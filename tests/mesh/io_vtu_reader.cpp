@@ -63,14 +63,36 @@ TEST_SUITE("mesh/io/vtu_reader") {
     expect_error("type.vtu", replaced(a, "UnstructuredGrid\" version", "PolyData\" version"), {"type.vtu:3:", "'PolyData' is not supported"});
     expect_error("lz4.vtu", replaced(a, "header_type=\"UInt32\"", "header_type=\"UInt32\" compressor=\"vtkLZ4DataCompressor\""),
                  {"lz4.vtu:3:", "compressor 'vtkLZ4DataCompressor' is not supported"});
-    expect_error("pieces.vtu", replaced(a, "</Piece>", "</Piece><Piece NumberOfPoints=\"1\" NumberOfCells=\"0\">"),
+    expect_error("pieces.vtu", replaced(a, "</Piece>", "</Piece><Piece NumberOfPoints=\"1\" NumberOfCells=\"0\"></Piece>"),
                  {"pieces.vtu:", "more than one <Piece>"});
+    expect_error("unclosed_piece.vtu", replaced(a, "</Piece>", "</Piece><Piece NumberOfPoints=\"1\" NumberOfCells=\"0\">"),
+                 {"unclosed_piece.vtu:33:", "does not match the innermost open element, <Piece> (line 32)"});
     expect_error("unclosed.vtu", a.substr(0, a.find("</DataArray>")), {"unclosed.vtu:9:", "DataArray 'Points' has no </DataArray>"});
     expect_error("tag.vtu", replaced(a, "<Piece NumberOfPoints=\"6\"", "<Piece NumberOfPoints=6"), {"tag.vtu:5:", "is not quoted"});
     expect_error("nopiece.vtu", a.substr(0, a.find("<Piece")), {"nopiece.vtu", "no <Piece> element"});
     expect_error("noconn.vtu", replaced(a, "Name=\"connectivity\"", "Name=\"conn\""), {"noconn.vtu", "no Cells 'connectivity' DataArray"});
     expect_error("celltype.vtu", replaced(a, "3 5 10 10", "3 5 10 10.5"), {"celltype.vtu:20:", "type 10.5 of cell 3 is not an integer"});
     expect_error("label.vtu", replaced(a, "1 2 7 9", "1 2 7 9.5"), {"label.vtu:28:", "label 9.5 of cell 3 is not an integer"});
+  }
+
+  TEST_CASE("XML as any XML reader takes it: comments inside arrays, CDATA, entities in names, a '>' in a value") {
+    const std::string a = slurp(mesh_data("sample_ascii.vtu"));
+    std::string x = replaced(a, "0 1 0 1 3 0 1 3 4 1 4 3 5", "0 1 0 1 3 <!-- half way --> 0 1 3 4 <![CDATA[1 4 3 5]]>");
+    x = replaced(x, "<VTKFile ", "<!-- a comment with <Piece> and </DataArray> in it -->\n<VTKFile note=\"a > b\" ");
+    const auto path = softcut::test::scratch_dir("io_errors") / "xml.vtu";
+    softcut::test::spit(path, x);
+    check_sample(path, 2);
+    // Entities are decoded: a Name spelled with a character reference is found (the hand-written
+    // scanner this reader replaced compared the raw text and missed it).
+    const auto ent = softcut::test::scratch_dir("io_errors") / "entity.vtu";
+    softcut::test::spit(ent, replaced(x, "Name=\"connectivity\"", "Name=\"conn&#101;ctivity\""));
+    check_sample(ent, 2);
+    // A million nested elements: refused by depth, not by a stack overflow.
+    std::string deep;
+    for (int i = 0; i < 1000000; ++i) deep += "<a>";
+    for (int i = 0; i < 1000000; ++i) deep += "</a>";
+    expect_error("deep.vtu", replaced(a, "<PointData>", "<PointData>" + deep),
+                 {"deep.vtu:", "nested more than 64 deep"});
   }
 
   TEST_CASE("malformed binary data: bad base64, lying headers, corrupt zlib, truncated appended data") {
@@ -126,6 +148,12 @@ TEST_SUITE("mesh/io/vtu_reader") {
       check_sample(path, 2);
     }
     const std::string raw = slurp(mesh_data("sample_appended_raw.vtu"));
+    {
+      // A comment naming <AppendedData> before the real one is a comment.
+      const auto path = softcut::test::scratch_dir("io_errors") / "comment_appended.vtu";
+      softcut::test::spit(path, replaced(raw, "<VTKFile ", "<!-- <AppendedData encoding=\"raw\"> _ -->\n<VTKFile "));
+      check_sample(path, 2);
+    }
     expect_error("rawtrunc.vtu", raw.substr(0, raw.find("_", raw.find("<AppendedData")) + 100), {"rawtrunc.vtu:", "DataArray 'Points': header announces 144 bytes but only"});
     expect_error("noappended.vtu", raw.substr(0, raw.find("<AppendedData")), {"noappended.vtu:", "format=\"appended\" but the file has no <AppendedData>"});
     expect_error("offset.vtu", replaced(raw, "offset=\"0\"", "offset=\"99999\""), {"offset.vtu:", "offset 99999 lies beyond the appended data"});

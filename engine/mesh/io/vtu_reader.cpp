@@ -2,6 +2,10 @@
 // base64 binary (header UInt32 or UInt64, optionally zlib-compressed with
 // vtkZLibDataCompressor) or appended (raw or base64). Cells of type 10 are
 // kept; a one-component CellData array named like a label gives the labels.
+// The XML is parsed by pugixml (entities, CDATA, comments as any XML reader
+// takes them); appended data after its '_' marker is raw bytes, not XML, so
+// only the text before it is parsed.
+#include <pugixml.hpp>
 #include <zlib.h>
 
 #include <algorithm>
@@ -21,23 +25,14 @@ static_assert(std::endian::native == std::endian::little, "mesh readers assume a
 
 namespace {
 
-struct XmlTag {
-  std::string_view name;
-  std::vector<std::pair<std::string_view, std::string_view>> attrs;
-  bool closing = false, self_closing = false;
-  std::size_t begin = 0, end = 0;  // offsets of '<' and one past '>'
-  std::string_view attr(std::string_view key) const {
-    for (const auto& [k, v] : attrs)
-      if (k == key) return v;
-    return {};
-  }
-};
-
 struct ArrayRef {
   std::string name, type, format;
   std::int64_t ncomp = 1, offset = -1;
-  std::size_t begin = 0, end = 0;  // inline content
-  int line = 0, content_line = 0;  // of the tag and of its content
+  std::string_view content;     // inline content (into the parsed XML, or `joined`)
+  std::string joined;           // content split by comments or CDATA, joined
+  std::size_t at = 0;           // file offset of the tag
+  std::size_t content_at = 0;   // file offset of the content
+  std::string_view text() const { return joined.empty() ? content : std::string_view(joined); }
 };
 
 int type_size(const std::string& t) {
@@ -61,23 +56,21 @@ class VtuFile {
     for (std::size_t i = 0; i < off && i < text_.size(); ++i) line += text_[i] == '\n';
     return line;
   }
-  // line_at for increasing offsets while scanning (linear overall).
-  int scan_line_at(std::size_t off) {
-    for (; line_pos_ < off && line_pos_ < text_.size(); ++line_pos_) line_ += text_[line_pos_] == '\n';
-    return line_;
-  }
   template <class... Args>
   [[noreturn]] void fail_at(std::size_t off, const Args&... args) const {
     fail(source_, ":", line_at(off), ": ", args...);
   }
   template <class... Args>
   [[noreturn]] void fail_array(const ArrayRef& a, const Args&... args) const {
-    fail(source_, ":", a.line, ": DataArray '", a.name, "': ", args...);
+    fail(source_, ":", line_at(a.at), ": DataArray '", a.name, "': ", args...);
   }
 
-  bool next_tag(XmlTag& tag);
   void scan();
-  std::int64_t int_attr(const XmlTag& t, std::string_view key, bool required);
+  bool self_closing(std::size_t name_at) const;
+  std::size_t appended_tag() const;
+  void collect(const pugi::xml_node& node, std::string_view section, int depth);
+  std::int64_t int_attr(const pugi::xml_node& t, const char* key, bool required);
+  std::size_t offset_of(const pugi::xml_node& n) const { return std::size_t(std::max<std::ptrdiff_t>(0, n.offset_debug())); }
   // `need`: the bytes the array must hold, checked before anything is inflated.
   std::string block_bytes(const ArrayRef& a, std::string_view bytes, std::uint64_t need) const;
   std::uint64_t header_value(std::string_view bytes, std::size_t i) const;
@@ -86,157 +79,182 @@ class VtuFile {
   std::string source_;
   std::string_view text_;
   std::size_t max_bytes_;  // the most one decoded array may take (ReadOptions::max_bytes)
-  std::size_t pos_ = 0;
-  std::size_t line_pos_ = 0;  // scan_line_at cursor
-  int line_ = 1;
+  std::string xml_;        // the XML part of the file, parsed in place by pugixml
+  pugi::xml_document doc_;
   bool big_endian_ = false, compressed_ = false;
   int header_size_ = 4;
   std::int64_t npoints_ = -1, ncells_ = -1;
   std::vector<ArrayRef> points_, cells_, cell_data_;
   std::string appended_encoding_;
   std::size_t appended_begin_ = 0, appended_end_ = 0;
-  bool have_appended_ = false;
+  bool have_appended_ = false, have_piece_ = false;
   std::vector<std::int64_t> appended_offsets_;  // sorted, for base64 chunk ends
 };
 
-bool VtuFile::next_tag(XmlTag& tag) {
-  for (;;) {
-    const std::size_t lt = text_.find('<', pos_);
-    if (lt == std::string_view::npos) return false;
-    auto skip_to = [&](std::string_view end) {
-      const std::size_t e = text_.find(end, lt);
-      if (e == std::string_view::npos) fail_at(lt, "unterminated XML construct");
-      pos_ = e + end.size();
-    };
-    if (text_.substr(lt, 4) == "<!--") { skip_to("-->"); continue; }
-    if (text_.substr(lt, 2) == "<?") { skip_to("?>"); continue; }
-    if (text_.substr(lt, 2) == "<!") { skip_to(">"); continue; }
-    tag = XmlTag{};
-    tag.begin = lt;
-    std::size_t i = lt + 1;
-    auto space = [&](char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r'; };
-    auto need = [&]() { if (i >= text_.size()) fail_at(lt, "file ends inside an XML tag"); };
-    need();
-    if (text_[i] == '/') tag.closing = true, ++i;
-    const std::size_t n0 = i;
-    while (i < text_.size() && !space(text_[i]) && text_[i] != '>' && text_[i] != '/') ++i;
-    tag.name = text_.substr(n0, i - n0);
-    if (tag.name.empty()) fail_at(lt, "malformed XML tag");
-    for (;;) {
-      while (i < text_.size() && space(text_[i])) ++i;
-      need();
-      if (text_[i] == '>') { ++i; break; }
-      if (text_[i] == '/') {
-        ++i;
-        need();
-        if (text_[i] != '>') fail_at(lt, "malformed XML tag <", tag.name, ">");
-        tag.self_closing = true;
-        ++i;
-        break;
-      }
-      const std::size_t k0 = i;
-      while (i < text_.size() && !space(text_[i]) && text_[i] != '=' && text_[i] != '>') ++i;
-      const std::string_view key = text_.substr(k0, i - k0);
-      while (i < text_.size() && space(text_[i])) ++i;
-      need();
-      if (text_[i] != '=') fail_at(lt, "attribute ", key, " of <", tag.name, "> has no value");
-      ++i;
-      while (i < text_.size() && space(text_[i])) ++i;
-      need();
-      const char q = text_[i];
-      if (q != '"' && q != '\'') fail_at(lt, "attribute ", key, " of <", tag.name, "> is not quoted");
-      const std::size_t v0 = ++i;
-      while (i < text_.size() && text_[i] != q) ++i;
-      need();
-      tag.attrs.emplace_back(key, text_.substr(v0, i - v0));
-      ++i;
-    }
-    tag.end = i;
-    pos_ = i;
-    return true;
-  }
-}
-
-std::int64_t VtuFile::int_attr(const XmlTag& t, std::string_view key, bool required) {
-  const std::string_view v = t.attr(key);
+std::int64_t VtuFile::int_attr(const pugi::xml_node& t, const char* key, bool required) {
+  const std::string_view v = t.attribute(key).value();
   if (v.empty()) {
-    if (required) fail_at(t.begin, "<", t.name, "> has no ", key, " attribute");
+    if (required) fail_at(offset_of(t), "<", t.name(), "> has no ", key, " attribute");
     return -1;
   }
   std::int64_t out;
-  if (!parse_int(v, out) || out < 0) fail_at(t.begin, key, "=\"", v, "\" of <", t.name, "> is not a count");
+  if (!parse_int(v, out) || out < 0) fail_at(offset_of(t), key, "=\"", v, "\" of <", t.name(), "> is not a count");
   return out;
 }
 
-void VtuFile::scan() {
-  XmlTag tag;
-  bool have_file = false, have_piece = false;
-  std::string section;
-  while (next_tag(tag)) {
-    if (tag.closing) {
-      if (tag.name == section) section.clear();
-      continue;
-    }
-    if (tag.name == "VTKFile") {
-      have_file = true;
-      if (tag.attr("type") != "UnstructuredGrid")
-        fail_at(tag.begin, "VTK XML type '", tag.attr("type"), "' is not supported; expected UnstructuredGrid");
-      const std::string_view order = tag.attr("byte_order"), header = tag.attr("header_type");
-      const std::string_view comp = tag.attr("compressor");
-      if (order == "BigEndian") big_endian_ = true;
-      else if (!order.empty() && order != "LittleEndian") fail_at(tag.begin, "unknown byte_order '", order, "'");
-      if (header == "UInt64") header_size_ = 8;
-      else if (!header.empty() && header != "UInt32") fail_at(tag.begin, "unknown header_type '", header, "'");
-      if (comp == "vtkZLibDataCompressor") compressed_ = true;
-      else if (!comp.empty())
-        fail_at(tag.begin, "compressor '", comp, "' is not supported; save uncompressed or with zlib compression");
-    } else if (tag.name == "Piece") {
-      if (have_piece) fail_at(tag.begin, "more than one <Piece>; merge the pieces into one grid before loading");
-      have_piece = true;
-      npoints_ = int_attr(tag, "NumberOfPoints", true);
-      ncells_ = int_attr(tag, "NumberOfCells", true);
-      if (npoints_ > INT32_MAX || ncells_ > INT32_MAX) fail_at(tag.begin, "too many points or cells");
-    } else if (tag.name == "Points" || tag.name == "Cells" || tag.name == "CellData" || tag.name == "PointData" ||
-               tag.name == "FieldData") {
-      if (!tag.self_closing) section = std::string(tag.name);
-    } else if (tag.name == "DataArray") {
+// Depth first, as the file reads: DataArrays belong to the nearest enclosing
+// Points, Cells or CellData (those in PointData and FieldData are not needed).
+void VtuFile::collect(const pugi::xml_node& node, std::string_view section, int depth) {
+  // VTU is a few levels deep; a file nested past this is refused, not recursed into.
+  if (depth > 64) fail_at(offset_of(node), "XML elements nested more than 64 deep; not a VTU grid");
+  for (const pugi::xml_node& c : node.children()) {
+    if (c.type() != pugi::node_element) continue;
+    const std::string_view name = c.name();
+    if (name == "Piece") {
+      if (have_piece_) fail_at(offset_of(c), "more than one <Piece>; merge the pieces into one grid before loading");
+      have_piece_ = true;
+      npoints_ = int_attr(c, "NumberOfPoints", true);
+      ncells_ = int_attr(c, "NumberOfCells", true);
+      if (npoints_ > INT32_MAX || ncells_ > INT32_MAX) fail_at(offset_of(c), "too many points or cells");
+      collect(c, section, depth + 1);
+    } else if (name == "Points" || name == "Cells" || name == "CellData" || name == "PointData" ||
+               name == "FieldData") {
+      collect(c, name, depth + 1);
+    } else if (name == "DataArray") {
       ArrayRef a;
-      a.name = std::string(tag.attr("Name"));
-      a.type = std::string(tag.attr("type"));
-      a.format = std::string(tag.attr("format"));
-      a.line = scan_line_at(tag.begin);
-      const std::int64_t nc = int_attr(tag, "NumberOfComponents", false);
+      a.name = c.attribute("Name").value();
+      a.type = c.attribute("type").value();
+      a.format = c.attribute("format").value();
+      a.at = offset_of(c);
+      const std::int64_t nc = int_attr(c, "NumberOfComponents", false);
       a.ncomp = nc < 0 ? 1 : nc;
       if (a.format == "appended") {
-        a.offset = int_attr(tag, "offset", true);
+        a.offset = int_attr(c, "offset", true);
         appended_offsets_.push_back(a.offset);
       }
-      if (!tag.self_closing) {
-        const std::size_t close = text_.find("</DataArray>", tag.end);
-        if (close == std::string_view::npos) fail_at(tag.begin, "DataArray '", a.name, "' has no </DataArray>");
-        a.begin = tag.end;
-        a.content_line = scan_line_at(tag.end);
-        a.end = close;
-        pos_ = close;
-      }
-      if (section == "Points") points_.push_back(a);
-      else if (section == "Cells") cells_.push_back(a);
-      else if (section == "CellData") cell_data_.push_back(a);
-    } else if (tag.name == "AppendedData") {
+      // The text children (one, unless comments or CDATA split it).
+      int parts = 0;
+      for (const pugi::xml_node& t : c.children())
+        if (t.type() == pugi::node_pcdata || t.type() == pugi::node_cdata) {
+          const std::string_view v = t.value();
+          if (parts++ == 0) {
+            a.content = v;
+            a.content_at = v.data() >= xml_.data() && v.data() <= xml_.data() + xml_.size()
+                               ? std::size_t(v.data() - xml_.data()) : a.at;
+          } else {
+            if (parts == 2) a.joined = a.content;
+            a.joined += ' ';
+            a.joined += v;
+          }
+        }
+      if (a.content_at == 0) a.content_at = a.at;
+      if (section == "Points") points_.push_back(std::move(a));
+      else if (section == "Cells") cells_.push_back(std::move(a));
+      else if (section == "CellData") cell_data_.push_back(std::move(a));
+    } else if (name == "AppendedData") {
       have_appended_ = true;
-      appended_encoding_ = std::string(tag.attr("encoding"));
+      appended_encoding_ = c.attribute("encoding").value();
       if (appended_encoding_ != "raw" && appended_encoding_ != "base64")
-        fail_at(tag.begin, "AppendedData encoding '", appended_encoding_, "' is not supported (raw or base64)");
-      const std::size_t underscore = text_.find('_', tag.end);
-      if (underscore == std::string_view::npos) fail_at(tag.begin, "AppendedData has no '_' marking its start");
-      appended_begin_ = underscore + 1;
-      const std::size_t close = text_.rfind("</AppendedData>");
-      appended_end_ = close == std::string_view::npos || close < appended_begin_ ? text_.size() : close;
-      break;  // raw bytes follow; nothing after them is needed
+        fail_at(offset_of(c), "AppendedData encoding '", appended_encoding_, "' is not supported (raw or base64)");
+    } else {
+      collect(c, section, depth + 1);
     }
   }
-  if (!have_file) fail(source_, ": not a VTK XML file (no <VTKFile> element)");
-  if (!have_piece) fail(source_, ": no <Piece> element; the grid is empty or the file is truncated");
+}
+
+// Whether the start tag whose name begins at `name_at` ends in "/>" (quoted
+// attribute values may hold '>').
+bool VtuFile::self_closing(std::size_t name_at) const {
+  char quote = 0;
+  for (std::size_t i = name_at; i < text_.size(); ++i) {
+    const char c = text_[i];
+    if (quote) {
+      if (c == quote) quote = 0;
+    } else if (c == '"' || c == '\'') {
+      quote = c;
+    } else if (c == '>') {
+      return i > name_at && text_[i - 1] == '/';
+    }
+  }
+  return false;
+}
+
+// Offset of the <AppendedData tag: the first one outside comments and CDATA
+// sections; npos when there is none.
+std::size_t VtuFile::appended_tag() const {
+  for (std::size_t from = 0;;) {
+    const std::size_t app = text_.find("<AppendedData", from);
+    if (app == std::string_view::npos) return app;
+    // Past the end of a comment or CDATA section that holds it (linear: each
+    // section is skipped once); an unterminated one holds the rest of the file.
+    std::size_t past = app;
+    for (const auto& [open, close] : {std::pair<std::string_view, std::string_view>{"<!--", "-->"}, {"<![CDATA[", "]]>"}}) {
+      const std::size_t o = text_.rfind(open, app);
+      if (o == std::string_view::npos) continue;
+      const std::size_t c = text_.find(close, o + open.size());
+      if (c == std::string_view::npos) return std::string_view::npos;
+      if (c > app) past = std::max(past, c + close.size());
+    }
+    if (past == app) return app;
+    from = past;
+  }
+}
+
+void VtuFile::scan() {
+  // The XML part ends with the <AppendedData ...> tag, when there is one:
+  // its data starts after a '_' and is not XML.
+  std::size_t xml_end = text_.size(), tag_end = std::string_view::npos;
+  if (const std::size_t app = appended_tag(); app != std::string_view::npos) {
+    tag_end = text_.find('>', app);
+    if (tag_end == std::string_view::npos) fail_at(app, "file ends inside an XML tag");
+    xml_end = tag_end + 1;
+  }
+  xml_.assign(text_.substr(0, xml_end));
+  const pugi::xml_parse_result r =
+      doc_.load_buffer_inplace(xml_.data(), xml_.size(), pugi::parse_default, pugi::encoding_utf8);
+  // The innermost element that was open when the text ended.
+  pugi::xml_node last = doc_;
+  while (last.last_child() && last.last_child().type() == pugi::node_element) last = last.last_child();
+  const std::size_t at = std::size_t(std::max<std::ptrdiff_t>(0, r.offset));
+  if (r.status == pugi::status_end_element_mismatch && at + 1 >= xml_.size()) {
+    // Elements left open at the end: the file is cut short, or its XML part
+    // ends at <AppendedData> (by design). A cut inside a DataArray is named.
+    if (std::string_view(last.name()) == "DataArray" && !self_closing(offset_of(last)) &&
+        text_.find("</DataArray", offset_of(last)) == std::string_view::npos)
+      fail_at(offset_of(last), "DataArray '", last.attribute("Name").value(), "' has no </DataArray>");
+  } else if (r.status == pugi::status_end_element_mismatch) {
+    fail_at(at, "malformed XML: an end tag does not match the innermost open element, <", last.name(), "> (line ",
+            line_at(offset_of(last)), ")");
+  } else if (r.status == pugi::status_bad_attribute) {
+    fail_at(at, "an attribute of <", last.name(), "> is malformed: its value is not quoted, or its '=' is missing");
+  } else if (r.status == pugi::status_no_document_element) {
+    fail(source_, ": not a VTK XML file (no <VTKFile> element)");
+  } else if (r.status != pugi::status_ok) {
+    fail_at(at, "malformed XML: ", r.description());
+  }
+  const pugi::xml_node file = doc_.document_element();
+  if (std::string_view(file.name()) != "VTKFile") fail(source_, ": not a VTK XML file (no <VTKFile> element)");
+  const std::string_view type = file.attribute("type").value();
+  if (type != "UnstructuredGrid")
+    fail_at(offset_of(file), "VTK XML type '", type, "' is not supported; expected UnstructuredGrid");
+  const std::string_view order = file.attribute("byte_order").value(), header = file.attribute("header_type").value();
+  const std::string_view comp = file.attribute("compressor").value();
+  if (order == "BigEndian") big_endian_ = true;
+  else if (!order.empty() && order != "LittleEndian") fail_at(offset_of(file), "unknown byte_order '", order, "'");
+  if (header == "UInt64") header_size_ = 8;
+  else if (!header.empty() && header != "UInt32") fail_at(offset_of(file), "unknown header_type '", header, "'");
+  if (comp == "vtkZLibDataCompressor") compressed_ = true;
+  else if (!comp.empty())
+    fail_at(offset_of(file), "compressor '", comp, "' is not supported; save uncompressed or with zlib compression");
+  collect(file, "", 0);
+  if (!have_piece_) fail(source_, ": no <Piece> element; the grid is empty or the file is truncated");
+  if (have_appended_) {
+    const std::size_t underscore = text_.find('_', tag_end);
+    if (underscore == std::string_view::npos) fail_at(tag_end, "AppendedData has no '_' marking its start");
+    appended_begin_ = underscore + 1;
+    const std::size_t close = text_.rfind("</AppendedData>");
+    appended_end_ = close == std::string_view::npos || close < appended_begin_ ? text_.size() : close;
+  }
   std::sort(appended_offsets_.begin(), appended_offsets_.end());
 }
 
@@ -297,8 +315,8 @@ std::vector<double> VtuFile::decode(const ArrayRef& a, std::int64_t expected) co
   if (size == 0) fail_array(a, "data type '", a.type, "' is not supported");
   std::vector<double> out;
   if (a.format == "ascii") {
-    TextReader r(source_, text_.substr(a.begin, a.end - a.begin), a.content_line);
-    out.reserve(reserve_cap(expected, a.end - a.begin, 2));
+    TextReader r(source_, a.text(), line_at(a.content_at));
+    out.reserve(reserve_cap(expected, a.text().size(), 2));
     std::string_view tok;
     while (r.next_token(tok)) {
       if (std::int64_t(out.size()) >= expected)
@@ -318,8 +336,8 @@ std::vector<double> VtuFile::decode(const ArrayRef& a, std::int64_t expected) co
   std::string data;
   if (a.format == "binary") {
     std::size_t bad = 0;
-    auto bytes = base64_decode(text_.substr(a.begin, a.end - a.begin), &bad);
-    if (!bytes) fail_at(a.begin + bad, "DataArray '", a.name, "': invalid base64 data");
+    auto bytes = base64_decode(a.text(), &bad);
+    if (!bytes) fail_at(a.content_at + (a.joined.empty() ? bad : 0), "DataArray '", a.name, "': invalid base64 data");
     data = block_bytes(a, *bytes, need);
   } else if (a.format == "appended") {
     if (!have_appended_) fail_array(a, "format=\"appended\" but the file has no <AppendedData>");
