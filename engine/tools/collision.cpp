@@ -108,26 +108,49 @@ std::vector<SurfacePoint> surface_patch(const ContactSurface& s, const Eigen::Ve
   std::vector<SurfacePoint> out;
   const auto [f0, q0] = nearest_on(s, cand, center);
   if (f0 < 0 || (q0 - center).norm() > radius) return out;
-  auto add = [&](int f, const Eigen::Vector3d& q) {
+  auto add = [&](int f, const Eigen::Vector3d& q, double share) {
+    if (!(share > 0)) return;
     SurfacePoint p;
     for (int k = 0; k < 3; ++k) p.nodes[size_t(k)] = s.surface.faces(f, k);
     p.weights = barycentric(q, corner(s, f, 0), corner(s, f, 1), corner(s, f, 2));
+    p.share = share;
     out.push_back(p);
   };
-  add(f0, q0);
+  add(f0, q0, 1.0);
   const double disc = contact_circle ? std::sqrt(std::max(0.0, radius * radius - (q0 - center).squaredNorm())) : radius;
   if (!(disc > 0)) return out;  // a sphere just touching: a point
-  // Tangent plane at q0: the nearest face's normal.
-  const Eigen::Vector3d a = corner(s, f0, 0), b = corner(s, f0, 1), c = corner(s, f0, 2);
-  Eigen::Vector3d n = (b - a).cross(c - a);
+  // The surface's normal at a point of face f: a jaw takes the face's own; a
+  // probe the vertex normals interpolated there, the same from either face at
+  // an edge (a point on an edge belongs to both, and which one the nearest-
+  // point search names must not matter).
+  auto normal_at = [&](int f, const Eigen::Vector3d& q) -> Eigen::Vector3d {
+    const Eigen::Vector3d a = corner(s, f, 0), b = corner(s, f, 1), c = corner(s, f, 2);
+    Eigen::Vector3d m = (b - a).cross(c - a);
+    if (contact_circle && m.norm() > 0) {
+      const Eigen::Vector3d w = barycentric(q, a, b, c);
+      m = Eigen::Vector3d::Zero();
+      for (int k = 0; k < 3; ++k) m += w(k) * s.normals.row(s.surface.faces(f, k)).transpose();
+    }
+    return m.norm() > 0 ? Eigen::Vector3d(m.normalized()) : Eigen::Vector3d::Zero();
+  };
+  // Tangent plane at q0.
+  const Eigen::Vector3d n = normal_at(f0, q0);
   if (!(n.norm() > 0)) return out;
-  n.normalize();
   const Eigen::Vector3d t1 = n.unitOrthogonal(), t2 = n.cross(t1);
+  // A jaw holds what lies under it alike (share 1 inside every bound); a
+  // probe's shares fade to 0 at each bound (u: the fraction of it used), so
+  // nothing enters or leaves its patch with a finite load.
+  auto fade = [&](double u) { return contact_circle ? std::pow(std::max(0.0, 1 - u * u), 2) : (u <= 1 ? 1.0 : 0.0); };
+  // Radially a probe presses with Hertz's profile, sqrt(1 - (r / disc)^2)
+  // for a sphere on an elastic half-space: zero at the contact's rim.
+  auto pressure = [&](double u) { return contact_circle ? std::sqrt(std::max(0.0, 1 - u * u)) : (u <= 1 ? 1.0 : 0.0); };
   // Only surface that faces the jaw as the nearest face does (within 60
   // degrees): not the walls of a cut, nor the back of a thin body.
-  auto facing = [&](int f) {
-    const Eigen::Vector3d m = (corner(s, f, 1) - corner(s, f, 0)).cross(corner(s, f, 2) - corner(s, f, 0));
-    return m.norm() > 0 && m.normalized().dot(n) >= 0.5;
+  auto facing = [&](const Eigen::Vector3d& normal) {
+    const double cosine = normal.dot(n);
+    if (!contact_circle) return cosine >= 0.5 ? 1.0 : 0.0;
+    const double t = std::clamp((cosine - 0.5) / 0.5, 0.0, 1.0);
+    return t * t * (3 - 2 * t);
   };
   constexpr double kPi = 3.14159265358979323846;
   for (const auto& [rho, count] : {std::pair{0.5, 6}, std::pair{1.0, 12}})
@@ -135,18 +158,24 @@ std::vector<SurfacePoint> surface_patch(const ContactSurface& s, const Eigen::Ve
       const double th = 2 * kPi * (k + 0.5 * (count == 12)) / count;
       const Eigen::Vector3d x = q0 + rho * disc * (std::cos(th) * t1 + std::sin(th) * t2);
       const auto [f, q] = nearest_on(s, cand, x);
-      if (f >= 0 && (q - x).norm() <= 0.5 * disc && facing(f)) add(f, q);
+      if (f >= 0)
+        add(f, q, fade((q - x).norm() / (0.5 * disc)) * pressure((q - q0).norm() / (contact_circle ? disc : 1e300)) *
+                      facing(normal_at(f, q)));
     }
   // And every surface node on the patch: on a mesh finer than the pattern
   // the jaw holds all the tissue under it, not 19 points of it.
-  for (int v : s.surface.nodes)
-    if ((s.positions.row(v).transpose() - q0).norm() <= disc && s.normals.row(v).dot(n) >= 0.5 &&
-        std::abs((s.positions.row(v).transpose() - q0).dot(n)) <= 0.5 * disc) {
+  for (int v : s.surface.nodes) {
+    const Eigen::Vector3d d = s.positions.row(v).transpose() - q0;
+    const double share = pressure(d.norm() / disc) * fade(std::abs(d.dot(n)) / (0.5 * disc)) *
+                         facing(s.normals.row(v).transpose());
+    if (share > 0) {
       SurfacePoint p;
       p.nodes = {v, v, v};
       p.weights = Eigen::Vector3d(1, 0, 0);
+      p.share = share;
       out.push_back(p);
     }
+  }
   return out;
 }
 
@@ -180,6 +209,7 @@ SurfacePoint nearest_surface_point(const Eigen::MatrixX3d& x, const mesh::Surfac
   }
   SurfacePoint out;
   if (best < 0) return prefer;
+  out.share = prefer.share;  // the same point of the grip, moved
   for (int k = 0; k < 3; ++k) out.nodes[size_t(k)] = surf.faces(best, k);
   out.weights = barycentric(best_q, x.row(out.nodes[0]).transpose(), x.row(out.nodes[1]).transpose(),
                             x.row(out.nodes[2]).transpose());

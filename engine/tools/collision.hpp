@@ -28,6 +28,7 @@ std::vector<int> nodes_in_sphere(const ContactSurface& s, const Eigen::Vector3d&
 struct SurfacePoint {
   std::array<int, 3> nodes{};                       // node ids of the triangle
   Eigen::Vector3d weights = Eigen::Vector3d::Zero(); // barycentric, >= 0, sum 1
+  double share = 1;  // (0, 1]: this point's part of a patch's load, relative to the others
   Eigen::Vector3d at(const Eigen::MatrixX3d& positions) const;  // position, m
 };
 
@@ -48,7 +49,15 @@ struct SurfacePoint {
 // surface is farther than `radius` from the centre. With `contact_circle`
 // the disc is the circle the sphere cuts from the surface's tangent plane,
 // radius sqrt(radius^2 - d^2) for the centre at distance d (a probe pressed
-// in: its contact area), a single point when it just touches.
+// in: its contact area), a single point when it just touches; its points
+// then carry shares that fall to zero wherever a point would leave the patch
+// (radially as Hertz's pressure sqrt(1 - (r/disc)^2) under a sphere; as
+// (1 - u^2)^2 when a sample strays from its place or a node from the tangent
+// plane; smoothly as a normal turns toward 60 degrees; normals interpolated
+// from the vertices, so a point on an edge has one whichever face names it),
+// so a probe's load moves continuously with the tissue: a point crossing the
+// rim between two frames takes almost nothing with it (an equal split moved
+// 1/n of the load at once, and 1e-15 of rounding could decide it).
 std::vector<SurfacePoint> surface_patch(const ContactSurface& s, const Eigen::Vector3d& center, double radius,
                                         bool contact_circle = false);
 

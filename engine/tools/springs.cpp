@@ -32,9 +32,11 @@ int solve_implicit_springs(const SpringSystem& sys, const std::vector<ToolSpec>&
     ts.forces.assign(ts.nodes.size(), Eigen::Vector3d::Zero());
     ts.total_force.setZero();
     if (ts.grip.empty()) continue;
+    double shares = 0;
+    for (const SurfacePoint& g : ts.grip) shares += g.share;
     for (size_t i = 0; i < ts.grip.size(); ++i) {
       const SurfacePoint& g = ts.grip[i];
-      Point p{spec.stiffness / double(ts.grip.size()), ts.tip + ts.offsets[i], {}};
+      Point p{spec.stiffness * g.share / shares, ts.tip + ts.offsets[i], {}};
       for (int j = 0; j < 3; ++j) {
         const int n = g.nodes[size_t(j)];
         p.at_rest += g.weights(j) * mesh.node(n);

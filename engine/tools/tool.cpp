@@ -113,25 +113,28 @@ void update_tool(const ToolSpec& spec, ToolState& st, double t, const ContactSur
   if (k == 0) return;
   st.forces.assign(k, Eigen::Vector3d::Zero());
   if (!st.grip.empty()) {
-    // Grasper, force-driven probe: per grip point, then onto its nodes by its weights.
+    // Grasper, force-driven probe: per grip point by its share, then onto
+    // its nodes by its weights.
     const size_t np = st.grip.size();
+    double shares = 0;
+    for (const SurfacePoint& p : st.grip) shares += p.share;
     Eigen::Vector3d dir = spec.direction;
     if (spec.drive == ToolSpec::Drive::force && dir.squaredNorm() == 0) {
       if (spec.kind == ToolSpec::Kind::probe) {  // against the surface's normal there
-        for (const SurfacePoint& p : st.grip) dir -= p.at(s.normals);
+        for (const SurfacePoint& p : st.grip) dir -= p.share * p.at(s.normals);
       } else {  // toward the tip from the grip's centroid
         Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
         for (const SurfacePoint& p : st.grip) centroid += p.at(s.positions);
         dir = st.tip - centroid / double(np);
       }
     }
-    const double f = spec.drive == ToolSpec::Drive::force ? evaluate(spec.force, t) / double(np) : 0.0;
-    const double kp = spec.stiffness / double(np);
+    const double f = spec.drive == ToolSpec::Drive::force ? evaluate(spec.force, t) / shares : 0.0;
+    const double kp = spec.stiffness / shares;
     for (size_t i = 0; i < np; ++i) {
       const SurfacePoint& p = st.grip[i];
       Eigen::Vector3d fp = Eigen::Vector3d::Zero();
-      if (spec.drive == ToolSpec::Drive::spring) fp = kp * (st.tip + st.offsets[i] - p.at(s.positions));
-      else if (dir.norm() > 0) fp = f * dir.normalized();  // no defined direction (tip at the centroid): none
+      if (spec.drive == ToolSpec::Drive::spring) fp = p.share * kp * (st.tip + st.offsets[i] - p.at(s.positions));
+      else if (dir.norm() > 0) fp = p.share * f * dir.normalized();  // no defined direction (tip at the centroid): none
       for (int j = 0; j < 3; ++j) {
         const size_t at = size_t(std::lower_bound(st.nodes.begin(), st.nodes.end(), p.nodes[size_t(j)]) - st.nodes.begin());
         st.forces[at] += p.weights(j) * fp;

@@ -3,6 +3,8 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <cmath>
+#include <map>
 #include <random>
 
 #include "mesh/generate/box.hpp"
@@ -125,6 +127,65 @@ TEST_SUITE("tools/collision") {
     const std::vector<tools::SurfacePoint> edge = tools::surface_patch(rest, V(1.0, 0.5, 1.0), 0.2);
     CHECK(edge.size() >= 7);
     for (const auto& p : edge) CHECK((p.at(m.nodes) - V(1.0, 0.5, 1.0)).norm() <= 0.2 * (1 + 1e-12) + 1e-12);
+  }
+
+  TEST_CASE("a probe's load moves continuously: a node at the contact's rim, a nearest point on an edge") {
+    // The top face of a unit box of 8 cells a side (nodes every 0.125), with
+    // a ridge: the top nodes on x = 0.625 raised by 0.02, so the faces on
+    // either side of it slope away from it. The load a patch puts on each node:
+    // sum of share x barycentric weight, over the sum of shares (what
+    // update_tool applies). An equal split over the points fails the first
+    // check (a node entering moves 1/n of the load), the faces' own normals
+    // the second (the face named on the ridge turns the tangent plane).
+    mesh::BoxOptions o;
+    o.nx = o.ny = o.nz = 8;
+    const mesh::TetMesh m = mesh::generate_box(o);
+    const mesh::Surface s = mesh::extract_surface(m);
+    Eigen::MatrixX3d x = m.nodes;
+    for (int n = 0; n < m.num_nodes(); ++n)
+      if (x(n, 2) == 1.0 && std::abs(x(n, 0) - 0.625) < 1e-12) x(n, 2) += 0.02;
+    const Eigen::MatrixX3d normals = mesh::vertex_normals(m, s, x);
+    const tools::ContactSurface surf{x, s, normals};
+    // The same surface with its faces listed the other way round: where two
+    // faces are as near (a point on their edge), the search names the other.
+    mesh::Surface s_rev = s;
+    s_rev.faces = s.faces.colwise().reverse().eval();
+    const tools::ContactSurface surf_rev{x, s_rev, normals};
+    auto load = [&](const V& center, double radius, bool reversed = false) {
+      std::map<int, double> on;
+      double shares = 0;
+      for (const auto& p : tools::surface_patch(reversed ? surf_rev : surf, center, radius, true)) {
+        CHECK(p.share > 0);
+        CHECK(p.share <= 1);
+        shares += p.share;
+        for (int k = 0; k < 3; ++k) on[p.nodes[size_t(k)]] += p.share * p.weights(k);
+      }
+      for (auto& [n, f] : on) f /= shares;
+      return on;
+    };
+    auto distance = [](const std::map<int, double>& a, const std::map<int, double>& b) {
+      double d = 0;
+      for (const auto& [n, f] : a) d += std::abs(f - (b.count(n) ? b.at(n) : 0.0));
+      for (const auto& [n, f] : b) d += a.count(n) ? 0.0 : f;
+      return d;
+    };
+    // A sphere of radius R at height h over (0.25, 0.5, 1): contact disc
+    // sqrt(R^2 - h^2) = 0.25, the distance of the top nodes (0, 0.5) and
+    // (0.5, 0.5): a hair higher they are outside, a hair deeper inside.
+    const double R = 0.3, h = std::sqrt(R * R - 0.25 * 0.25);
+    const auto outside = load(V(0.25, 0.5, 1 + h + 1e-12), R), inside = load(V(0.25, 0.5, 1 + h - 1e-12), R);
+    CHECK(distance(outside, inside) <= 1e-5);
+    // Over the ridge the nearest point lies on it, on an edge of two faces:
+    // which one the search names must not matter.
+    const auto one = load(V(0.625, 0.43, 1.2), R), other = load(V(0.625, 0.43, 1.2), R, true);
+    CHECK(distance(one, other) <= 1e-9);
+    // And the load sums to 1, centred under the probe on the flat part.
+    double sum = 0;
+    V mean = V::Zero();
+    for (const auto& [n, f] : inside) sum += f, mean += f * V(m.nodes.row(n).transpose());
+    CHECK(sum == doctest::Approx(1.0).epsilon(1e-12));
+    // (to the rim nodes' shares, sqrt of their 1e-12 margin)
+    CHECK((mean.head<2>() - Eigen::Vector2d(0.25, 0.5)).norm() <= 1e-6);
   }
 
   TEST_CASE("nodes near a segment: the capsule around it, else the faces it reaches") {

@@ -2,6 +2,8 @@
 
 #include <doctest/doctest.h>
 
+#include <cmath>
+
 #include <algorithm>
 
 #include "core/error.hpp"
@@ -41,8 +43,13 @@ TEST_SUITE("tools/tool") {
     tools::ToolState st;
     tools::update_tool(spec, st, 0.5, b.contact());
     // Tip on the top face: the contact circle has the tip's radius; it holds
-    // the pattern's 19 points and the 5 top nodes within 0.26.
-    REQUIRE(st.grip.size() == 19 + 5);
+    // the pattern's nearest point and inner ring (the outer ring lies on the
+    // rim, where Hertz's pressure is zero) and the 5 top nodes within 0.26,
+    // the four at 0.25 with the rim's small share.
+    REQUIRE(st.grip.size() == 1 + 6 + 5);
+    CHECK(st.grip[0].share == 1.0);
+    for (size_t i = 1; i <= 6; ++i) CHECK(st.grip[i].share == doctest::Approx(std::sqrt(0.75)).epsilon(1e-9));
+    for (size_t i = 7; i < st.grip.size(); ++i) CHECK(st.grip[i].share <= 1.0);
     CHECK(st.engaged);
     CHECK((st.total_force - V(0, 0, -1.0)).norm() < 1e-12);
     // The nodal forces press where the probe does: their centre of pressure
