@@ -1,6 +1,8 @@
 // The benchmark list and the `softcut bench` command.
 #include "bench/bench.hpp"
 
+#include <cmath>
+
 #include <cstdio>
 
 #include "core/error.hpp"
@@ -22,6 +24,16 @@ int positive_int(const char* bench, const std::string& flag, const std::string& 
   } catch (...) {
   }
   usage_fail("bench ", bench, ": ", flag, " needs a positive integer, got '", value, "'");
+}
+
+std::optional<double> finite_number(const std::string& value) {
+  try {
+    size_t used = 0;
+    const double x = std::stod(value, &used);
+    if (used == value.size() && std::isfinite(x)) return x;
+  } catch (...) {
+  }
+  return std::nullopt;
 }
 
 // Add a line here when a bench/<name>.cpp lands.

@@ -5,6 +5,7 @@
 // application (engine/cli: option parsing, scenario runs), which they use;
 // the program's `bench` command (cli::cmd_bench) is defined here.
 #include <algorithm>
+#include <optional>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -53,6 +54,8 @@ double median_ms(int reps, F&& f) {
 // An option's value that must be an integer in 1 .. max; else a usage error
 // "bench NAME: FLAG needs a positive integer, got 'VALUE'".
 int positive_int(const char* bench, const std::string& flag, const std::string& value, long max = 100000000);
+// An option's value that must be one finite number, nothing after it; else nullopt.
+std::optional<double> finite_number(const std::string& value);
 
 // A field of a JSON report (--json, written with core/json_text): counts as
 // they are, times and ratios to 6 significant digits, null when not finite.

@@ -48,14 +48,9 @@ int bench_gpu(const Args& args) {
   const int iterations = o.app().count("--iterations") ? positive_int("gpu", "--iterations", iterations_text, 99999) : 50;
   double peak = 0;
   if (o.app().count("--peak-gbs")) {
-    size_t used = 0;
-    try {
-      peak = std::stod(peak_text, &used);
-    } catch (...) {
-      used = 0;
-    }
-    if (used != peak_text.size() || !(peak > 0 && std::isfinite(peak)))
-      usage_fail("bench gpu: --peak-gbs ", peak_text, ": expected a positive bandwidth in GB/s");
+    const std::optional<double> v = finite_number(peak_text);
+    if (!v || !(*v > 0)) usage_fail("bench gpu: --peak-gbs ", peak_text, ": expected a positive bandwidth in GB/s");
+    peak = *v;
   }
   if (cells.empty()) cells = {4, 8, 12, 16, 24};
 

@@ -91,14 +91,10 @@ int bench_springs(const Args& args) {
                                                : 31;
   double radius = 0.009;
   if (o.app().count("--radius")) {
-    size_t used = 0;
-    try {
-      radius = std::stod(radius_text, &used);
-    } catch (...) {
-      used = 0;
-    }
-    if (used != radius_text.size() || !(radius > 0 && radius < 1))
+    const std::optional<double> v = finite_number(radius_text);
+    if (!v || !(*v > 0 && *v < 1))
       usage_fail("bench springs: --radius ", radius_text, ": expected a grasper radius in m, greater than 0 and below 1");
+    radius = *v;
   }
   std::printf("| backend | spring | grasped nodes | frame ms (mean) | springs ms/frame w/o builds | compliance builds | "
               "build ms total | frame / explicit |\n|---|---|---|---|---|---|---|---|\n");
