@@ -145,7 +145,8 @@ api.functions = {
   { name = "Scenario:probe", summary = "A probe: a sphere tip on a path that pokes the surface it touches, "
       .. "with a ramp-driven force (`force`, spread over the circle the sphere presses into the surface; "
       .. "it acts only while the sphere reaches the surface, so let the path follow the dent) or a spring of "
-      .. "total `stiffness` pushing the contact nodes to the tip's surface.", one_of = { { "force", "stiffness" } }, fields = {
+      .. "total `stiffness` pushing the contact nodes to the tip's surface.", one_of = { { "force", "stiffness" } },
+    ordered = { { "start", "stop", strict = true } }, fields = {
       F("name", "string", "for messages, outputs and Frame methods", { required = true }),
       F("path", "Path", "tip center over time", { required = true }),
       F("radius", "number", "tip radius", { unit = "m", gt = 0, default = 0.005 }),
@@ -161,7 +162,7 @@ api.functions = {
       .. "on the patch of surface under its jaw (facing it, within the jaw radius), points spread over it and bound to their "
       .. "triangles' nodes (so no single node is pulled into a spike), drags them along its path with a spring "
       .. "of total `stiffness` (or a force toward the tip), opens at `stop`.",
-    one_of = { { "force", "stiffness" } }, fields = {
+    one_of = { { "force", "stiffness" } }, ordered = { { "start", "stop", strict = true } }, fields = {
       F("name", "string", "for messages, outputs and Frame methods", { required = true }),
       F("path", "Path", "tip center over time", { required = true }),
       F("radius", "number", "jaw radius: the surface within it is grasped", { unit = "m", gt = 0, default = 0.005 }),
@@ -182,7 +183,7 @@ api.functions = {
       .. "only, from where the blade entered the tissue; a cut reaching the interface stops there with a warning. "
       .. "Start the path above the surface: a blade inside the tissue that is not cutting is an error. "
       .. "See docs/outputs.md (Cutting).",
-    one_of = { { "force", "stiffness" } }, fields = {
+    one_of = { { "force", "stiffness" } }, ordered = { { "start", "stop", strict = true } }, fields = {
       F("name", "string", "for messages, outputs and Frame methods", { required = true }),
       F("path", "Path", "centre of the blade edge over time", { required = true }),
       F("length", "number", "blade edge length", { unit = "m", gt = 0, default = 0.02 }),
@@ -227,7 +228,7 @@ api.functions = {
   { name = "Scenario:expect", summary = "A check for `softcut check` (also reported by `softcut run`): "
       .. "bounds on the displacement of a node set at time `at` (the first frame at or after it), or a "
       .. "function(frame) returning true, or false and a message. Failures point at this line.",
-    one_of = { { "nodes", "check" } }, fields = {
+    one_of = { { "nodes", "check" } }, ordered = { { "min", "max" } }, fields = {
       F("name", "string", "for messages"),
       F("at", "number", "time of the check", { unit = "s", ge = 0, required = true }),
       F("nodes", "Selection", "node set measured"),

@@ -212,6 +212,17 @@ function check.args(qname, args, context)
       check.fail(fname, "fields %s exclude each other (got %s)", table.concat(group, ", "), table.concat(given, " and "))
     end
   end
+  -- ordered = { { "a", "b", strict = true } }: b after a (b > a), else b not below a (defaults included).
+  for _, pair in ipairs(spec.ordered or {}) do
+    local lo, hi = out[pair[1]], out[pair[2]]
+    if type(lo) == "number" and type(hi) == "number" then
+      if pair.strict and not (hi > lo) then
+        check.fail(fname, "%s = %g must be after %s = %g", pair[2], hi, pair[1], lo)
+      elseif not pair.strict and lo > hi then
+        check.fail(fname, "%s = %g > %s = %g", pair[1], lo, pair[2], hi)
+      end
+    end
+  end
   return out
 end
 

@@ -125,6 +125,10 @@ function docs.markdown()
     if fn.free_fields then lines[#lines + 1] = "Fields: any names, " .. fn.free_fields .. ".\n" end
     for _, g in ipairs(fn.one_of or {}) do lines[#lines + 1] = "Give exactly one of " .. table.concat(g, ", ") .. ".\n" end
     for _, g in ipairs(fn.at_most_one_of or {}) do lines[#lines + 1] = "Give at most one of " .. table.concat(g, ", ") .. ".\n" end
+    for _, g in ipairs(fn.ordered or {}) do
+      lines[#lines + 1] = g.strict and ("`" .. g[2] .. "` must be after `" .. g[1] .. "`.\n")
+                                    or ("`" .. g[1] .. "` must not exceed `" .. g[2] .. "`.\n")
+    end
     lines[#lines + 1] = "```lua\n" .. fn.example .. "\n```\n"
   end
   lines[#lines + 1] = "## Field tables\n"

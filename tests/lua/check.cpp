@@ -68,6 +68,17 @@ TEST_SUITE("lua/check") {
     CHECK(misuse("s:material{ tissue = 'livr' }") == "liver.lua:7: material: unknown tissue 'livr' (did you mean 'liver'?)");
   }
 
+  TEST_CASE("ordered fields, declared in api.lua: stop after start (its default included), min not above max") {
+    CHECK(misuse("s:probe{ name = 'p', path = {0, 0, 0}, force = 1, start = 2, stop = 1 }") ==
+          "liver.lua:7: probe: stop = 1 must be after start = 2");
+    CHECK(misuse("s:grasper{ name = 'g', path = {0, 0, 0}, stiffness = 1, stop = 0 }") ==
+          "liver.lua:7: grasper: stop = 0 must be after start = 0");
+    CHECK(misuse("s:scalpel{ name = 'k', path = {0, 0, 0}, force = 1, cut_pressure = 1e4, start = 1, stop = 1 }") ==
+          "liver.lua:7: scalpel: stop = 1 must be after start = 1");
+    CHECK(misuse("s:expect{ at = 0, nodes = tip, min = 1, max = 0.5 }") == "liver.lua:7: expect: min = 1 > max = 0.5");
+    CHECK(misuse("s:expect{ at = 0, nodes = tip, min = 0.5, max = 0.5 }") == "");
+  }
+
   TEST_CASE("positional arguments are checked too") {
     CHECK(misuse("softcut.select.label('2')") ==
           "liver.lua:7: select.label: field 'label' must be an integer, got string '2'");
