@@ -162,6 +162,11 @@ int cmd_check(const Args& args) {
                  "tets)")->type_name("N");
   app.add_flag("--trust", trust, "no sandbox");
   app.add_flag("--no-cache", no_cache, "redo every hybrid precompute instead of loading it from the cache");
+  for (const auto& [option, what] : {std::pair{"--jobs", "a number"}, {"--only", "a name or glob"},
+                                     {"--exclude", "a name or glob"}, {"--timeout", "seconds"}, {"--set", "key=value"},
+                                     {"--junit", "a file"}, {"--json", "a file"}, {"--out", "a folder"},
+                                     {"--max-tets", "a number"}})
+    o.needs(option, what);
   if (args.empty()) {
     std::fputs(o.help().c_str(), stderr);
     return 2;

@@ -154,6 +154,8 @@ int cmd_merge(const Args& args) {
   o.app().add_option("dir", dirs, "the sweep folder")->type_name("DIR");
   o.app().add_option("--csv", csv_text, "write the table here instead")->type_name("FILE");
   o.app().add_option("--json", json_text_path, "write the JSON here instead")->type_name("FILE");
+  o.needs("--csv", "a file");
+  o.needs("--json", "a file");
   if (!o.parse(args)) return 0;
   if (dirs.size() > 1) usage_fail("softcut sweep merge: give one sweep folder (got '", dirs[1], "' too)");
   if (dirs.empty()) usage_fail("softcut sweep merge: give the sweep folder (see softcut sweep --help)");
@@ -207,6 +209,12 @@ int cmd_sweep(const Args& args) {
     app.add_option(name, run_values[name], "passed on to each run")->type_name(type);
   std::map<std::string, bool> run_flags = {{"--trust", false}, {"--no-render", false}, {"--no-cache", false}};
   for (auto& [name, on] : run_flags) app.add_flag(name, on, "passed on to each run");
+  for (const auto& [option, what] :
+       {std::pair{"--grid", "key=v1,v2,..."}, {"--table", "a CSV file"}, {"--out", "a folder"}, {"--jobs", "a number"},
+        {"--shard", "I/N"}, {"--shards", "a number"}, {"--set", "key=value"}, {"--frames", "a number"},
+        {"--render-every", "a number"}, {"--msaa", "a number"}, {"--max-tets", "a number"}, {"--backend", "a backend"},
+        {"--size", "WxH"}, {"--timeout", "seconds"}, {"--max-output", "bytes"}})
+    o.needs(option, what);
   if (args.empty()) {
     std::fputs(o.help().c_str(), stderr);
     return 2;
