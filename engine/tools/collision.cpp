@@ -159,7 +159,7 @@ std::vector<SurfacePoint> surface_patch(const ContactSurface& s, const Eigen::Ve
       const Eigen::Vector3d x = q0 + rho * disc * (std::cos(th) * t1 + std::sin(th) * t2);
       const auto [f, q] = nearest_on(s, cand, x);
       if (f >= 0)
-        add(f, q, fade((q - x).norm() / (0.5 * disc)) * pressure((q - q0).norm() / (contact_circle ? disc : 1e300)) *
+        add(f, q, fade((q - x).norm() / (0.5 * disc)) * (contact_circle ? pressure((q - q0).norm() / disc) : 1.0) *
                       facing(normal_at(f, q)));
     }
   // And every surface node on the patch: on a mesh finer than the pattern
