@@ -12,7 +12,6 @@
 namespace softcut {
 
 namespace {
-constexpr uint64_t kHalves = 2;
 constexpr uint64_t kIdUnit = uint64_t(1) << 32;
 uint64_t next_id(uint64_t job) { return ((job >> 32) + 1) << 32; }
 }  // namespace
@@ -21,44 +20,61 @@ HelperThread::HelperThread() : thread_([this] { loop(); }) {}
 
 HelperThread::~HelperThread() {
   stop_.store(true);
-  job_.store(next_id(job_.load()) | kHalves);  // a job with nothing to claim
+  job_.store(next_id(job_.load()) | (kIdUnit - 1));  // a job with nothing to claim
   job_.notify_one();
   thread_.join();
 }
 
-bool HelperThread::claim(uint64_t job, int& half) {
-  // job: the last value read; retried until no half of the current job is left.
-  while ((job & (kIdUnit - 1)) < kHalves)
+bool HelperThread::claim(uint64_t job, int& item) {
+  // job: the last value read; retried until no item of the current job is
+  // left. count_ is read after the job word it belongs to (published before it).
+  while ((job & (kIdUnit - 1)) < uint64_t(count_.load(std::memory_order_relaxed)))
     if (job_.compare_exchange_weak(job, job + 1, std::memory_order_acq_rel, std::memory_order_acquire)) {
-      half = int(job & (kIdUnit - 1));
+      item = int(job & (kIdUnit - 1));
       return true;
     }
   return false;
 }
 
 void HelperThread::wake() {
-  job_.store(next_id(job_.load(std::memory_order_relaxed)) | kHalves);
+  job_.store(next_id(job_.load(std::memory_order_relaxed)) | (kIdUnit - 1));  // nothing to claim
   if (sleeping_.load()) job_.notify_one();
 }
 
-void HelperThread::run_halves(const std::function<void(int)>& fn) {
+void HelperThread::publish(int count, int taken, const std::function<void(int)>& fn) {
   fn_ = &fn;
   done_.store(0, std::memory_order_relaxed);
-  // Published with half 0 already taken: it is the caller's, so each core
-  // keeps reading the same rows.
-  job_.store(next_id(job_.load(std::memory_order_relaxed)) | 1);  // publishes fn_ and done_
+  count_.store(count, std::memory_order_relaxed);
+  job_.store(next_id(job_.load(std::memory_order_relaxed)) | uint64_t(taken));  // publishes fn_, count_, done_
   if (sleeping_.load()) job_.notify_one();
-  fn(0);
-  done_.fetch_add(1, std::memory_order_release);
-  int half = 0;
-  if (claim(job_.load(std::memory_order_acquire), half)) {  // the helper was not there in time
-    fn(half);
+}
+
+void HelperThread::finish_and_wait() {
+  int item = 0;
+  while (claim(job_.load(std::memory_order_acquire), item)) {  // what the helper has not taken
+    (*fn_)(item);
     done_.fetch_add(1, std::memory_order_release);
   }
-  // Else the helper holds the other half: it is running it now.
-  for (int spins = 0; done_.load(std::memory_order_acquire) < int(kHalves); ++spins)
+  // The helper holds the rest: it is running it now.
+  const int count = count_.load(std::memory_order_relaxed);
+  for (int spins = 0; done_.load(std::memory_order_acquire) < count; ++spins)
     if (spins < 4096) SOFTCUT_PAUSE();
     else std::this_thread::yield();
+}
+
+void HelperThread::run_halves(const std::function<void(int)>& fn) {
+  // Published with half 0 already taken: it is the caller's, so each core
+  // keeps reading the same rows.
+  publish(2, 1, fn);
+  fn(0);
+  done_.fetch_add(1, std::memory_order_release);
+  finish_and_wait();
+}
+
+void HelperThread::run_items(int count, const std::function<void(int)>& fn) {
+  if (count <= 0) return;
+  publish(count, 0, fn);
+  finish_and_wait();
 }
 
 void HelperThread::loop() {
@@ -69,9 +85,9 @@ void HelperThread::loop() {
     for (int spins = 0;; ++spins) {
       const uint64_t job = job_.load(std::memory_order_acquire);
       if (job != seen) {
-        int half = 0;
-        while (claim(job_.load(std::memory_order_acquire), half)) {
-          (*fn_)(half);
+        int item = 0;
+        while (claim(job_.load(std::memory_order_acquire), item)) {
+          (*fn_)(item);
           helped_.fetch_add(1, std::memory_order_relaxed);
           done_.fetch_add(1, std::memory_order_release);
         }

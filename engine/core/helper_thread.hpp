@@ -1,7 +1,8 @@
 #pragma once
 // A second thread for a frame's bandwidth-bound dense products (stage 4's
-// product with a small system's kept inverse, stage 5's (K*^-1 P*) AI): the
-// work comes in two fixed halves; the caller takes the first, the helper the
+// product with a small system's kept inverse, stage 5's (K*^-1 P*) AI) and
+// a first touch's backward solve (solve/cholesky: subtrees as items): the
+// products come in two fixed halves; the caller takes the first, the helper the
 // second when it is awake, and the caller takes whatever is left unclaimed.
 // Each half is always the same rows, so a frame gives the same bits whoever
 // computed which half, and the rows each core reads stay in its own L2
@@ -37,18 +38,28 @@ class HelperThread {
   // Calls fn(0) and fn(1), each exactly once, fn(0) on this thread; returns
   // when both have returned. fn must not throw. One caller at a time.
   void run_halves(const std::function<void(int)>& fn);
-  // Halves the helper computed so far (for tests and the bench).
+  // Calls fn(0) .. fn(count - 1), each exactly once, claimed in that order
+  // by this thread and the helper as each finishes its last; returns when
+  // all have returned. A helper that gets little of its core (another
+  // process's, or a BLAS thread spinning on it) then holds up the caller
+  // by at most one item. fn must not throw. One caller at a time.
+  void run_items(int count, const std::function<void(int)>& fn);
+  // Items (halves included) the helper computed so far (for tests and the bench).
   long helped() const { return helped_.load(std::memory_order_relaxed); }
 
  private:
   void loop();
-  bool claim(uint64_t seen, int& half);
+  bool claim(uint64_t seen, int& item);
+  // Publishes a job of `count` items with the first `taken` already the caller's.
+  void publish(int count, int taken, const std::function<void(int)>& fn);
+  void finish_and_wait();
 
-  // The job word: job id (high 32 bits) | halves claimed (low bits). A
-  // claim is a compare-and-swap on it, so a stale helper can never claim a
-  // half of a newer job.
+  // The job word: job id (high 32 bits) | items claimed (low bits). A
+  // claim is a compare-and-swap on it, so a stale helper can never claim an
+  // item of a newer job.
   std::atomic<uint64_t> job_{0};
-  std::atomic<int> done_{0};            // halves finished of the current job
+  std::atomic<int> count_{2};           // items of the current job
+  std::atomic<int> done_{0};            // items finished of the current job
   std::atomic<bool> sleeping_{false};
   std::atomic<bool> stop_{false};
   std::atomic<long> helped_{0};

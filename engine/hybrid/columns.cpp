@@ -29,19 +29,33 @@ ColumnCache::~ColumnCache() {
   if (worker_.joinable()) worker_.join();
 }
 
-std::shared_ptr<NodeColumns> ColumnCache::compute(int pos, solve::SolveWorkspace& ws) const {
-  // K22^-1 on unit right-hand sides at the node's DOFs (surface position p
+std::vector<std::shared_ptr<NodeColumns>> ColumnCache::compute(std::span<const int> pos, solve::SolveWorkspace& ws,
+                                                                HelperThread* helper) const {
+  // K22^-1 on unit right-hand sides at the nodes' DOFs (surface position p
   // is K22 node p: surface nodes come first in the K22 order). The forward
-  // half walks only the elimination-tree path of those DOFs, so a column
+  // half walks only the elimination-tree paths of those DOFs, so a batch
   // costs about one backward solve, not a whole solve.
-  const int dofs[3] = {3 * pos, 3 * pos + 1, 3 * pos + 2};
+  // A simplicial factor (a small K22) is solved node by node: CHOLMOD's
+  // solve takes its right-hand sides in groups whose loops sum differently.
+  if (pos.size() > 1 && !model_.K22.supernodal()) {
+    std::vector<std::shared_ptr<NodeColumns>> out;
+    for (const int& p : pos) out.push_back(compute(std::span<const int>(&p, 1), ws, helper).front());
+    return out;
+  }
+  std::vector<int> dofs;
+  for (int p : pos) dofs.insert(dofs.end(), {3 * p, 3 * p + 1, 3 * p + 2});
   Eigen::MatrixXd Y, X;
   model_.K22.forward_unit_into(dofs, Y, ws);
-  model_.K22.backward_into(Y, X, ws);
-  auto c = std::make_shared<NodeColumns>();
-  c->Kstar_inv = X.topRows(3 * Eigen::Index(model_.ns()));
-  c->KI2_K22inv = model_.KI2 * X;
-  return c;
+  model_.K22.backward_into(Y, X, ws, helper);
+  std::vector<std::shared_ptr<NodeColumns>> out;
+  for (size_t j = 0; j < pos.size(); ++j) {
+    auto c = std::make_shared<NodeColumns>();
+    const auto Xj = X.middleCols<3>(3 * Eigen::Index(j));
+    c->Kstar_inv = Xj.topRows(3 * Eigen::Index(model_.ns()));
+    c->KI2_K22inv = model_.KI2 * Xj;
+    out.push_back(std::move(c));
+  }
+  return out;
 }
 
 void ColumnCache::insert_locked(int pos, std::shared_ptr<const NodeColumns> c) {
@@ -81,12 +95,55 @@ std::shared_ptr<const NodeColumns> ColumnCache::get(int pos) {
   }
   lk.unlock();
   Timer t;
-  std::shared_ptr<const NodeColumns> c = compute(pos, frame_ws_);
+  const int one[1] = {pos};
+  std::shared_ptr<const NodeColumns> c = compute(one, frame_ws_, helper_.get()).front();
   lk.lock();
   ++stats_.first_touches;
   stats_.first_touch_ms += t.ms();
   if (state_[size_t(pos)] != cached) insert_locked(pos, c);  // (the worker cannot have it: it was absent)
   return c;
+}
+
+void ColumnCache::ensure(std::span<const int> positions) {
+  for (int pos : positions)
+    if (pos < 0 || pos >= model_.ns()) fail("column cache: surface position ", pos, " out of range [0, ", model_.ns(), ")");
+  std::vector<int> todo;
+  {
+    std::unique_lock lk(mu_);
+    for (int pos : positions) {
+      if (std::find(todo.begin(), todo.end(), pos) != todo.end()) continue;  // named twice
+      if (state_[size_t(pos)] == queued) {  // not started by the worker: computed here, now
+        queue_.erase(std::find(queue_.begin(), queue_.end(), pos));
+        state_[size_t(pos)] = absent;
+      }
+      if (state_[size_t(pos)] == computing) {
+        ++stats_.waited;
+        cv_.wait(lk, [&] { return state_[size_t(pos)] != computing; });
+      }
+      if (state_[size_t(pos)] == absent) {
+        state_[size_t(pos)] = computing;  // by this thread: prefetch() and the worker leave it alone
+        todo.push_back(pos);
+      }
+    }
+  }
+  for (size_t b = 0; b < todo.size(); b += kMaxBatch) {
+    const auto batch = std::span<const int>(todo).subspan(b, std::min<size_t>(kMaxBatch, todo.size() - b));
+    Timer t;
+    std::vector<std::shared_ptr<NodeColumns>> cols;
+    try {
+      cols = compute(batch, frame_ws_, helper_.get());
+    } catch (...) {
+      std::lock_guard lk(mu_);
+      for (size_t k = b; k < todo.size(); ++k) state_[size_t(todo[k])] = absent;
+      cv_.notify_all();
+      throw;
+    }
+    std::lock_guard lk(mu_);
+    stats_.first_touches += long(batch.size());
+    stats_.first_touch_ms += t.ms();
+    for (size_t j = 0; j < batch.size(); ++j) insert_locked(batch[j], std::move(cols[j]));
+    cv_.notify_all();
+  }
 }
 
 void ColumnCache::prefetch(const std::vector<int>& positions) {
@@ -119,7 +176,8 @@ void ColumnCache::worker_loop() {
     Timer t;
     std::shared_ptr<NodeColumns> c;
     try {
-      c = compute(pos, worker_ws_);
+      const int one[1] = {pos};
+      c = compute(one, worker_ws_, nullptr).front();
     } catch (...) {
       c.reset();  // get() recomputes on the frame thread and reports the error there
     }

@@ -14,9 +14,11 @@
 #include <deque>
 #include <memory>
 #include <mutex>
+#include <span>
 #include <thread>
 #include <vector>
 
+#include "core/helper_thread.hpp"
 #include "solve/cholesky.hpp"
 
 namespace softcut::hybrid {
@@ -54,18 +56,30 @@ class ColumnCache {
 
   // The columns of surface position `pos` (0 <= pos < |s|).
   std::shared_ptr<const NodeColumns> get(int pos);
+  // Makes sure these positions are cached (a frame's loaded nodes, before
+  // their get()s): those absent are computed together, kMaxBatch nodes per
+  // solve, so a frame that first touches a tool's whole contact patch reads
+  // the factor once per batch, not once per node. Same bits as get() alone.
+  void ensure(std::span<const int> positions);
+  static constexpr int kMaxBatch = 16;
   // Queues surface positions for the worker thread (started on first use);
   // positions cached or queued already are skipped.
   void prefetch(const std::vector<int>& positions);
+  // First touches on the calling thread use this helper for half of the
+  // backward solve (the run's helper thread, hybrid::State; the prefetch
+  // worker solves alone). The columns' bits do not depend on it.
+  void share_helper(std::shared_ptr<HelperThread> helper) { helper_ = std::move(helper); }
   // Blocks until the worker's queue is empty (tests, benchmarks).
   void wait_idle();
   ColumnStats stats() const;
 
  private:
-  // Columns of surface position `pos`, one 3-column solve with workspace ws:
-  // the same bits on either thread, so a run's results do not depend on how
-  // far the prefetch got.
-  std::shared_ptr<NodeColumns> compute(int pos, solve::SolveWorkspace& ws) const;
+  // Columns of these surface positions, one 3-column-per-node solve with
+  // workspace ws: a node's columns have the same bits whichever thread
+  // computes them and whichever nodes come with them, so a run's results do
+  // not depend on how far the prefetch got.
+  std::vector<std::shared_ptr<NodeColumns>> compute(std::span<const int> pos, solve::SolveWorkspace& ws,
+                                                    HelperThread* helper) const;
   void insert_locked(int pos, std::shared_ptr<const NodeColumns> c);
   void worker_loop();
 
@@ -82,6 +96,7 @@ class ColumnCache {
   ColumnStats stats_;
   solve::SolveWorkspace frame_ws_;   // for get()'s first touches (frame thread)
   solve::SolveWorkspace worker_ws_;  // for the worker
+  std::shared_ptr<HelperThread> helper_;  // for get()'s first touches; may be null
   std::thread worker_;
 };
 

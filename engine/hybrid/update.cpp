@@ -61,17 +61,20 @@ State make_state(const Model& M, std::unique_ptr<OperationalSolver> solver, cons
   S.slot.assign(size_t(M.ns()), -1);
   if (M.storage != Storage::dense && M.ns() > 0)
     S.columns = std::make_unique<ColumnCache>(M, opt.column_cache_bytes);
-  // A second thread pays for the frame's dense products once they are past
-  // the caches' fastest level (kHelperMinEntries); it needs an idle core.
+  // A second thread pays for the frame's dense products, and for a first
+  // touch's backward solve through the K22 factor, once they are past the
+  // caches' fastest level (kHelperMinEntries); it needs an idle core.
   const double n_op = M.operational ? M.operational->size() : 0;
-  const double dense_entries =
-      double(M.Kstar_inv_Pstar.size()) + (n_op <= CholmodSolver::kDenseMax ? n_op * n_op : 0.0);
+  const double dense_entries = double(M.Kstar_inv_Pstar.size()) +
+                               (n_op <= CholmodSolver::kDenseMax ? n_op * n_op : 0.0) +
+                               (S.columns ? M.K22.factor_nonzeros() : 0.0);
   const int threads = opt.product_threads > 0 ? opt.product_threads
                       : dense_entries >= kHelperMinEntries ? std::min(2, thread_policy().threads)
                                                            : 1;
   if (threads >= 2) {
     S.helper = std::make_shared<HelperThread>();
     S.solver->share_helper(S.helper);
+    if (S.columns) S.columns->share_helper(S.helper);
   }
   return S;
 }
@@ -154,6 +157,15 @@ const FrameReport& update(const Model& M, State& S, std::span<const Load> loads,
       if (M.ni() > 0) S.P_prime.noalias() += c->KI2_K22inv * delta;
     }
   };
+  if (!dense && S.columns) {  // first touches of this frame in one solve (columns.hpp)
+    std::vector<int>& need = S.touched;
+    need.clear();
+    for (int pos : S.loaded_surface)
+      if (S.slot[size_t(pos)] < 0) need.push_back(pos);
+    for (const auto& [pos, f] : S.pending)
+      if ((f - S.Ps_interact.segment<3>(3 * Eigen::Index(pos))).squaredNorm() > 0) need.push_back(pos);
+    S.columns->ensure(need);
+  }
   for (int pos : S.loaded_surface)
     if (S.slot[size_t(pos)] < 0) {
       auto old = S.Ps_interact.segment<3>(3 * Eigen::Index(pos));

@@ -53,14 +53,15 @@ struct UpdateOptions {
 struct StateOptions {
   double column_cache_bytes = 256.0 * 1024 * 1024;  // bound of the column cache (product and factor storage)
   // Threads for the frame's dense products (stage 5's (K*^-1 P*) AI, a small
-  // operational system's kept inverse): 1, or 2 (a HelperThread); 0: 2 when
+  // operational system's kept inverse) and a first touch's backward solve
+  // (columns.hpp): 1, or 2 (a HelperThread); 0: 2 when
   // the thread policy has two idle cores and the products are large enough
   // to pay for it (kHelperMinEntries). The bits are the same either way.
   int product_threads = 0;
 };
 
 // Dense entries read per frame (K*^-1 P*, plus a small operational system's
-// inverse) from which a second thread pays: the upper leg's (128k + 103k)
+// inverse, plus the K22 factor where first touches read it) from which a second thread pays: the upper leg's (128k + 103k)
 // frame goes from 27 to 17-19 us; far below, the hand-over costs more than the half saves.
 constexpr double kHelperMinEntries = 65536;
 
@@ -78,8 +79,9 @@ struct State {
   long frames = 0;
   FrameReport last;
   std::unique_ptr<ColumnCache> columns;  // product and factor storage: columns of loaded nodes
-  // Splits stage 5's product (and the solver's dense product) in two halves
-  // (core/helper_thread.hpp); null: both halves on the calling thread.
+  // Splits stage 5's product (and the solver's dense product) in two halves,
+  // and first touches' backward solves by subtrees (core/helper_thread.hpp);
+  // null: all of it on the calling thread.
   std::shared_ptr<HelperThread> helper;
   // Dense storage only: computes (K*^-1 P*) AI in stage 5 instead of the CPU
   // product (e.g. gpu::DeviceDenseProduct for large blocks). Null: CPU.
@@ -90,6 +92,7 @@ struct State {
   std::vector<int> slot;             // (|s|) index into `pending` or -1
   std::vector<std::pair<int, Eigen::Vector3d>> pending;  // surface position, force
   std::vector<int> loaded_operational;
+  std::vector<int> touched;          // surface positions whose columns stage 3 reads
 };
 
 // Fresh state (zero displacement, initial loads applied at the first update).

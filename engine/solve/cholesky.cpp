@@ -1,7 +1,11 @@
 #include "solve/cholesky.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <functional>
 #include <vector>
+
+#include "core/helper_thread.hpp"
 
 #include "core/binary_io.hpp"
 #include "core/error.hpp"
@@ -33,11 +37,153 @@ SolveWorkspace::~SolveWorkspace() {
   cholmod_finish(&c_);
 }
 
+namespace {
+
+cholmod_dense dense_view(const double* data, Eigen::Index rows, Eigen::Index cols) {
+  cholmod_dense d{};
+  d.nrow = size_t(rows);
+  d.ncol = size_t(cols);
+  d.nzmax = d.nrow * d.ncol;
+  d.d = d.nrow;
+  d.x = const_cast<double*>(data);  // read only (CHOLMOD's API is not const)
+  d.xtype = CHOLMOD_REAL;
+  d.dtype = CHOLMOD_DOUBLE;
+  return d;
+}
+
+// CHOLMOD's supernodal factor (int, real LL') as arrays. Supernode s holds
+// columns super[s] .. super[s+1]-1 of L; its rows are Ls[pi[s] ..] (its own
+// columns first, then increasing), its values a rows(s) x cols(s)
+// column-major block at Lx[px[s]]. The parent of s is the supernode of its
+// first row below the diagonal block; parents come after children.
+struct Supernodes {
+  explicit Supernodes(const cholmod_factor& L)
+      : super(static_cast<const int*>(L.super)), pi(static_cast<const int*>(L.pi)),
+        px(static_cast<const int*>(L.px)), Ls(static_cast<const int*>(L.s)), Lx(static_cast<const double*>(L.x)),
+        count(int(L.nsuper)) {}
+  const int *super, *pi, *px, *Ls;
+  const double* Lx;
+  int count;
+  int cols(int s) const { return super[s + 1] - super[s]; }
+  int rows(int s) const { return pi[s + 1] - pi[s]; }
+  Eigen::Map<const Eigen::MatrixXd, 0, Eigen::OuterStride<>> block(int s) const {
+    return {Lx + px[s], rows(s), cols(s), Eigen::OuterStride<>(rows(s))};
+  }
+  // The supernode holding column `col`.
+  int of(int col) const { return int(std::upper_bound(super, super + count + 1, col) - super) - 1; }
+};
+
+using RowMajorMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
+// sum[k] = a[from..to) . v_k[from..to) for K vectors v_k, reading a once,
+// eight lanes at a time. Each vector's sum is formed the same way whatever
+// K and its place among them, so a column of the solution has the same
+// bits solved alone or among others.
+template <int K>
+void dots(const double* a, int from, int to, double* const* v, double* sum) {
+  using P = Eigen::Array<double, 8, 1>;
+  using Map = Eigen::Map<const P>;
+  P acc[K];
+  for (int k = 0; k < K; ++k) acc[k].setZero();
+  int i = from;
+  for (; i + 8 <= to; i += 8) {
+    const P x = Map(a + i);
+    for (int k = 0; k < K; ++k) acc[k] += x * Map(v[k] + i);
+  }
+  for (int k = 0; k < K; ++k) {
+    sum[k] = acc[k].sum();
+    for (int j = i; j < to; ++j) sum[k] += a[j] * v[k][j];
+  }
+}
+
+// sum(c, k) = a_c[from..to) . V(from..to, k) for column c of a block
+// (leading dimension ld) and every column of V, three at a time.
+void block_dots(const double* block, int ld, int c, int from, int to, Eigen::MatrixXd& V, double* sum) {
+  const double* a = block + size_t(c) * size_t(ld);
+  Eigen::Index k = 0;
+  for (; k + 3 <= V.cols(); k += 3) {
+    double* const v[3] = {&V(0, k), &V(0, k + 1), &V(0, k + 2)};
+    dots<3>(a, from, to, v, sum + k);
+  }
+  for (; k < V.cols(); ++k) {
+    double* const v[1] = {&V(0, k)};
+    dots<1>(a, from, to, v, sum + k);
+  }
+}
+
+// The backward solve's step at supernode s: V = its rows of T, its own
+// columns' first (still to finish), then the rows below them (final: they
+// belong to ancestors). Column c of the block, read once from memory,
+// finishes V's row c; the finished rows go back to T.
+void backward_supernode(const Supernodes& sn, int s, RowMajorMatrix& T, Eigen::MatrixXd& V,
+                        std::vector<double>& sum) {
+  const int nscol = sn.cols(s), nsrow = sn.rows(s);
+  const Eigen::Index m = T.cols();
+  const int* rows_of_s = sn.Ls + sn.pi[s];
+  const double* block = sn.Lx + sn.px[s];
+  V.resize(nsrow, m);
+  for (int i = 0; i < nsrow; ++i) V.row(i) = T.row(rows_of_s[i]);
+  sum.resize(size_t(m));
+  for (int c = nscol - 1; c >= 0; --c) {
+    block_dots(block, nsrow, c, c + 1, nsrow, V, sum.data());
+    const double d = block[size_t(c) * size_t(nsrow) + size_t(c)];
+    for (Eigen::Index k = 0; k < m; ++k) V(c, k) = (V(c, k) - sum[size_t(k)]) / d;
+  }
+  T.middleRows(sn.super[s], nscol) = V.topRows(nscol);
+}
+
+// How a backward solve shares the supernodes out between two threads:
+// item[s] = 0 for the top of the elimination tree (solved first, on the
+// caller), k >= 1 for the whole subtrees below it, item k-1 of a job the
+// two threads claim from (HelperThread::run_items), largest first. The top
+// grows from the roots, the heaviest subtree split first, until no subtree
+// holds more than an eighth of the entries of L read (in a nested
+// dissection tree: a few levels of separators down) or the top a quarter.
+std::vector<int> subtree_items(const Supernodes& sn) {
+  const size_t n = size_t(sn.count);
+  std::vector<int> parent(n, -1);
+  std::vector<double> own(n), weight(n);  // entries of L read at the supernode, in its subtree
+  std::vector<std::vector<int>> children(n);
+  for (int s = 0; s < sn.count; ++s) {  // children come before parents
+    const double cols = sn.cols(s);
+    own[size_t(s)] = cols * sn.rows(s) - cols * (cols - 1) / 2;
+    weight[size_t(s)] += own[size_t(s)];
+    if (sn.rows(s) > sn.cols(s)) {
+      const int p = sn.of(sn.Ls[sn.pi[s] + sn.cols(s)]);
+      parent[size_t(s)] = p;
+      weight[size_t(p)] += weight[size_t(s)];
+      children[size_t(p)].push_back(s);
+    }
+  }
+  std::vector<int> item(n, -1), frontier;
+  double top = 0, total = 0;
+  for (int s = 0; s < sn.count; ++s)
+    if (parent[size_t(s)] < 0) frontier.push_back(s), total += weight[size_t(s)];
+  auto heavier = [&](int x, int y) { return weight[size_t(x)] > weight[size_t(y)] || (weight[size_t(x)] == weight[size_t(y)] && x > y); };
+  for (;;) {
+    std::sort(frontier.begin(), frontier.end(), heavier);
+    if (frontier.empty() || weight[size_t(frontier.front())] <= total / 8 || top >= total / 4) break;
+    const int s = frontier.front();
+    item[size_t(s)] = 0;
+    top += own[size_t(s)];
+    frontier.erase(frontier.begin());
+    frontier.insert(frontier.end(), children[size_t(s)].begin(), children[size_t(s)].end());
+  }
+  for (size_t k = 0; k < frontier.size(); ++k) item[size_t(frontier[k])] = int(k) + 1;
+  for (int s = sn.count - 1; s >= 0; --s)  // parents first: a subtree's members follow its root
+    if (item[size_t(s)] < 0) item[size_t(s)] = item[size_t(parent[size_t(s)])];
+  return item;
+}
+
+}  // namespace
+
 Cholesky::Cholesky(const Eigen::SparseMatrix<double>& A, const std::string& what) { factor(A, what); }
 
 void Cholesky::factor(const Eigen::SparseMatrix<double>& A, const std::string& what, double max_bytes) {
   if (A.rows() != A.cols()) fail(what, ": Cholesky needs a square matrix, got ", A.rows(), "x", A.cols());
   llt_.reset();  // a failed factor() leaves the object unfactored, not holding a stale factor
+  item_.clear();
+  items_ = 0;
   rows_ = 0;
   lnz_ = 0;
   flops_ = 0;
@@ -64,6 +210,7 @@ void Cholesky::factor(const Eigen::SparseMatrix<double>& A, const std::string& w
   lnz_ = llt->cholmod().lnz;
   flops_ = llt->cholmod().fl;
   llt_ = std::move(llt);
+  if (llt_->raw()->is_super) set_items();
   rows_ = int(A.rows());
 }
 
@@ -113,43 +260,6 @@ void Cholesky::solve_into(const Eigen::VectorXd& b, Eigen::VectorXd& x, SolveWor
   x = Eigen::Map<const Eigen::VectorXd>(static_cast<const double*>(ws.X->x), b.size());
 }
 
-namespace {
-
-cholmod_dense dense_view(const double* data, Eigen::Index rows, Eigen::Index cols) {
-  cholmod_dense d{};
-  d.nrow = size_t(rows);
-  d.ncol = size_t(cols);
-  d.nzmax = d.nrow * d.ncol;
-  d.d = d.nrow;
-  d.x = const_cast<double*>(data);  // read only (CHOLMOD's API is not const)
-  d.xtype = CHOLMOD_REAL;
-  d.dtype = CHOLMOD_DOUBLE;
-  return d;
-}
-
-// CHOLMOD's supernodal factor (int, real LL') as arrays. Supernode s holds
-// columns super[s] .. super[s+1]-1 of L; its rows are Ls[pi[s] ..] (its own
-// columns first, then increasing), its values a rows(s) x cols(s)
-// column-major block at Lx[px[s]]. The parent of s is the supernode of its
-// first row below the diagonal block; parents come after children.
-struct Supernodes {
-  explicit Supernodes(const cholmod_factor& L)
-      : super(static_cast<const int*>(L.super)), pi(static_cast<const int*>(L.pi)),
-        px(static_cast<const int*>(L.px)), Ls(static_cast<const int*>(L.s)), Lx(static_cast<const double*>(L.x)),
-        count(int(L.nsuper)) {}
-  const int *super, *pi, *px, *Ls;
-  const double* Lx;
-  int count;
-  int cols(int s) const { return super[s + 1] - super[s]; }
-  int rows(int s) const { return pi[s + 1] - pi[s]; }
-  Eigen::Map<const Eigen::MatrixXd, 0, Eigen::OuterStride<>> block(int s) const {
-    return {Lx + px[s], rows(s), cols(s), Eigen::OuterStride<>(rows(s))};
-  }
-  // The supernode holding column `col`.
-  int of(int col) const { return int(std::upper_bound(super, super + count + 1, col) - super) - 1; }
-};
-
-}  // namespace
 
 void Cholesky::forward_into(const Eigen::MatrixXd& B, Eigen::MatrixXd& Y, SolveWorkspace& ws) const {
   if (!llt_) fail("Cholesky::forward called before factor()");
@@ -179,7 +289,8 @@ void Cholesky::backward_into(const Eigen::VectorXd& y, Eigen::VectorXd& x, Solve
   for (Eigen::Index k = 0; k < y.size(); ++k) x[perm ? perm[k] : k] = t[k];
 }
 
-void Cholesky::backward_into(const Eigen::MatrixXd& Y, Eigen::MatrixXd& X, SolveWorkspace& ws) const {
+void Cholesky::backward_into(const Eigen::MatrixXd& Y, Eigen::MatrixXd& X, SolveWorkspace& ws,
+                             HelperThread* helper) const {
   if (!llt_) fail("Cholesky::backward called before factor()");
   if (Y.rows() != rows_) fail("Cholesky::backward: vectors of size ", Y.rows(), " for a ", rows_, "-row factor");
   const cholmod_factor* L = llt_->raw();
@@ -196,28 +307,22 @@ void Cholesky::backward_into(const Eigen::MatrixXd& Y, Eigen::MatrixXd& X, Solve
     cholmod_free_dense(&out, &ws.common());
     return;
   }
-  // Supernodes from the root down: each block of L is read once, and its
-  // below-diagonal part as dot products with the few right-hand sides (a
-  // BLAS product would first copy the block into its own layout: twice the
-  // memory traffic for 3 columns).
+  // Supernodes from the root down: the top of the tree first, then the
+  // subtrees below it (item_), on two threads when a helper is given. Each
+  // supernode reads only its ancestors' rows, so whoever computes it, it
+  // gives the same bits.
   const Supernodes sn(*L);
-  Eigen::MatrixXd T = Y, G;
-  for (int s = sn.count - 1; s >= 0; --s) {
-    const int nscol = sn.cols(s), below = sn.rows(s) - nscol;
-    const auto block = sn.block(s);
-    auto t = T.middleRows(sn.super[s], nscol);
-    if (below > 0) {
-      G.resize(below, T.cols());
-      for (int i = 0; i < below; ++i) G.row(i) = T.row(sn.Ls[sn.pi[s] + nscol + i]);
-      t.noalias() -= block.bottomRows(below).transpose().lazyProduct(G);
-    }
-    // L11' t = t, by columns of L11 (contiguous), one dot product per column and right-hand side.
-    for (int c = nscol - 1; c >= 0; --c) {
-      const int len = nscol - c - 1;
-      for (Eigen::Index k = 0; k < t.cols(); ++k)
-        t(c, k) = (t(c, k) - block.col(c).segment(c + 1, len).dot(t.col(k).segment(c + 1, len))) / block(c, c);
-    }
-  }
+  RowMajorMatrix T = Y;  // a row's m entries together (one cache line to gather)
+  auto solve_item = [&](int item) {
+    Eigen::MatrixXd V;
+    std::vector<double> sum;
+    for (int s = sn.count - 1; s >= 0; --s)
+      if (item_[size_t(s)] == item) backward_supernode(sn, s, T, V, sum);
+  };
+  solve_item(0);
+  const std::function<void(int)> subtree = [&](int k) { solve_item(k + 1); };
+  if (helper) helper->run_items(items_, subtree);
+  else for (int k = 0; k < items_; ++k) subtree(k);
   for (Eigen::Index k = 0; k < Y.rows(); ++k) X.row(perm ? perm[k] : k) = T.row(k);
 }
 
@@ -280,6 +385,11 @@ void Cholesky::forward_unit_into(std::span<const int> rows, Eigen::MatrixXd& Y, 
     }
     for (int i = 0; i < nsrow; ++i) Y.row(rows_of_s[i]) = V.row(i);
   }
+}
+
+void Cholesky::set_items() {
+  item_ = subtree_items(Supernodes(*llt_->raw()));
+  items_ = item_.empty() ? 0 : *std::max_element(item_.begin(), item_.end());
 }
 
 bool Cholesky::supernodal() const { return llt_ && llt_->raw()->is_super; }
@@ -365,6 +475,8 @@ void Cholesky::save(BinaryWriter& w) const {
 
 void Cholesky::load(BinaryReader& r) {
   llt_.reset();
+  item_.clear();
+  items_ = 0;
   rows_ = 0;
   lnz_ = 0;
   flops_ = 0;
@@ -427,6 +539,7 @@ void Cholesky::load(BinaryReader& r) {
     llt->adopt(L);
     L = nullptr;
     llt_ = std::move(llt);
+    if (llt_->raw()->is_super) set_items();
     rows_ = int(n);
     lnz_ = lnz;
   } catch (...) {

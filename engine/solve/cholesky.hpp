@@ -9,10 +9,12 @@
 #include <memory>
 #include <span>
 #include <string>
+#include <vector>
 
 namespace softcut {
 class BinaryWriter;
 class BinaryReader;
+class HelperThread;
 }  // namespace softcut
 
 namespace softcut::solve {
@@ -68,8 +70,12 @@ class Cholesky {
   void forward_into(const Eigen::MatrixXd& B, Eigen::MatrixXd& Y, SolveWorkspace& ws) const;
   void backward_into(const Eigen::VectorXd& y, Eigen::VectorXd& x, SolveWorkspace& ws) const;
   // backward for a few columns at once: a supernodal factor is read once,
-  // by dot products with the columns (`ws` is then not used).
-  void backward_into(const Eigen::MatrixXd& Y, Eigen::MatrixXd& X, SolveWorkspace& ws) const;
+  // by dot products with the columns (`ws` is then not used). With a helper
+  // thread, the elimination tree's subtrees below its top are solved on two
+  // threads (a first touch on a large factor is bound by memory bandwidth,
+  // which two cores double); the same bits with or without it.
+  void backward_into(const Eigen::MatrixXd& Y, Eigen::MatrixXd& X, SolveWorkspace& ws,
+                     HelperThread* helper = nullptr) const;
   // forward(E) for unit columns E = [e_rows[0] e_rows[1] ...]: walks only
   // the supernodes on the elimination-tree paths from those rows to the root
   // (the rest of Y is exactly zero), so it costs a small part of a whole
@@ -91,6 +97,9 @@ class Cholesky {
   void load(BinaryReader& r);
 
   int rows() const { return rows_; }
+  // Subtrees below the elimination tree's top that backward_into shares out
+  // between two threads (0 for a simplicial factor).
+  int subtrees() const { return items_; }
   bool factored() const { return bool(llt_); }
   // CHOLMOD chose a supernodal factor (large or dense systems), else simplicial.
   bool supernodal() const;
@@ -98,6 +107,12 @@ class Cholesky {
  private:
   class Llt;  // Eigen's decomposition with access to its cholmod_factor
   std::shared_ptr<Llt> llt_;
+  // (supernodes) of a supernodal factor: when backward_into solves it, 0
+  // with the top of the elimination tree, k >= 1 with the k-th subtree
+  // below (items_ of them; cholesky.cpp subtree_items).
+  std::vector<int> item_;
+  int items_ = 0;
+  void set_items();  // from llt_
   int rows_ = 0;
   double lnz_ = 0;
   double flops_ = 0;

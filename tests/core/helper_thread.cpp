@@ -64,6 +64,50 @@ TEST_SUITE("core/helper_thread") {
     CHECK(sum == 300);
   }
 
+  TEST_CASE("a job of items runs each exactly once, whoever claims them") {
+    HelperThread h;
+    for (int job = 0; job < 5000; ++job) {
+      if (job % 3 == 0) h.wake();
+      const int count = job % 17;  // 0 .. 16 items
+      std::array<std::atomic<int>, 16> runs{};
+      std::atomic<int> others{0};
+      h.run_items(count, [&](int item) {
+        if (item < 0 || item >= count) return void(others.fetch_add(1));
+        runs[size_t(item)].fetch_add(1);
+      });
+      REQUIRE(others.load() == 0);
+      for (int k = 0; k < 16; ++k) REQUIRE(runs[size_t(k)].load() == (k < count ? 1 : 0));
+    }
+  }
+
+  TEST_CASE("a helper stuck in its item holds the caller up by that item only") {
+    // The helper's item waits until the caller has run every other item:
+    // this returns only if the caller claims them all while the helper holds one.
+    HelperThread h;
+    const std::thread::id caller = std::this_thread::get_id();
+    bool helped = false;
+    for (int attempt = 0; attempt < 200 && !helped; ++attempt) {
+      h.wake();
+      std::atomic<int> by_caller{0}, by_helper{0};
+      h.run_items(10, [&](int) {
+        if (std::this_thread::get_id() == caller) {  // slow enough for an awake helper to claim one
+          std::this_thread::sleep_for(std::chrono::microseconds(200));
+          return void(by_caller.fetch_add(1));
+        }
+        by_helper.fetch_add(1);
+        const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+        while (by_caller.load() + by_helper.load() < 10 && std::chrono::steady_clock::now() < until)
+          std::this_thread::yield();
+      });
+      REQUIRE(by_caller.load() + by_helper.load() == 10);
+      if (by_helper.load() > 0) {
+        CHECK(by_helper.load() == 1);
+        helped = true;
+      }
+    }
+    CHECK(helped);
+  }
+
   TEST_CASE("destroyed while asleep, while spinning, and right after a job: no hang") {
     { HelperThread h; }
     {

@@ -5,7 +5,9 @@
 #include <random>
 
 #include "fixtures.hpp"
+#include "hybrid/partition.hpp"
 #include "hybrid/precompute.hpp"
+#include "mesh/generate/box.hpp"
 
 using namespace softcut;
 using namespace softcut::hybrid;
@@ -110,5 +112,49 @@ TEST_SUITE("hybrid/columns") {
     CHECK(rel(cache.get(1)->Kstar_inv, P.dense.Kstar_inv.middleCols<3>(3)) <= 1e-12);
     CHECK_THROWS_WITH(cache.get(P.product.ns()), doctest::Contains("out of range"));
     CHECK_THROWS_WITH(cache.prefetch({-1}), doctest::Contains("out of range"));
+  }
+
+  TEST_CASE("a frame's first touches come in batches, each node with the bits it has alone") {
+    // A box large enough for a supernodal K22 (the two-thread backward) and
+    // a random case (simplicial); more nodes than one batch holds.
+    mesh::BoxOptions o;
+    o.nx = 12, o.ny = 8, o.nz = 8;
+    o.jitter = 0.1;
+    const mesh::TetMesh m = mesh::generate_box(o);
+    std::vector<int> fixed;
+    for (int v = 0; v < m.num_nodes(); ++v)
+      if (m.nodes(v, 0) == 0) fixed.push_back(v);
+    const std::vector<fem::Material> mat(size_t(m.num_tets()), fem::Material{3e3, 0.45});
+    const Partition part = make_partition(m, tets_in_sphere(m, Eigen::Vector3d(0.5, 0.5, 1.0), 0.3), fixed);
+    PrecomputeOptions pd, pp;
+    pd.storage = Storage::dense;
+    pp.storage = Storage::product;
+    const Model box_dense = precompute(m, mat, part, pd), box = precompute(m, mat, part, pp);
+    REQUIRE(box.K22.supernodal());
+    std::mt19937 rng(80);
+    const Pair P = make_pair(rng);
+    for (const auto& [model, dense] : {std::pair{&box, &box_dense}, std::pair{&P.product, &P.dense}}) {
+      std::vector<int> nodes;
+      for (int pos = 0; pos < model->ns() && int(nodes.size()) < ColumnCache::kMaxBatch + 5; pos += 5)
+        nodes.push_back(pos);
+      nodes.push_back(nodes.front());  // named twice: computed once
+      ColumnCache batched(*model, 1e9), alone(*model, 1e9);
+      batched.share_helper(std::make_shared<HelperThread>());
+      batched.ensure(nodes);
+      CHECK(batched.stats().first_touches == long(nodes.size()) - 1);
+      CHECK(batched.stats().cached_nodes == int(nodes.size()) - 1);
+      batched.ensure(nodes);  // all cached: nothing to do
+      CHECK(batched.stats().first_touches == long(nodes.size()) - 1);
+      for (int pos : nodes) {
+        const auto x = batched.get(pos), y = alone.get(pos);
+        CHECK(x->Kstar_inv == y->Kstar_inv);
+        CHECK(x->KI2_K22inv == y->KI2_K22inv);
+        CHECK(rel(x->Kstar_inv, dense->Kstar_inv.middleCols<3>(3 * pos)) <= 1e-12);
+        CHECK(rel(x->KI2_K22inv, dense->KI2_K22inv_s.middleCols<3>(3 * pos)) <= 1e-12);
+      }
+      CHECK(batched.stats().hits == long(nodes.size()));
+      CHECK_THROWS_WITH(batched.ensure(std::vector<int>{0, model->ns()}), doctest::Contains("out of range"));
+      CHECK(batched.stats().cached_nodes == int(nodes.size()) - 1);
+    }
   }
 }

@@ -15,6 +15,7 @@
 
 #include "core/binary_io.hpp"
 #include "core/error.hpp"
+#include "core/helper_thread.hpp"
 #include "spd_fixtures.hpp"
 
 using namespace softcut;
@@ -137,6 +138,38 @@ TEST_SUITE("solve/cholesky") {
       Eigen::MatrixXd Y2;
       CHECK_THROWS_WITH_AS(chol.forward_unit_into(std::vector<int>{int(A.rows())}, Y2, ws),
                            doctest::Contains("unit column at row"), softcut::Error);
+    }
+  }
+
+  TEST_CASE("backward on two threads gives the bits of one, and a column the bits it has alone") {
+    const Eigen::SparseMatrix<double> A = test::grid_spd(12, 7);
+    const solve::Cholesky chol(A, "test matrix");
+    REQUIRE(chol.supernodal());
+    REQUIRE(chol.subtrees() >= 2);
+    solve::SolveWorkspace ws;
+    const std::vector<int> rows{3, 4, 5, 700, 701, 702, int(A.rows()) - 1};
+    Eigen::MatrixXd Y, X1, X2;
+    chol.forward_unit_into(rows, Y, ws);
+    chol.backward_into(Y, X1, ws);
+    softcut::HelperThread helper;
+    long before = 0;
+    for (int attempt = 0; attempt < 50 && helper.helped() == before; ++attempt) {
+      helper.wake();
+      chol.backward_into(Y, X2, ws, &helper);
+      CHECK(X2 == X1);
+    }
+    CHECK(helper.helped() > before);
+    // Independent truth: CHOLMOD's whole solve of the unit columns.
+    Eigen::MatrixXd E = Eigen::MatrixXd::Zero(A.rows(), Eigen::Index(rows.size()));
+    for (size_t j = 0; j < rows.size(); ++j) E(rows[j], Eigen::Index(j)) = 1;
+    CHECK((X1 - chol.solve(E)).norm() <= 1e-12 * X1.norm());
+    // Each column (3 at a time and the odd one) as when it is solved alone.
+    for (size_t j = 0; j < rows.size(); ++j) {
+      Eigen::MatrixXd y, x;
+      chol.forward_unit_into(std::vector<int>{rows[j]}, y, ws);
+      CHECK(y == Y.col(Eigen::Index(j)));
+      chol.backward_into(y, x, ws);
+      CHECK(x == X1.col(Eigen::Index(j)));
     }
   }
 
