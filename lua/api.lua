@@ -101,7 +101,9 @@ api.functions = {
       F("generate", "string", "generator name: structured (box .. upper_leg) or an organ shape meshed by CGAL "
         .. "(liver, kidney, knee_ligament; docs/meshing.md)",
         { values = { "box", "cylinder", "tube", "band", "ligament", "upper_leg", "liver", "kidney", "knee_ligament" } }),
-      F("options", "table", "generator options by name: numbers, or 3-vectors for corners/centers") },
+      F("options", "table", "generator options by name: numbers, or 3-vectors for corners/centers; cell counts "
+        .. "or target counts given replace a preset's (ligament, upper_leg) resolution. `softcut mesh generate` "
+        .. "takes the same names (docs/meshing.md)") },
     example = 's:mesh{ generate = "box", options = { min = {0, 0, 0}, max = {0.1, 0.04, 0.04}, nx = 10, ny = 4, nz = 4 } }' },
   { name = "Scenario:material", summary = "Assigns a material to a set of tets (all tets when no region "
       .. "field is given); later calls override earlier ones. Give a tissue preset, E and nu, or both "

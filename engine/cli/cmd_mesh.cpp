@@ -77,10 +77,14 @@ const char* kGenerateUsage =
     "\n"
     "options for box, cylinder, tube, band, ligament, upper_leg:\n"
     "  --target-tets N, --target-nodes N   pick the resolution to meet these counts\n"
-    "                                      (not for box; ignored when --cells is given)\n"
+    "                                      (not for box; cell counts given replace a preset's)\n"
     "  --jitter F      move interior nodes by up to F x cell size, 0 <= F < 0.25 (0)\n"
     "  --seed N        jitter seed (1)\n"
-    "  --label N       label of every tet (1)\n";
+    "  --label N       label of every tet (1)\n"
+    "\n"
+    "Every generator kind also takes its scenario options (s:mesh{generate = KIND, options = {...}},\n"
+    "docs/lua-api.md) under the same names, '_' written '-' and vectors as X,Y,Z: box --nx 8 --max 0.1,0.05,0.05,\n"
+    "tube --inner-radius 0.01 --radial 3, liver --fine-center 0,0,0.02. --size and --cells are shorthands for them.\n";
 
 // --name value or --name=value options after the positionals are taken out.
 struct Options {
@@ -168,20 +172,6 @@ std::vector<int> ints(Options& o, const std::string& k, size_t n) {
   std::vector<int> v;
   for (const auto& p : parts) v.push_back(to_int(k, p));
   return v;
-}
-
-// Options every structured generator has.
-template <class O>
-void common_options(Options& a, O& o) {
-  if (a.has("jitter")) o.jitter = to_double("jitter", a.get("jitter"));
-  if (a.has("seed")) {
-    const int s = to_int("seed", a.get("seed"));
-    if (s < 0) fail("option --seed: must be >= 0");
-    o.seed = unsigned(s);
-  }
-  if (a.has("label")) o.label = to_int("label", a.get("label"));
-  if (a.has("target-tets")) o.target_tets = to_int("target-tets", a.get("target-tets"));
-  if (a.has("target-nodes")) o.target_nodes = to_int("target-nodes", a.get("target-nodes"));
 }
 
 int cmd_info(const Args& args) {
@@ -284,77 +274,80 @@ void write_hole_nodes(const std::string& path, const std::string& mesh_path, con
   });
 }
 
-// `hole` receives the hole-surface node ids for tube and upper_leg.
-TetMesh generate_structured(const std::string& kind, Options& a, std::string& note, std::vector<int>& hole) {
-  const bool cells = a.has("cells"), size = a.has("size");
-  const bool targets = a.named.count("target-tets") || a.named.count("target-nodes");
-  if (kind == "box") {
-    BoxOptions o;
-    if (size) o.max_corner = Eigen::Vector3d(doubles(a, "size", 3).data());
-    if (cells) {
-      const auto c = ints(a, "cells", 3);
-      o.nx = c[0], o.ny = c[1], o.nz = c[2];
-    }
-    if (a.has("jitter")) o.jitter = to_double("jitter", a.get("jitter"));
-    if (a.has("seed")) {
-      const int seed = to_int("seed", a.get("seed"));
-      if (seed < 0) fail("option --seed: must be >= 0");
-      o.seed = unsigned(seed);
-    }
-    if (a.has("label")) o.label = to_int("label", a.get("label"));
-    note = cat("box ", o.nx, " x ", o.ny, " x ", o.nz, " cells");
-    return generate_box(o);
+// The command line's spelling of a scenario generator's options, whose one
+// list is sim/mesh_source's: --target-tets N is target_tets, --fine-center
+// X,Y,Z is fine_center.x/.y/.z; the structured kinds also take --size and
+// --cells (their dimensions and cell counts at once) and band --twist.
+struct Shorthand {
+  const char* family;  // box, cylinder, tube (upper_leg), band (ligament)
+  const char* option;
+  std::vector<const char*> names;
+};
+
+const std::vector<Shorthand>& shorthands() {
+  static const std::vector<Shorthand> s = {
+      {"box", "size", {"max.x", "max.y", "max.z"}},
+      {"box", "cells", {"nx", "ny", "nz"}},
+      {"cylinder", "size", {"radius", "length"}},
+      {"cylinder", "cells", {"rings", "layers"}},
+      {"tube", "size", {"inner_radius", "outer_radius", "length"}},
+      {"tube", "cells", {"radial", "around", "layers"}},
+      {"band", "size", {"length", "width", "thickness"}},
+      {"band", "cells", {"along", "across", "through"}},
+      {"band", "twist", {"twist_deg"}},
+  };
+  return s;
+}
+
+// A generator's options as the command line spells them (for messages).
+std::string cli_spelling(const std::string& family, const std::vector<std::string>& known) {
+  std::string out;
+  auto add = [&](const std::string& o) { out += (out.empty() ? "--" : ", --") + o; };
+  for (const Shorthand& sh : shorthands())
+    if (family == sh.family) add(sh.option);
+  for (std::string n : known) {
+    if (n.size() > 2 && n[n.size() - 2] == '.' && n.back() != 'x') continue;  // .y, .z: with .x
+    const bool vec = n.size() > 2 && n.substr(n.size() - 2) == ".x";
+    if (vec) n.resize(n.size() - 2);
+    std::replace(n.begin(), n.end(), '_', '-');
+    add(vec ? n + " X,Y,Z" : n);
   }
-  if (kind == "cylinder") {
-    CylinderOptions o;
-    common_options(a, o);
-    if (size) {
-      const auto v = doubles(a, "size", 2);
-      o.radius = v[0], o.length = v[1];
+  return out;
+}
+
+sim::MeshSource generator_source(const std::string& kind, Options& a) {
+  const std::string family = kind == "upper_leg" ? "tube" : kind == "ligament" ? "band" : kind;
+  const std::vector<std::string> known = sim::generator_options(kind);
+  auto knows = [&](const std::string& n) { return std::find(known.begin(), known.end(), n) != known.end(); };
+  sim::MeshSource src;
+  src.generator = kind;
+  std::map<std::string, std::string> set_by;  // generator option -> the command-line option that set it
+  auto set = [&](const std::string& key, const std::string& name, double v) {
+    if (const auto [it, fresh] = set_by.emplace(name, key); !fresh)
+      fail("mesh generate ", kind, ": --", it->second, " and --", key, " both set ", name, "; give one of them");
+    src.options[name] = v;
+  };
+  for (const auto& [key, value] : a.named) {
+    if (key == "hole-nodes") continue;
+    a.used[key] = true;
+    const auto sh = std::find_if(shorthands().begin(), shorthands().end(),
+                                 [&](const Shorthand& x) { return family == x.family && key == x.option; });
+    std::string name = key;
+    std::replace(name.begin(), name.end(), '-', '_');
+    if (sh != shorthands().end()) {
+      const auto v = doubles(a, key, sh->names.size());
+      for (size_t i = 0; i < v.size(); ++i) set(key, sh->names[i], v[i]);
+    } else if (knows(name + ".x")) {
+      const auto v = doubles(a, key, 3);
+      for (int i = 0; i < 3; ++i) set(key, name + "." + "xyz"[i], v[size_t(i)]);
+    } else if (knows(name)) {
+      set(key, name, to_double(key, value));
+    } else {
+      fail("mesh generate ", kind, ": unknown option --", key, " (", kind, " takes ", cli_spelling(family, known),
+           "; see softcut mesh generate --help)");
     }
-    if (cells) {
-      const auto c = ints(a, "cells", 2);
-      o.rings = c[0], o.layers = c[1];
-    }
-    const auto r = resolve_cylinder(o);
-    note = cat("cylinder ", r.rings, " rings x ", r.layers, " layers");
-    return generate_cylinder(o);
   }
-  if (kind == "band" || kind == "ligament") {
-    BandOptions o = kind == "ligament" ? ligament_preset() : BandOptions{};
-    if (cells || targets) o.target_tets = o.target_nodes = 0;
-    common_options(a, o);
-    if (size) {
-      const auto v = doubles(a, "size", 3);
-      o.length = v[0], o.width = v[1], o.thickness = v[2];
-    }
-    if (cells) {
-      const auto c = ints(a, "cells", 3);
-      o.along = c[0], o.across = c[1], o.through = c[2];
-    }
-    if (a.has("twist")) o.twist_deg = to_double("twist", a.get("twist"));
-    if (a.has("flare")) o.flare = to_double("flare", a.get("flare"));
-    const auto r = resolve_band(o);
-    note = cat(kind, " ", r.along, " along x ", r.across, " across x ", r.through, " through");
-    return generate_band(o);
-  }
-  TubeOptions o = kind == "upper_leg" ? upper_leg_preset() : TubeOptions{};
-  if (cells || targets) o.target_tets = o.target_nodes = 0;
-  common_options(a, o);
-  if (size) {
-    const auto v = doubles(a, "size", 3);
-    o.inner_radius = v[0], o.outer_radius = v[1], o.length = v[2];
-  }
-  if (cells) {
-    const auto c = ints(a, "cells", 3);
-    o.radial = c[0], o.around = c[1], o.layers = c[2];
-  }
-  const auto r = resolve_tube(o);
-  const TetMesh m = generate_tube(o);
-  hole = tube_hole_nodes(m, o);
-  note = cat(kind, " ", r.radial, " radial x ", r.around, " around x ", r.layers, " layers; ", hole.size(),
-             " hole-surface nodes on radius ", o.inner_radius, " m");
-  return m;
+  return src;
 }
 
 int cmd_generate(const Args& args) {
@@ -406,31 +399,12 @@ int cmd_generate(const Args& args) {
       if (vo.smooth_iterations < 0) fail("option --smooth: must be >= 0");
       m = mesh_label_volume(v, vo, diag);
     }
-  } else if (organ) {
-    // The scenario generator's options, spelled --target-tets, --fine-center X,Y,Z, ...
-    if (a.positional.size() != 1) fail("mesh generate ", kind, ": expected exactly one OUT file after the options");
-    sim::MeshSource src;
-    src.generator = kind;
-    for (const auto& [key, value] : a.named) {
-      std::string name = key;
-      std::replace(name.begin(), name.end(), '-', '_');
-      if (name == "fine_center" || name == "lesion_center") {
-        const auto c = doubles(a, key, 3);
-        src.options[name + ".x"] = c[0], src.options[name + ".y"] = c[1], src.options[name + ".z"] = c[2];
-      } else {
-        src.options[name] = to_double(key, a.get(key));
-      }
-    }
-    const sim::LoadedMesh loaded = sim::load_mesh_source(src, diag);
-    m = loaded.mesh;
-    note = loaded.description;
   } else {
     if (a.positional.size() != 1) fail("mesh generate ", kind, ": expected exactly one OUT file after the options");
-    if (kind == "box" && (a.named.count("target-tets") || a.named.count("target-nodes")))
-      fail("mesh generate box: use --cells; --target-tets / --target-nodes are for the other kinds");
-    if (kind != "band" && kind != "ligament" && (a.named.count("twist") || a.named.count("flare")))
-      fail("mesh generate ", kind, ": --twist and --flare are only for band and ligament");
-    m = generate_structured(kind, a, note, hole);
+    const sim::LoadedMesh loaded = sim::load_mesh_source(generator_source(kind, a), diag);
+    m = loaded.mesh;
+    note = loaded.description;
+    if (auto it = loaded.named_sets.find("hole"); it != loaded.named_sets.end()) hole = it->second;
   }
   const bool want_hole = a.has("hole-nodes");
   reject_unused(a, "mesh generate");
@@ -439,7 +413,7 @@ int cmd_generate(const Args& args) {
   write_mesh(out, m);
   if (want_hole) {
     write_hole_nodes(a.get("hole-nodes"), out, hole);
-    note += cat("; ids in ", a.get("hole-nodes"));
+    note += cat("; ", hole.size(), " hole-surface node ids in ", a.get("hole-nodes"));
   }
   for (const auto& w : diag.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
   std::printf("wrote %s: %d nodes, %d tets (%s)\n", out.c_str(), m.num_nodes(), m.num_tets(), note.c_str());

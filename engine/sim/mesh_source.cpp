@@ -31,7 +31,8 @@ class Options {
   void integer(const char* name, Int& v) {
     double d = double(v);
     num(name, d);
-    if (d != std::floor(d) || d < 0 || d > 1e9) fail(what_, ": option '", name, "' must be a whole number >= 0, got ", d);
+    if (d != std::floor(d) || d < 0 || d > 1e9)
+      fail(what_, ": option '", name, "' expected an integer from 0 to 1000000000, got ", d);
     v = Int(d);
   }
   void vec(const std::string& name, Eigen::Vector3d& v) {
@@ -52,6 +53,10 @@ class Options {
     fail(what_, ": unknown option '", left_.begin()->first, "' (known: ", known, ")");
   }
   const std::vector<std::string>& known() const { return known_; }
+  // Whether the options name any of these (asked before they are taken).
+  bool asks_for(std::initializer_list<const char*> names) const {
+    return std::any_of(names.begin(), names.end(), [&](const char* n) { return left_.count(n) > 0; });
+  }
 
  private:
   std::map<std::string, double> left_;
@@ -75,7 +80,10 @@ void common(Options& o, int& target_tets, int& target_nodes, double& jitter, uns
   o.integer("label", label);
 }
 
+// A preset's resolution (its target counts) yields to the one asked for:
+// cell counts or targets given replace both of its targets.
 void band_options(Options& o, mesh::BandOptions& b) {
+  if (o.asks_for({"along", "across", "through", "target_tets", "target_nodes"})) b.target_tets = b.target_nodes = 0;
   o.vec("base_center", b.base_center);
   o.num("length", b.length), o.num("width", b.width), o.num("thickness", b.thickness);
   o.num("flare", b.flare), o.num("twist_deg", b.twist_deg);
@@ -84,6 +92,7 @@ void band_options(Options& o, mesh::BandOptions& b) {
 }
 
 void tube_options(Options& o, mesh::TubeOptions& t) {
+  if (o.asks_for({"radial", "around", "layers", "target_tets", "target_nodes"})) t.target_tets = t.target_nodes = 0;
   o.vec("base_center", t.base_center);
   o.num("inner_radius", t.inner_radius), o.num("outer_radius", t.outer_radius), o.num("length", t.length);
   o.integer("radial", t.radial), o.integer("around", t.around), o.integer("layers", t.layers);
@@ -109,6 +118,7 @@ LoadedMesh generate(const std::string& gen, const std::map<std::string, double>&
     if (run) {
       check_fits(mesh::box_size(b));
       out.mesh = mesh::generate_box(b);
+      out.description = cat("generator box (", b.nx, " x ", b.ny, " x ", b.nz, " cells)");
     }
   } else if (gen == "cylinder") {
     mesh::CylinderOptions c;
@@ -121,6 +131,7 @@ LoadedMesh generate(const std::string& gen, const std::map<std::string, double>&
       const auto r = mesh::resolve_cylinder(c);
       check_fits(mesh::cylinder_size(r.rings, r.layers));
       out.mesh = mesh::generate_cylinder(r);
+      out.description = cat("generator cylinder (", r.rings, " rings x ", r.layers, " layers)");
     }
   } else if (gen == "tube" || gen == "upper_leg") {
     mesh::TubeOptions t = gen == "tube" ? mesh::TubeOptions{} : mesh::upper_leg_preset();
@@ -131,6 +142,8 @@ LoadedMesh generate(const std::string& gen, const std::map<std::string, double>&
       check_fits(mesh::tube_size(t.radial, t.around, t.layers));
       out.mesh = mesh::generate_tube(t);
       out.named_sets["hole"] = mesh::tube_hole_nodes(out.mesh, t);
+      out.description = cat("generator ", gen, " (", t.radial, " radial x ", t.around, " around x ", t.layers,
+                            " layers; hole of radius ", t.inner_radius, " m)");
     }
   } else if (gen == "band" || gen == "ligament") {
     mesh::BandOptions b = gen == "band" ? mesh::BandOptions{} : mesh::ligament_preset();
@@ -140,6 +153,7 @@ LoadedMesh generate(const std::string& gen, const std::map<std::string, double>&
       const auto r = mesh::resolve_band(b);
       check_fits(mesh::band_size(r.along, r.across, r.through));
       out.mesh = mesh::generate_band(r);
+      out.description = cat("generator ", gen, " (", r.along, " along x ", r.across, " across x ", r.through, " through)");
     }
   } else if (std::find(mesh::organ_kinds().begin(), mesh::organ_kinds().end(), gen) != mesh::organ_kinds().end()) {
     mesh::OrganOptions g;

@@ -6,7 +6,9 @@
 #include "cli/commands.hpp"
 #include "core/error.hpp"
 #include "mesh/generate/presets.hpp"
+#include "mesh/generate/band.hpp"
 #include "mesh/io/mesh_io.hpp"
+#include "sim/mesh_source.hpp"
 #include "cli_test_support.hpp"
 #include "test_support.hpp"
 
@@ -76,9 +78,45 @@ TEST_SUITE("cli/cmd_mesh") {
     REQUIRE(cli::cmd_mesh({"generate", "volume", organ, "--mesher", "cgal", (dir / "v.vtu").string()}) == 0);
     CHECK(mesh::read_mesh(dir / "v.vtu", d).num_tets() > 0);
     CHECK(error_of({"generate", "liver", "--fine-center", "1,2", "x.vtu"}).find("expected 3 comma-separated") != std::string::npos);
-    CHECK(error_of({"generate", "liver", "--lobes", "3", "x.vtu"}).find("unknown option 'lobes'") != std::string::npos);
+    CHECK(error_of({"generate", "liver", "--lobes", "3", "x.vtu"}).find("unknown option --lobes") != std::string::npos);
     CHECK(error_of({"generate", "volume", organ, "--mesher", "tetgen", "x.vtu"}).find("expected voxels or cgal") != std::string::npos);
     CHECK(error_of({"generate", "volume", organ, "--mesher", "cgal", "--smooth", "2", "x.vtu"}).find("unknown option --smooth") != std::string::npos);
+  }
+
+  TEST_CASE("generator options are the scenario's, spelled for the command line, with --size and --cells as shorthands") {
+    const fs::path dir = test::scratch_dir("cmd_mesh_names");
+    Diagnostics d;
+    // The same box three ways: shorthands, the scenario's names, and s:mesh{} through the scenario's path.
+    REQUIRE(cli::cmd_mesh({"generate", "box", "--size", "0.1,0.2,0.3", "--cells", "2,3,4", "--jitter", "0.1",
+                           (dir / "a.vtu").string()}) == 0);
+    REQUIRE(cli::cmd_mesh({"generate", "box", "--max", "0.1,0.2,0.3", "--nx", "2", "--ny=3", "--nz", "4", "--jitter",
+                           "0.1", (dir / "b.vtu").string()}) == 0);
+    sim::MeshSource src;
+    src.generator = "box";
+    src.options = {{"max.x", 0.1}, {"max.y", 0.2}, {"max.z", 0.3}, {"nx", 2}, {"ny", 3}, {"nz", 4}, {"jitter", 0.1}};
+    const mesh::TetMesh a = mesh::read_mesh(dir / "a.vtu", d), b = mesh::read_mesh(dir / "b.vtu", d);
+    const mesh::TetMesh c = sim::load_mesh_source(src, d).mesh;
+    CHECK(a.tets == c.tets);
+    CHECK(b.tets == c.tets);
+    CHECK((a.nodes - c.nodes).cwiseAbs().maxCoeff() <= 1e-12);  // (through the file's text)
+    CHECK((b.nodes - c.nodes).cwiseAbs().maxCoeff() <= 1e-12);
+    // A preset's resolution yields to the cell counts asked for, on the command line and in a scenario alike.
+    REQUIRE(cli::cmd_mesh({"generate", "ligament", "--cells", "10,3,2", (dir / "l.vtu").string()}) == 0);
+    mesh::BandOptions lig = mesh::ligament_preset();
+    lig.target_tets = lig.target_nodes = 0;
+    lig.along = 10, lig.across = 3, lig.through = 2;
+    CHECK(mesh::read_mesh(dir / "l.vtu", d).num_tets() == mesh::generate_band(lig).num_tets());
+    src.generator = "ligament";
+    src.options = {{"along", 10}, {"across", 3}, {"through", 2}};
+    CHECK(sim::load_mesh_source(src, d).mesh.num_tets() == mesh::generate_band(lig).num_tets());
+    // One value, one option; an unknown one lists what the kind takes, as the command line spells it.
+    CHECK(error_of({"generate", "box", "--cells", "2,2,2", "--nx", "3", "x.vtu"}).find("--cells and --nx both set nx") !=
+          std::string::npos);
+    const std::string e = error_of({"generate", "tube", "--max", "1,1,1", "x.vtu"});
+    CHECK(e.find("unknown option --max") != std::string::npos);
+    CHECK(e.find("--inner-radius") != std::string::npos);
+    CHECK(e.find("--base-center X,Y,Z") != std::string::npos);
+    CHECK(e.find("--cells") != std::string::npos);
   }
 
   TEST_CASE("bad input: one-line reasons") {
