@@ -16,7 +16,7 @@
 #include "core/timer.hpp"
 #include "fem/assembly.hpp"
 #include "fem/dof_map.hpp"
-#include "mesh/generate/box.hpp"
+#include "bench/box_problem.hpp"
 #include "solve/cg.hpp"
 #include "solve/cholesky.hpp"
 
@@ -39,11 +39,9 @@ Row measure(int target, int repeat, int threads, int direct_max) {
   const double cells = std::max(1.0, target / 6.0);
   const int n = std::max(1, int(std::lround(std::cbrt(cells))));
   const int nx = std::max(1, int(std::lround(cells / (double(n) * n))));
-  mesh::BoxOptions o;
-  o.nx = nx, o.ny = n, o.nz = n;
-  o.max_corner = Eigen::Vector3d(nx, n, n) * 0.01;  // 1 cm cells
-  const mesh::TetMesh m = mesh::generate_box(o);
-  const std::vector<fem::Material> mats(static_cast<size_t>(m.num_tets()), fem::Material{3e3, 0.45});
+  const BoxProblem box = box_problem({{nx, n, n}, Eigen::Vector3d(nx, n, n) * 0.01, 0, 0});  // 1 cm cells
+  const mesh::TetMesh& m = box.mesh;
+  const std::vector<fem::Material>& mats = box.materials;
 
   Row row;
   row.tets = m.num_tets();
@@ -64,8 +62,8 @@ Row measure(int target, int repeat, int threads, int direct_max) {
   std::vector<char> free_node(static_cast<size_t>(m.num_nodes()));
   Eigen::VectorXd f = Eigen::VectorXd::Zero(3 * m.num_nodes());
   for (int i = 0; i < m.num_nodes(); ++i) {
-    free_node[size_t(i)] = m.nodes(i, 0) > 0;
-    if (m.nodes(i, 0) >= o.max_corner.x()) f(3 * i + 2) = -1e-3;
+    free_node[size_t(i)] = !box.fixed_mask[size_t(i)];
+    if (m.nodes(i, 0) >= nx * 0.01) f(3 * i + 2) = -1e-3;
   }
   const fem::DofMap map = fem::make_dof_map(free_node);
   const fem::SparseMatrix A = fem::restrict_matrix(K, map);

@@ -25,7 +25,7 @@
 #include "fem/dof_map.hpp"
 #include "fem/whole_mesh.hpp"
 #include "hybrid/update.hpp"
-#include "mesh/generate/box.hpp"
+#include "bench/box_problem.hpp"
 #include "solve/cholesky.hpp"
 
 namespace softcut::bench {
@@ -83,22 +83,17 @@ bool changed_mesh(const cut::CutRecord& r) {
 SizeResult run_size(int cells, int target, int steps) {
   SizeResult r;
   r.target = target, r.cells = cells, r.steps = steps;
-  mesh::BoxOptions bo;
-  bo.nx = bo.ny = bo.nz = cells;
-  bo.jitter = 0.15;
-  mesh::TetMesh m = mesh::generate_box(bo);
+  BoxProblem box = box_problem({{cells, cells, cells}, Eigen::Vector3d::Ones(), 0.15, 2});  // z = 0 held
+  mesh::TetMesh m = std::move(box.mesh);
   r.tets = m.num_tets(), r.nodes = m.num_nodes();
   double side = 0;
   const std::vector<char> op_mask = region_with_tets(m, target, &side);
-  std::vector<int> fixed;
-  for (int v = 0; v < m.num_nodes(); ++v)
-    if (m.nodes(v, 2) <= 1e-9) fixed.push_back(v);
-  const hybrid::Partition part = hybrid::make_partition(m, op_mask, fixed);
+  const hybrid::Partition part = hybrid::make_partition(m, op_mask, box.fixed);
   r.op_tets = part.counts.operational_tets;
   r.op_nodes = part.counts.operational_region_nodes;
   r.interface_nodes = part.counts.interface;
   r.surface_nodes = part.counts.surface;
-  std::vector<fem::Material> mat(size_t(m.num_tets()), fem::Material{3e3, 0.45});
+  std::vector<fem::Material> mat = std::move(box.materials);
 
   Timer timer;
   const hybrid::Model model = hybrid::precompute(m, mat, part);

@@ -4,7 +4,7 @@
 
 #include "core/error.hpp"
 #include "core/timer.hpp"
-#include "mesh/generate/box.hpp"
+#include "bench/box_problem.hpp"
 
 namespace softcut::bench {
 
@@ -14,10 +14,7 @@ CutStepsResult cut_steps(int cells, int steps, double region_fraction, const Cut
   if (cells < 1 || steps < 1 || !(region_fraction > 0 && region_fraction <= 1))
     fail("cut_steps: need cells >= 1, steps >= 1 and region_fraction in (0, 1], got ", cells, ", ", steps,
          ", ", region_fraction);
-  mesh::BoxOptions box;
-  box.nx = box.ny = box.nz = cells;
-  box.jitter = 0.15;
-  mesh::TetMesh m = mesh::generate_box(box);
+  mesh::TetMesh m = box_problem({{cells, cells, cells}, Eigen::Vector3d::Ones(), 0.15, -1}).mesh;
   std::vector<char> cuttable(size_t(m.num_tets()), 0);
   CutStepsResult r;
   r.cells = cells;

@@ -15,7 +15,7 @@
 #include "fem/dof_map.hpp"
 #include "fem/whole_mesh.hpp"
 #include "gpu/compute_cg.hpp"
-#include "mesh/generate/box.hpp"
+#include "bench/box_problem.hpp"
 #include "solve/cg.hpp"
 
 namespace softcut::bench {
@@ -63,15 +63,9 @@ int bench_gpu(const Args& args) {
 
   std::vector<Row> rows;
   for (int c : cells) {
-    mesh::BoxOptions bo;
-    bo.nx = 2 * c;
-    bo.ny = bo.nz = c;
-    bo.max_corner = {0.2, 0.1, 0.1};
-    const auto m = mesh::generate_box(bo);
-    const std::vector<fem::Material> mats(size_t(m.num_tets()), {3e3, 0.45});
-    std::vector<char> fixed(size_t(m.num_nodes()));
-    for (int v = 0; v < m.num_nodes(); ++v) fixed[size_t(v)] = m.nodes(v, 0) <= 1e-12;
-    const fem::WholeMesh whole(m, mats, fixed);
+    const BoxProblem box = box_problem({{2 * c, c, c}, {0.2, 0.1, 0.1}, 0, 0});
+    const mesh::TetMesh& m = box.mesh;
+    const fem::WholeMesh whole(m, box.materials, box.fixed_mask);
     const fem::SparseMatrix& K = whole.K();
     const auto bs = gpu::make_block_system(K);
     cg.set_system(bs);
