@@ -59,6 +59,10 @@ struct PrecomputeOptions {
   double max_bytes = std::numeric_limits<double>::infinity();
   Eigen::MatrixX3d initial_loads;  // (nnode x 3) N, Ps0 and initial operational loads; empty = none
   int block_columns = 256;         // right-hand sides per CHOLMOD solve (bounds temporary memory)
+  // Column blocks solved at once (two CHOLMOD solves side by side on
+  // single-threaded BLAS): 1 or 2; 0: 2 when the thread policy has two idle
+  // cores and a second block's temporary memory fits. The bits are the same either way.
+  int block_threads = 0;
 };
 
 // Table 3 rows, ms. Solves shared by two rows are booked where first needed.

@@ -22,7 +22,7 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr char kMagic[8] = {'S', 'C', 'H', 'Y', 'B', 'R', 'I', 'D'};
-constexpr std::uint32_t kFormat = 2;  // bump when the layout or the precompute's meaning changes
+constexpr std::uint32_t kFormat = 3;  // bump when the layout or the precompute's meaning or bits change
 
 // Everything the precompute depends on, as bytes: compared exactly on a hit.
 std::string input_bytes(const mesh::TetMesh& m, const std::vector<fem::Material>& mat, const Partition& p,

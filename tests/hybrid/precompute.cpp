@@ -46,8 +46,14 @@ TEST_SUITE("hybrid/precompute") {
       PrecomputeOptions po;
       po.storage = Storage::dense;
       po.block_columns = 7;  // several column blocks even on tiny meshes
+      po.block_threads = 2;  // two blocks solved side by side
       po.initial_loads = test::load_field(c.mesh.num_nodes(), test::random_loads(p, rng, 5));
       const Model M = precompute(c.mesh, c.material, p, po);
+      po.block_threads = 1;  // one after the other: the same bits
+      const Model M1 = precompute(c.mesh, c.material, p, po);
+      CHECK(M1.Kstar_inv == M.Kstar_inv);
+      CHECK(M1.Kstar_inv_Pstar == M.Kstar_inv_Pstar);
+      CHECK(*M1.K_prime == *M.K_prime);
 
       // Independent dense route: K^non by DOF lists, K22 inverted outright.
       const Eigen::MatrixXd Kn(fem::assemble_stiffness(c.mesh, c.material, p.nonoperational_tets));
