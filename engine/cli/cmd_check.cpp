@@ -13,6 +13,7 @@
 #include <fstream>
 #include <map>
 #include <mutex>
+#include <optional>
 #include <sstream>
 #include <thread>
 
@@ -23,6 +24,7 @@
 #include "cli/run_support.hpp"
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
+#include "core/threads.hpp"
 #include "hybrid/precompute_cache.hpp"
 #include "app/scenario_run.hpp"
 
@@ -275,6 +277,10 @@ int cmd_check(const Args& args) {
     }
   };
   const int n_threads = std::min<int>(jobs, int(all.size()));
+  // Runs side by side share the cores: each on one BLAS thread (core/threads.hpp:
+  // oversubscribed OpenBLAS threads spin and fight), set before any of them calls BLAS.
+  std::optional<SingleThreadedBlas> one_blas_thread;
+  if (n_threads > 1) one_blas_thread.emplace();
   std::vector<std::thread> threads;
   for (int k = 1; k < n_threads; ++k) threads.emplace_back(worker);
   worker();

@@ -327,7 +327,9 @@ sim::MeshSource generator_source(const std::string& kind, Options& a) {
       fail("mesh generate ", kind, ": --", it->second, " and --", key, " both set ", name, "; give one of them");
     src.options[name] = v;
   };
-  for (const auto& [key, value] : a.named) {
+  for (const auto& entry : a.named) {
+    const std::string& key = entry.first;  // (not a structured binding: lambdas capture it below)
+    const std::string& value = entry.second;
     if (key == "hole-nodes") continue;
     a.used[key] = true;
     const auto sh = std::find_if(shorthands().begin(), shorthands().end(),

@@ -1,5 +1,6 @@
 #include "core/helper_thread.hpp"
 
+#include <algorithm>
 #include <chrono>
 
 #if defined(__x86_64__) || defined(__i386__)
@@ -12,32 +13,38 @@
 namespace softcut {
 
 namespace {
+// The job word: id (high 32 bits) | item count (bits 16..31) | items claimed
+// (low 16 bits). The count is part of the word a claim compares and swaps,
+// so a claim can only succeed on the job it read the count of.
 constexpr uint64_t kIdUnit = uint64_t(1) << 32;
+constexpr uint64_t kCountUnit = uint64_t(1) << 16;
 uint64_t next_id(uint64_t job) { return ((job >> 32) + 1) << 32; }
+uint64_t claimed(uint64_t job) { return job & (kCountUnit - 1); }
+uint64_t count_of(uint64_t job) { return (job >> 16) & (kCountUnit - 1); }
 }  // namespace
 
 HelperThread::HelperThread() : thread_([this] { loop(); }) {}
 
 HelperThread::~HelperThread() {
   stop_.store(true);
-  job_.store(next_id(job_.load()) | (kIdUnit - 1));  // a job with nothing to claim
+  job_.store(next_id(job_.load()));  // a job with nothing to claim
   job_.notify_one();
   thread_.join();
 }
 
-bool HelperThread::claim(uint64_t job, int& item) {
-  // job: the last value read; retried until no item of the current job is
-  // left. count_ is read after the job word it belongs to (published before it).
-  while ((job & (kIdUnit - 1)) < uint64_t(count_.load(std::memory_order_relaxed)))
+bool HelperThread::claim(uint64_t& job, int& item) {
+  // job: the last word read; on return, the last word this thread saw.
+  while (claimed(job) < count_of(job))
     if (job_.compare_exchange_weak(job, job + 1, std::memory_order_acq_rel, std::memory_order_acquire)) {
-      item = int(job & (kIdUnit - 1));
+      item = int(claimed(job));
+      ++job;
       return true;
     }
   return false;
 }
 
 void HelperThread::wake() {
-  job_.store(next_id(job_.load(std::memory_order_relaxed)) | (kIdUnit - 1));  // nothing to claim
+  job_.store(next_id(job_.load(std::memory_order_relaxed)));  // nothing to claim
   if (sleeping_.load()) job_.notify_one();
 }
 
@@ -45,13 +52,14 @@ void HelperThread::publish(int count, int taken, const std::function<void(int)>&
   fn_ = &fn;
   done_.store(0, std::memory_order_relaxed);
   count_.store(count, std::memory_order_relaxed);
-  job_.store(next_id(job_.load(std::memory_order_relaxed)) | uint64_t(taken));  // publishes fn_, count_, done_
+  // Publishes fn_, count_ and done_ (a seq_cst store releases them).
+  job_.store(next_id(job_.load(std::memory_order_relaxed)) | (uint64_t(count) << 16) | uint64_t(taken));
   if (sleeping_.load()) job_.notify_one();
 }
 
 void HelperThread::finish_and_wait() {
   int item = 0;
-  while (claim(job_.load(std::memory_order_acquire), item)) {  // what the helper has not taken
+  for (uint64_t job = job_.load(std::memory_order_acquire); claim(job, item);) {  // what the helper has not taken
     (*fn_)(item);
     done_.fetch_add(1, std::memory_order_release);
   }
@@ -72,9 +80,13 @@ void HelperThread::run_halves(const std::function<void(int)>& fn) {
 }
 
 void HelperThread::run_items(int count, const std::function<void(int)>& fn) {
-  if (count <= 0) return;
-  publish(count, 0, fn);
-  finish_and_wait();
+  constexpr int kMaxItems = int(kCountUnit - 1);  // per job word; more come in rounds
+  for (int base = 0; base < count; base += kMaxItems) {
+    const int n = std::min(kMaxItems, count - base);
+    const std::function<void(int)> shifted = [&](int k) { fn(base + k); };
+    publish(n, 0, base == 0 ? fn : shifted);
+    finish_and_wait();
+  }
 }
 
 void HelperThread::loop() {
@@ -86,12 +98,13 @@ void HelperThread::loop() {
       const uint64_t job = job_.load(std::memory_order_acquire);
       if (job != seen) {
         int item = 0;
-        while (claim(job_.load(std::memory_order_acquire), item)) {
+        uint64_t w = job;
+        while (claim(w, item)) {
           (*fn_)(item);
           helped_.fetch_add(1, std::memory_order_relaxed);
           done_.fetch_add(1, std::memory_order_release);
         }
-        seen = job_.load(std::memory_order_acquire);
+        seen = w;  // the last word seen: a job published after it is noticed
         since = Clock::now();
         spins = 0;
         continue;

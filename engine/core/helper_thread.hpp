@@ -49,16 +49,16 @@ class HelperThread {
 
  private:
   void loop();
-  bool claim(uint64_t seen, int& item);
+  bool claim(uint64_t& job, int& item);
   // Publishes a job of `count` items with the first `taken` already the caller's.
   void publish(int count, int taken, const std::function<void(int)>& fn);
   void finish_and_wait();
 
-  // The job word: job id (high 32 bits) | items claimed (low bits). A
-  // claim is a compare-and-swap on it, so a stale helper can never claim an
-  // item of a newer job.
+  // The job word: job id | item count | items claimed (helper_thread.cpp).
+  // A claim is a compare-and-swap on it, so a stale helper can never claim
+  // an item of a newer job, nor with an older job's count.
   std::atomic<uint64_t> job_{0};
-  std::atomic<int> count_{2};           // items of the current job
+  std::atomic<int> count_{2};           // items of the current job (the caller's wait)
   std::atomic<int> done_{0};            // items finished of the current job
   std::atomic<bool> sleeping_{false};
   std::atomic<bool> stop_{false};

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <mutex>
 #include <thread>
 
 #include "core/error.hpp"
@@ -41,6 +42,31 @@ ThreadPolicy decide() {
 const ThreadPolicy& thread_policy() {
   static const ThreadPolicy p = decide();
   return p;
+}
+
+int blas_threads() {
+  using GetFn = int (*)();
+  if (auto f = reinterpret_cast<GetFn>(::dlsym(RTLD_DEFAULT, "openblas_get_num_threads"))) return f();
+  return 0;
+}
+
+namespace {
+std::mutex blas_scope_mu;
+int blas_scopes = 0;   // open SingleThreadedBlas scopes
+int blas_before = 0;   // the count before the first opened
+}  // namespace
+
+SingleThreadedBlas::SingleThreadedBlas() {
+  std::lock_guard lk(blas_scope_mu);
+  if (blas_scopes++ == 0) {
+    blas_before = blas_threads();
+    if (blas_before > 1) apply_blas_threads(1);
+  }
+}
+
+SingleThreadedBlas::~SingleThreadedBlas() {
+  std::lock_guard lk(blas_scope_mu);
+  if (--blas_scopes == 0 && blas_before > 1) apply_blas_threads(blas_before);
 }
 
 bool apply_blas_threads(int threads) {

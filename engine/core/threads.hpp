@@ -26,15 +26,21 @@ const ThreadPolicy& thread_policy();
 // run time, so any BLAS links) and OpenMP's. Returns false when neither is there.
 bool apply_blas_threads(int threads);
 
-// OpenBLAS on `threads` threads for a scope, then on the policy's again
-// (hybrid precompute: its block solves run side by side on single-threaded
-// BLAS). Not for scopes that overlap on several threads.
-class BlasThreadsScope {
+// OpenBLAS's thread count now, or 0 when the BLAS in use is not OpenBLAS.
+int blas_threads();
+
+// OpenBLAS on one thread while any such scope is open in the process (the
+// hybrid precompute's block solves run side by side on single-threaded
+// BLAS), then back to the count before the first one opened. Scopes may
+// overlap on several threads (softcut check -j); the count changes only
+// when it differs, and check -j already runs every scenario on one BLAS
+// thread, so scopes there change nothing while other runs call BLAS.
+class SingleThreadedBlas {
  public:
-  explicit BlasThreadsScope(int threads) { apply_blas_threads(threads); }
-  ~BlasThreadsScope() { apply_blas_threads(thread_policy().threads); }
-  BlasThreadsScope(const BlasThreadsScope&) = delete;
-  BlasThreadsScope& operator=(const BlasThreadsScope&) = delete;
+  SingleThreadedBlas();
+  ~SingleThreadedBlas();
+  SingleThreadedBlas(const SingleThreadedBlas&) = delete;
+  SingleThreadedBlas& operator=(const SingleThreadedBlas&) = delete;
 };
 
 }  // namespace softcut

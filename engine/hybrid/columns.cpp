@@ -108,6 +108,7 @@ void ColumnCache::ensure(std::span<const int> positions) {
   for (int pos : positions)
     if (pos < 0 || pos >= model_.ns()) fail("column cache: surface position ", pos, " out of range [0, ", model_.ns(), ")");
   std::vector<int> todo;
+  todo.reserve(positions.size());  // no allocation once positions are marked computing
   {
     std::unique_lock lk(mu_);
     for (int pos : positions) {

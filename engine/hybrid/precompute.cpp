@@ -46,7 +46,7 @@ void for_column_blocks(Eigen::Index n, Eigen::Index B, int threads,
                        const std::function<void(Eigen::Index, Eigen::Index, solve::SolveWorkspace&)>& fn) {
   const Eigen::Index blocks = (n + B - 1) / B;
   if (blocks == 0) return;
-  const BlasThreadsScope single(1);
+  const SingleThreadedBlas single;
   std::atomic<Eigen::Index> next{0};
   std::mutex mu;
   std::exception_ptr error;

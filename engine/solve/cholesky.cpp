@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <exception>
 #include <functional>
+#include <mutex>
 #include <vector>
 
 #include "core/helper_thread.hpp"
@@ -313,16 +315,25 @@ void Cholesky::backward_into(const Eigen::MatrixXd& Y, Eigen::MatrixXd& X, Solve
   // gives the same bits.
   const Supernodes sn(*L);
   RowMajorMatrix T = Y;  // a row's m entries together (one cache line to gather)
+  std::mutex error_mu;
+  std::exception_ptr error;  // an item's (an allocation's) failure, rethrown once both threads are done
   auto solve_item = [&](int item) {
-    Eigen::MatrixXd V;
-    std::vector<double> sum;
-    for (int s = sn.count - 1; s >= 0; --s)
-      if (item_[size_t(s)] == item) backward_supernode(sn, s, T, V, sum);
+    try {
+      Eigen::MatrixXd V;
+      std::vector<double> sum;
+      for (int s = sn.count - 1; s >= 0; --s)
+        if (item_[size_t(s)] == item) backward_supernode(sn, s, T, V, sum);
+    } catch (...) {
+      std::lock_guard lk(error_mu);
+      if (!error) error = std::current_exception();
+    }
   };
   solve_item(0);
+  if (error) std::rethrow_exception(error);
   const std::function<void(int)> subtree = [&](int k) { solve_item(k + 1); };
   if (helper) helper->run_items(items_, subtree);
   else for (int k = 0; k < items_; ++k) subtree(k);
+  if (error) std::rethrow_exception(error);
   for (Eigen::Index k = 0; k < Y.rows(); ++k) X.row(perm ? perm[k] : k) = T.row(k);
 }
 
