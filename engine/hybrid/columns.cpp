@@ -77,10 +77,8 @@ void ColumnCache::insert_locked(int pos, std::shared_ptr<const NodeColumns> c) {
   }
 }
 
-std::shared_ptr<const NodeColumns> ColumnCache::get(int pos) {
-  if (pos < 0 || pos >= model_.ns()) fail("column cache: surface position ", pos, " out of range [0, ", model_.ns(), ")");
-  std::unique_lock lk(mu_);
-  if (state_[size_t(pos)] == queued) {  // not started by the worker: compute it here, now
+bool ColumnCache::take_locked(int pos, std::unique_lock<std::mutex>& lk) {
+  if (state_[size_t(pos)] == queued) {  // not started by the worker: computed here, now
     queue_.erase(std::find(queue_.begin(), queue_.end(), pos));
     state_[size_t(pos)] = absent;
   }
@@ -88,62 +86,69 @@ std::shared_ptr<const NodeColumns> ColumnCache::get(int pos) {
     ++stats_.waited;
     cv_.wait(lk, [&] { return state_[size_t(pos)] != computing; });
   }
-  if (state_[size_t(pos)] == cached) {
-    ++stats_.hits;
-    last_use_[size_t(pos)] = ++stamp_;
-    return cols_[size_t(pos)];
-  }
-  lk.unlock();
+  if (state_[size_t(pos)] != absent) return false;
+  state_[size_t(pos)] = computing;  // by this thread: prefetch() and the worker leave it alone
+  return true;
+}
+
+void ColumnCache::release(std::span<const int> positions) {
+  std::lock_guard lk(mu_);
+  for (int pos : positions) state_[size_t(pos)] = absent;
+  cv_.notify_all();
+}
+
+std::vector<std::shared_ptr<NodeColumns>> ColumnCache::compute_taken(std::span<const int> positions) {
   Timer t;
-  const int one[1] = {pos};
-  std::shared_ptr<const NodeColumns> c = compute(one, frame_ws_, helper_.get()).front();
-  lk.lock();
-  ++stats_.first_touches;
+  std::vector<std::shared_ptr<NodeColumns>> cols;
+  try {
+    cols = compute(positions, frame_ws_, helper_.get());
+  } catch (...) {
+    release(positions);
+    throw;
+  }
+  std::lock_guard lk(mu_);
+  stats_.first_touches += long(positions.size());
   stats_.first_touch_ms += t.ms();
-  if (state_[size_t(pos)] != cached) insert_locked(pos, c);  // (the worker cannot have it: it was absent)
-  return c;
+  for (size_t j = 0; j < positions.size(); ++j) insert_locked(positions[j], cols[j]);
+  cv_.notify_all();
+  return cols;
+}
+
+void ColumnCache::check_range(int pos) const {
+  if (pos < 0 || pos >= model_.ns()) fail("column cache: surface position ", pos, " out of range [0, ", model_.ns(), ")");
+}
+
+std::shared_ptr<const NodeColumns> ColumnCache::get(int pos) {
+  check_range(pos);
+  {
+    std::unique_lock lk(mu_);
+    if (!take_locked(pos, lk)) {  // cached
+      ++stats_.hits;
+      last_use_[size_t(pos)] = ++stamp_;
+      return cols_[size_t(pos)];
+    }
+  }
+  const int one[1] = {pos};
+  return compute_taken(one).front();
 }
 
 void ColumnCache::ensure(std::span<const int> positions) {
-  for (int pos : positions)
-    if (pos < 0 || pos >= model_.ns()) fail("column cache: surface position ", pos, " out of range [0, ", model_.ns(), ")");
+  for (int pos : positions) check_range(pos);
   std::vector<int> todo;
   todo.reserve(positions.size());  // no allocation once positions are marked computing
   {
     std::unique_lock lk(mu_);
-    for (int pos : positions) {
-      if (std::find(todo.begin(), todo.end(), pos) != todo.end()) continue;  // named twice
-      if (state_[size_t(pos)] == queued) {  // not started by the worker: computed here, now
-        queue_.erase(std::find(queue_.begin(), queue_.end(), pos));
-        state_[size_t(pos)] = absent;
-      }
-      if (state_[size_t(pos)] == computing) {
-        ++stats_.waited;
-        cv_.wait(lk, [&] { return state_[size_t(pos)] != computing; });
-      }
-      if (state_[size_t(pos)] == absent) {
-        state_[size_t(pos)] = computing;  // by this thread: prefetch() and the worker leave it alone
-        todo.push_back(pos);
-      }
-    }
+    for (int pos : positions)
+      if (std::find(todo.begin(), todo.end(), pos) == todo.end() && take_locked(pos, lk)) todo.push_back(pos);
   }
   for (size_t b = 0; b < todo.size(); b += kMaxBatch) {
-    const auto batch = std::span<const int>(todo).subspan(b, std::min<size_t>(kMaxBatch, todo.size() - b));
-    Timer t;
-    std::vector<std::shared_ptr<NodeColumns>> cols;
+    const size_t w = std::min<size_t>(kMaxBatch, todo.size() - b);
     try {
-      cols = compute(batch, frame_ws_, helper_.get());
+      compute_taken(std::span<const int>(todo).subspan(b, w));
     } catch (...) {
-      std::lock_guard lk(mu_);
-      for (size_t k = b; k < todo.size(); ++k) state_[size_t(todo[k])] = absent;
-      cv_.notify_all();
+      release(std::span<const int>(todo).subspan(b + w));  // the batches not reached
       throw;
     }
-    std::lock_guard lk(mu_);
-    stats_.first_touches += long(batch.size());
-    stats_.first_touch_ms += t.ms();
-    for (size_t j = 0; j < batch.size(); ++j) insert_locked(batch[j], std::move(cols[j]));
-    cv_.notify_all();
   }
 }
 

@@ -81,6 +81,15 @@ class ColumnCache {
   std::vector<std::shared_ptr<NodeColumns>> compute(std::span<const int> pos, solve::SolveWorkspace& ws,
                                                     HelperThread* helper) const;
   void insert_locked(int pos, std::shared_ptr<const NodeColumns> c);
+  void check_range(int pos) const;  // 0 <= pos < |s|, else softcut::Error
+  // With mu_ held: takes pos off the worker's queue and waits while another
+  // thread computes it; then, if it is absent, marks it computing for the
+  // caller and returns true (false: it is cached).
+  bool take_locked(int pos, std::unique_lock<std::mutex>& lk);
+  // Computes positions the caller took, on the calling thread, and caches
+  // them; on failure they are absent again.
+  std::vector<std::shared_ptr<NodeColumns>> compute_taken(std::span<const int> positions);
+  void release(std::span<const int> positions);  // taken -> absent, waiters woken
   void worker_loop();
 
   const Model& model_;
