@@ -5,9 +5,7 @@
 #include <random>
 
 #include "fixtures.hpp"
-#include "hybrid/partition.hpp"
 #include "hybrid/precompute.hpp"
-#include "mesh/generate/box.hpp"
 
 using namespace softcut;
 using namespace softcut::hybrid;
@@ -117,19 +115,12 @@ TEST_SUITE("hybrid/columns") {
   TEST_CASE("a frame's first touches come in batches, each node with the bits it has alone") {
     // A box large enough for a supernodal K22 (the two-thread backward) and
     // a random case (simplicial); more nodes than one batch holds.
-    mesh::BoxOptions o;
-    o.nx = 12, o.ny = 8, o.nz = 8;
-    o.jitter = 0.1;
-    const mesh::TetMesh m = mesh::generate_box(o);
-    std::vector<int> fixed;
-    for (int v = 0; v < m.num_nodes(); ++v)
-      if (m.nodes(v, 0) == 0) fixed.push_back(v);
-    const std::vector<fem::Material> mat(size_t(m.num_tets()), fem::Material{3e3, 0.45});
-    const Partition part = make_partition(m, tets_in_sphere(m, Eigen::Vector3d(0.5, 0.5, 1.0), 0.3), fixed);
+    const HybridCase b = test::supernodal_case(12, fem::Material{3e3, 0.45});
     PrecomputeOptions pd, pp;
     pd.storage = Storage::dense;
     pp.storage = Storage::product;
-    const Model box_dense = precompute(m, mat, part, pd), box = precompute(m, mat, part, pp);
+    const Model box_dense = precompute(b.mesh, b.material, b.partition, pd);
+    const Model box = precompute(b.mesh, b.material, b.partition, pp);
     REQUIRE(box.K22.supernodal());
     std::mt19937 rng(80);
     const Pair P = make_pair(rng);

@@ -76,6 +76,23 @@ inline HybridCase random_case(std::mt19937& rng, int kind = -1, int max_cells = 
   return c;
 }
 
+// A case large enough for CHOLMOD's supernodal K22 (the random cases are
+// simplicial): a unit box of nx x 8 x 8 cells, jittered, the face x = 0
+// fixed, the tets within 0.3 of the top face's middle operational.
+inline HybridCase supernodal_case(int nx, const fem::Material& material) {
+  HybridCase c;
+  mesh::BoxOptions o;
+  o.nx = nx, o.ny = 8, o.nz = 8;
+  o.jitter = 0.1;
+  c.mesh = mesh::generate_box(o);
+  c.material.assign(size_t(c.mesh.num_tets()), material);
+  c.fixed_mask.assign(size_t(c.mesh.num_nodes()), 0);
+  for (int v = 0; v < c.mesh.num_nodes(); ++v)
+    if (c.mesh.nodes(v, 0) == 0) c.fixed.push_back(v), c.fixed_mask[size_t(v)] = 1;
+  c.partition = hybrid::make_partition(c.mesh, hybrid::tets_in_sphere(c.mesh, Eigen::Vector3d(0.5, 0.5, 1.0), 0.3), c.fixed);
+  return c;
+}
+
 // Random loads on nodes of sets 1, I and s (up to `count`), forces ~ N(0, 1) N.
 inline std::vector<hybrid::Load> random_loads(const hybrid::Partition& p, std::mt19937& rng, int count) {
   std::vector<int> candidates;

@@ -91,17 +91,10 @@ TEST_SUITE("hybrid/precompute_cache") {
   }
 
   TEST_CASE("a supernodal K22 factor round-trips bit for bit") {
-    // Large enough for CHOLMOD's supernodal factor (the random cases above
-    // are simplicial): 10 x 8 x 8 cells, one face fixed.
-    mesh::BoxOptions bo;
-    bo.nx = 10, bo.ny = 8, bo.nz = 8;
-    bo.jitter = 0.1;
-    const mesh::TetMesh m = mesh::generate_box(bo);
-    std::vector<int> fixed;
-    for (int v = 0; v < m.num_nodes(); ++v)
-      if (m.nodes(v, 0) == 0) fixed.push_back(v);
-    const Partition p = make_partition(m, tets_in_sphere(m, Eigen::Vector3d(0.5, 0.5, 1.0), 0.3), fixed);
-    const std::vector<fem::Material> mat(size_t(m.num_tets()));
+    const HybridCase c = test::supernodal_case(10, fem::Material{});
+    const mesh::TetMesh& m = c.mesh;
+    const Partition& p = c.partition;
+    const std::vector<fem::Material>& mat = c.material;
     TempDir dir;
     CacheReport r1, r2;
     const Model cold = precompute_cached(m, mat, p, {}, {dir.path}, &r1);
