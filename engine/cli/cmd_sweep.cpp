@@ -293,12 +293,14 @@ int cmd_sweep(const Args& args) {
     write_file_atomic(plan_file, plan_text);  // every shard writes the same bytes
   }
 
-  // Each child gets an even share of the cores unless the user chose.
+  // Each child gets an even share of the cores unless the user chose, and
+  // no more OpenBLAS threads than a run here would use (core/threads.hpp).
   std::vector<std::string> env;
   for (char** e = environ; *e; ++e) env.emplace_back(*e);
   const int at_once = std::max(1, std::min<int>(jobs, int(mine.size())));
   if (!std::getenv("SOFTCUT_THREADS"))
-    env.push_back(cat("SOFTCUT_THREADS=", std::max(1, thread_policy().threads / at_once)));
+    env.push_back(cat("SOFTCUT_THREADS=", std::max(1, std::min(thread_policy().threads / at_once,
+                                                                 thread_policy().blas_threads))));
   std::printf("sweep %s: %zu runs%s; %zu here, %d at once -> %s\n", files[0].c_str(), plan.runs.size(),
               shard.source.empty() ? "" : cat(" (", shard.source, ")").c_str(), mine.size(), at_once, out.c_str());
   std::fflush(stdout);

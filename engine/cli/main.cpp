@@ -54,7 +54,7 @@ int main(int argc, char** argv) {
   }
   const Args args(argv + 2, argv + argc);
   // BLAS threads that do not fight other runs for the cores (core/threads.hpp).
-  softcut::apply_blas_threads(softcut::thread_policy().threads);
+  softcut::apply_blas_threads(softcut::thread_policy().blas_threads);
   try {
     if (cmd == "mesh") return cmd_mesh(args);
     if (cmd == "bench") return cmd_bench(args);

@@ -16,28 +16,36 @@ namespace softcut {
 namespace {
 
 ThreadPolicy decide() {
+  double load = 0;
+  std::ifstream in("/proc/loadavg");
+  if (!(in >> load) || !std::isfinite(load) || load < 0) load = 0;
+  return thread_policy_for(std::getenv("SOFTCUT_THREADS"), int(std::max(1u, std::thread::hardware_concurrency())),
+                           load);
+}
+
+}  // namespace
+
+ThreadPolicy thread_policy_for(const char* softcut_threads, int cores, double load) {
   ThreadPolicy p;
-  const int cores = int(std::max(1u, std::thread::hardware_concurrency()));
-  if (const char* v = std::getenv("SOFTCUT_THREADS"); v && *v) {
+  if (const char* v = softcut_threads; v && *v) {
     char* end = nullptr;
     const long n = std::strtol(v, &end, 10);
     if (end && *end == '\0' && n >= 1 && n <= 1024) {
-      p.threads = int(n);
+      p.threads = p.blas_threads = int(n);
       p.reason = cat("SOFTCUT_THREADS=", n);
       return p;
     }
     p.reason = cat("SOFTCUT_THREADS='", v, "' ignored (want 1..1024); ");
   }
-  double load = 0;
-  std::ifstream in("/proc/loadavg");
-  if (!(in >> load) || !std::isfinite(load) || load < 0) load = 0;
-  const int idle = std::max(1, cores - int(std::lround(load)));
+  cores = std::max(1, cores);
+  if (!std::isfinite(load) || load < 0) load = 0;
+  const int idle = std::max(1, cores - int(std::lround(std::min(load, double(cores)))));
   p.threads = idle;
+  p.blas_threads = std::min(idle, kDefaultBlasThreads);
   p.reason += cat(cores, " cores, load ", std::round(load * 100) / 100, ": ", idle, " idle");
+  if (p.blas_threads < idle) p.reason += cat(", BLAS on ", p.blas_threads);
   return p;
 }
-
-}  // namespace
 
 const ThreadPolicy& thread_policy() {
   static const ThreadPolicy p = decide();

@@ -7,20 +7,34 @@
 // each take 1.6x longer than with 1 each (OpenBLAS threads spin and fight).
 // So: $SOFTCUT_THREADS when set; else the idle cores (cores minus the 1-minute
 // load average, at least 1).
+// OpenBLAS gets at most kDefaultBlasThreads of those unless SOFTCUT_THREADS
+// asks for more. Measured on an NVIDIA H100 machine's 16 cores (a Firecracker
+// VM; docs/hybrid.md, Threads): on 16 OpenBLAS threads CHOLMOD's factorizations
+// ran 6-24x slower than on this 2-core machine's 2 threads (the ligament's
+// K22 factor 142 ms against 6 ms, box_111132's 10.0 s against 1.6 s): the
+// supernodal factor makes hundreds of small BLAS calls, and OpenBLAS's dtrsm
+// threads every one of them (no size threshold; SuiteSparse issue 1).
 //
 //   const ThreadPolicy& t = thread_policy();  // decided once, at first use
-//   apply_blas_threads(t.threads);            // the CLI does this at start
+//   apply_blas_threads(t.blas_threads);       // the CLI does this at start
 #include <string>
 
 namespace softcut {
 
+inline constexpr int kDefaultBlasThreads = 2;
+
 struct ThreadPolicy {
-  int threads = 1;
-  std::string reason;  // "SOFTCUT_THREADS=1", "2 cores, load 0.1: 2 idle", ...
+  int threads = 1;       // softcut's own parallel parts
+  int blas_threads = 1;  // OpenBLAS's: threads, at most kDefaultBlasThreads unless SOFTCUT_THREADS is set
+  std::string reason;    // "SOFTCUT_THREADS=1", "2 cores, load 0.1: 2 idle", "16 cores, ...: 16 idle, BLAS on 2", ...
 };
 
 // Decided on first call from the environment and /proc/loadavg.
 const ThreadPolicy& thread_policy();
+
+// The policy for a SOFTCUT_THREADS value (null: unset), a core count and a
+// 1-minute load average.
+ThreadPolicy thread_policy_for(const char* softcut_threads, int cores, double load);
 
 // Sets OpenBLAS's thread count (when the BLAS in use is OpenBLAS; found at
 // run time, so any BLAS links) and OpenMP's. Returns false when neither is there.

@@ -339,7 +339,8 @@ std::string summary_json(const Model& m, const State& s, const RunResult& r, con
   } else {
     j["precompute_cache"] = nullptr;
   }
-  j["threads"] = {{"count", thread_policy().threads}, {"reason", thread_policy().reason}};
+  j["threads"] = {{"count", thread_policy().threads}, {"blas", thread_policy().blas_threads},
+                  {"reason", thread_policy().reason}};
   // Columns of loaded surface nodes computed on demand (product and factor storage).
   if (const auto cs = m.solver ? m.solver->column_stats(s.solver_run) : std::nullopt) {
     j["columns"] = {{"hits", cs->hits}, {"first_touches", cs->first_touches}, {"waited", cs->waited},

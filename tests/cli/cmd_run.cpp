@@ -79,11 +79,15 @@ TEST_SUITE("cli/cmd_run") {
       CHECK(std::system(cmd.c_str()) == 0);
       return softcut::test::read_json(dir / out / "summary.json")["threads"];
     };
-    CHECK(run("SOFTCUT_THREADS=3", "three") == nlohmann::ordered_json{{"count", 3}, {"reason", "SOFTCUT_THREADS=3"}});
+    CHECK(run("SOFTCUT_THREADS=3", "three") ==
+          nlohmann::ordered_json{{"count", 3}, {"blas", 3}, {"reason", "SOFTCUT_THREADS=3"}});
     const std::string bad = run("SOFTCUT_THREADS=lots", "bad")["reason"];
     CHECK(bad.starts_with("SOFTCUT_THREADS='lots' ignored (want 1..1024); "));
-    CHECK(bad.ends_with(" idle"));
-    CHECK(contains(run("env -u SOFTCUT_THREADS", "auto")["reason"].get<std::string>(), " cores, load "));
+    CHECK(contains(bad, " idle"));
+    const auto automatic = run("env -u SOFTCUT_THREADS", "auto");
+    CHECK(contains(automatic["reason"].get<std::string>(), " cores, load "));
+    CHECK(automatic["blas"].get<int>() >= 1);
+    CHECK(automatic["blas"].get<int>() <= std::min(2, automatic["count"].get<int>()));
   }
 
   TEST_CASE("--frames out of range names the accepted range") {
