@@ -14,6 +14,7 @@
 #include <vector>
 
 #include <memory>
+#include <optional>
 
 #include "bench/bench.hpp"
 #include "cli/options.hpp"
@@ -24,6 +25,9 @@
 #include "fem/assembly.hpp"
 #include "fem/dof_map.hpp"
 #include "fem/whole_mesh.hpp"
+#include "gpu/compute_cg.hpp"
+#include "gpu/egl_context.hpp"
+#include "gpu/operational_gpu_solver.hpp"
 #include "hybrid/update.hpp"
 #include "bench/box_problem.hpp"
 #include "solve/cholesky.hpp"
@@ -55,6 +59,7 @@ struct SizeResult {
   Stat default_ms;   // the frame with the default backend (CHOLMOD: kept factor + low-rank correction)
   Stat refactor_ms;  // the same backend refactoring after every cut (what it did before)
   Stat correction_rank;  // DOFs changed since the default backend's kept factor
+  Stat gpu_ms, gpu_it;   // --gpu: the gpu backend's frame (warm start from the mapped field) and its CG iterations
   long default_factors = 0, default_background = 0, default_fallbacks = 0;  // factors the default backend made; of those, on the second thread
   double mono_assemble_ms = 0, mono_factor_ms = 0, mono_solve_ms = 0;
   double rel_err = 0;  // hybrid (warm CG and default backend, after the last cut) vs monolithic
@@ -80,7 +85,7 @@ bool changed_mesh(const cut::CutRecord& r) {
   return !r.new_nodes.empty() || !r.changed_tets.empty() || r.nodes_snapped > 0 || r.faces_separated > 0;
 }
 
-SizeResult run_size(int cells, int target, int steps) {
+SizeResult run_size(int cells, int target, int steps, gpu::EglContext* context) {
   SizeResult r;
   r.target = target, r.cells = cells, r.steps = steps;
   BoxProblem box = box_problem({{cells, cells, cells}, Eigen::Vector3d::Ones(), 0.15, 2});  // z = 0 held
@@ -119,6 +124,13 @@ SizeResult run_size(int cells, int target, int steps) {
   hybrid::State refactor = hybrid::make_state(model, std::make_unique<hybrid::CholmodSolver>(true, false));
   hybrid::update(model, direct, loads);
   hybrid::update(model, refactor, loads);
+  std::optional<hybrid::State> on_gpu;  // --gpu: the gpu backend as a run builds it (CG on the device)
+  if (context) {
+    on_gpu.emplace(hybrid::make_state(model, std::make_unique<gpu::OperationalGpuSolver>(
+                                                 *context, gpu::compile_cg_kernels(*context, false),
+                                                 gpu::ComputeCgOptions{})));
+    hybrid::update(model, *on_gpu, loads);
+  }
   {
     const hybrid::FrameReport& f = hybrid::update(model, warm, loads);
     r.before_it = f.solve.iterations, r.before_ms = f.total_ms;
@@ -210,6 +222,18 @@ SizeResult run_size(int cells, int target, int steps) {
     r.default_ms.add(d.total_ms);
     r.correction_rank.add(d.solve.correction_rank);
     r.refactor_ms.add(hybrid::update(model, refactor, loads).total_ms);
+    if (on_gpu) {
+      hybrid::State& g = *on_gpu;
+      hybrid::set_operational_system(g, sys);
+      if (g.u.rows() == rec.nodes_before) g.u = cut::map_node_field(rec, g.u);
+      if (g.forces.rows() < nn) {
+        const Eigen::Index had = g.forces.rows();
+        g.forces.conservativeResize(nn, 3);
+        g.forces.bottomRows(nn - had).setZero();
+      }
+      const hybrid::FrameReport& fg = hybrid::update(model, g, loads);
+      r.gpu_ms.add(fg.total_ms), r.gpu_it.add(fg.solve.iterations);
+    }
   }
   r.default_factors = direct_cholmod.refactors();
   r.default_background = direct_cholmod.adopted();
@@ -240,7 +264,8 @@ SizeResult run_size(int cells, int target, int steps) {
   for (int v = 0; v < m.num_nodes(); ++v)
     if (v >= model.num_nodes || part.node_set[size_t(v)] != hybrid::NodeSet::interior)
       err = std::max({err, (warm.u.row(v) - u_mono.row(v)).norm(), (direct.u.row(v) - u_mono.row(v)).norm(),
-                      (refactor.u.row(v) - u_mono.row(v)).norm()});
+                      (refactor.u.row(v) - u_mono.row(v)).norm(),
+                      on_gpu ? (on_gpu->u.row(v) - u_mono.row(v)).norm() : 0.0});
   r.rel_err = err / std::max(1e-300, u_mono.rowwise().norm().maxCoeff());
   if (!(r.rel_err <= 1e-8))
     fail("bench cut: the hybrid frame after the last cut differs from the monolithic solve by ", r.rel_err,
@@ -250,7 +275,7 @@ SizeResult run_size(int cells, int target, int steps) {
 
 Json json_of(const SizeResult& r) {
   auto st = [](const Stat& s) { return Json{{"mean", field(s.mean())}, {"max", field(s.max)}}; };
-  return {{"target_tets", r.target}, {"cells", r.cells}, {"tets", r.tets}, {"nodes", r.nodes},
+  Json j = {{"target_tets", r.target}, {"cells", r.cells}, {"tets", r.tets}, {"nodes", r.nodes},
           {"operational_tets", r.op_tets}, {"operational_nodes", r.op_nodes}, {"interface_nodes", r.interface_nodes},
           {"surface_nodes", r.surface_nodes}, {"storage", r.storage}, {"precompute_ms", field(r.precompute_ms)},
           {"steps", r.steps}, {"steps_changed", r.steps_changed}, {"steps_snap_only", r.steps_snap_only},
@@ -269,6 +294,8 @@ Json json_of(const SizeResult& r) {
           {"monolithic", {{"assemble_ms", field(r.mono_assemble_ms)}, {"factor_ms", field(r.mono_factor_ms)},
                           {"solve_ms", field(r.mono_solve_ms)}}},
           {"relative_error", field(r.rel_err)}};
+  if (r.gpu_ms.n) j["gpu_backend"] = {{"frame_ms", st(r.gpu_ms)}, {"cg_iterations", st(r.gpu_it)}};
+  return j;
 }
 
 }  // namespace
@@ -280,12 +307,17 @@ int bench_cut(const Args& args) {
   bool quick = false;
   std::string json_path;
   o.app().add_flag("--quick", quick, "the small box and two regions");
+  bool use_gpu = false;
+  o.app().add_flag("--gpu", use_gpu, "also time the frame after each cut with the gpu backend (compute-shader CG, "
+                   "warm-started from the mapped field) on the EGL device");
   o.app().add_option("--json", json_path, "also write the results as JSON")->type_name("FILE");
   if (!o.parse(args)) return 0;
+  std::optional<gpu::EglContext> context;
+  if (use_gpu) context.emplace();
   const int cells = quick ? 8 : 15, steps = 10;
   const std::vector<int> targets = quick ? std::vector<int>{300, 800} : std::vector<int>{500, 1000, 2000, 5000, 8000};
   std::vector<SizeResult> rows;
-  for (int t : targets) rows.push_back(run_size(cells, t, steps));
+  for (int t : targets) rows.push_back(run_size(cells, t, steps, context ? &*context : nullptr));
 
   const SizeResult& r0 = rows.front();
   std::printf("Box %d^3 cells (%d tets, %d nodes), E = 3 kPa, nu = 0.45, bottom face fixed, one standing load;\n"
@@ -319,8 +351,22 @@ int bench_cut(const Args& args) {
                 mono / (r.rebuild_ms.mean() + r.default_ms.mean()), r.refactor_ms.mean(), r.refactor_ms.max,
                 mono / (r.rebuild_ms.mean() + r.refactor_ms.mean()), r.rel_err);
   }
+  if (context) {
+    std::printf("\ngpu backend on %s: the frame after each cut (mean / max ms), CG iterations (mean / max), "
+                "gpu ratio = monolithic / (rebuild + gpu frame), against the default ratio\n\n"
+                "| op tets | gpu frame ms | gpu CG it | gpu ratio | default frame ms | default ratio |\n"
+                "|---:|---:|---:|---:|---:|---:|\n",
+                context->info().summary().c_str());
+    for (const SizeResult& r : rows) {
+      const double mono = r.mono_assemble_ms + r.mono_factor_ms + r.mono_solve_ms;
+      std::printf("| %d | %.2f / %.2f | %.0f / %.0f | %.2f | %.2f / %.2f | %.2f |\n", r.op_tets, r.gpu_ms.mean(),
+                  r.gpu_ms.max, r.gpu_it.mean(), r.gpu_it.max, mono / (r.rebuild_ms.mean() + r.gpu_ms.mean()),
+                  r.default_ms.mean(), r.default_ms.max, mono / (r.rebuild_ms.mean() + r.default_ms.mean()));
+    }
+  }
   if (!json_path.empty()) {
     Json json = {{"benchmark", "cut"}, {"quick", quick}, {"sizes", Json::array()}};
+    if (context) json["gpu_device"] = context->info().summary();
     for (const SizeResult& r : rows) json["sizes"].push_back(json_of(r));
     write_file_atomic(json_path, json_text(json));
   }

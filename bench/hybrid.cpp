@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <optional>
 #include <random>
 #include <sstream>
 
@@ -21,6 +22,10 @@
 #include "fem/assembly.hpp"
 #include "fem/dof_map.hpp"
 #include "fem/whole_mesh.hpp"
+#include "gpu/compute_cg.hpp"
+#include "gpu/dense_product.hpp"
+#include "gpu/egl_context.hpp"
+#include "gpu/operational_gpu_solver.hpp"
 #include "hybrid/precompute_cache.hpp"
 #include "hybrid/update.hpp"
 #include "bench/box_problem.hpp"
@@ -115,10 +120,10 @@ BenchModel liver(int tets, int op_tets) {
 // Median of `reps` timings of f(), ms.
 struct Result {
   Json json;  // one entry of "models"
-  std::string table_row, precompute_row, update_row, poke_rows;
+  std::string table_row, precompute_row, update_row, poke_rows, gpu_row;
 };
 
-Result run_model(const ModelEntry& e, bool quick, Storage storage) {
+Result run_model(const ModelEntry& e, bool quick, Storage storage, gpu::EglContext* context) {
   const BenchModel b = e.make();
   const std::string& name = e.name;
   const mesh::TetMesh& m = b.mesh;
@@ -185,6 +190,7 @@ Result run_model(const ModelEntry& e, bool quick, Storage storage) {
   // (operational solve, loaded nodes only), each on its own state.
   double frame_chol_ms = 0, op_chol_ms = 0, physics_ms = 0, physics_op_ms = 0;
   int product_threads = 1;
+  Eigen::MatrixX3d s_default_u;  // the default backend's last full frame
   for (const bool full : {true, false}) {
     State s2 = make_state(model, std::make_unique<CholmodSolver>());
     product_threads = s2.helper ? 2 : 1;
@@ -199,8 +205,47 @@ Result run_model(const ModelEntry& e, bool quick, Storage storage) {
     }
     std::sort(t2.begin(), t2.end());
     (full ? frame_chol_ms : physics_ms) = t2[t2.size() / 2];
+    if (full) s_default_u = s2.u;
   }
   const double frame_ms = frame_chol_ms;
+  // --gpu: the same full frames with the `gpu` backend as a run builds it
+  // (compute-shader CG, fp32 kernels inside the fp64 refinement to the same
+  // tolerance; stage 5 on the device when the dense block pays off there), so
+  // `auto` on a hardware GPU can be judged by the ratio to frame_ms.
+  double frame_gpu_ms = NAN, op_gpu_ms = 0, gpu_it = 0, frame_device_product_ms = NAN, device_product_diff = 0;
+  std::optional<State> gpu_state;
+  if (context) {
+    gpu_state.emplace(make_state(model, std::make_unique<gpu::OperationalGpuSolver>(
+                                            *context, gpu::compile_cg_kernels(*context, false), gpu::ComputeCgOptions{})));
+    if (model.has_Kstar_inv_Pstar() && double(model.Kstar_inv_Pstar.size()) >= gpu::DeviceDenseProduct::kWorthwhileEntries)
+      gpu_state->nonoperational_product = std::make_shared<gpu::DeviceDenseProduct>(*context, model.Kstar_inv_Pstar);
+    UpdateOptions uo;
+    uo.full_surface = true;
+    update(model, *gpu_state, frame_loads(0), uo);
+    std::vector<double> t2;
+    for (int f = 1; f <= frames; ++f) {
+      const FrameReport& r = update(model, *gpu_state, frame_loads(f), uo);
+      t2.push_back(r.total_ms);
+      op_gpu_ms += r.operational_ms / frames, gpu_it += double(r.solve.iterations) / frames;
+    }
+    std::sort(t2.begin(), t2.end());
+    frame_gpu_ms = t2[t2.size() / 2];
+    // What auto builds on a hardware GPU: CHOLMOD with stage 5's dense
+    // product on the device (attached there from 4M entries; here whatever
+    // the block's size, so each model with a dense K*^-1 P* shows its cost).
+    if (model.has_Kstar_inv_Pstar()) {
+      State sd = make_state(model, std::make_unique<CholmodSolver>());
+      sd.nonoperational_product = std::make_shared<gpu::DeviceDenseProduct>(*context, model.Kstar_inv_Pstar);
+      update(model, sd, frame_loads(0), uo);
+      t2.clear();
+      for (int f = 1; f <= frames; ++f) t2.push_back(update(model, sd, frame_loads(f), uo).total_ms);
+      std::sort(t2.begin(), t2.end());
+      frame_device_product_ms = t2[t2.size() / 2];
+      for (int v = 0; v < m.num_nodes(); ++v)  // the same frame as the default backend's, to rounding
+        device_product_diff = std::max(device_product_diff, (sd.u.row(v) - s_default_u.row(v)).norm());
+      device_product_diff /= std::max(1e-300, s_default_u.rowwise().norm().maxCoeff());
+    }
+  }
   const double op_ms = sum.operational_ms / frames, non_ms = sum.nonoperational_ms / frames;
 
   // Table 5: poke/drag (stage 3) vs loaded surface nodes, loads changing
@@ -259,6 +304,14 @@ Result run_model(const ModelEntry& e, bool quick, Storage storage) {
   for (int v = 0; v < m.num_nodes(); ++v)
     if (part.node_set[size_t(v)] != NodeSet::interior) err = std::max(err, (state.u.row(v) - u_mono.row(v)).norm());
   err /= std::max(1e-300, u_mono.rowwise().norm().maxCoeff());
+  double gpu_err = NAN;
+  if (gpu_state) {
+    gpu_err = 0;
+    for (int v = 0; v < m.num_nodes(); ++v)
+      if (part.node_set[size_t(v)] != NodeSet::interior)
+        gpu_err = std::max(gpu_err, (gpu_state->u.row(v) - u_mono.row(v)).norm());
+    gpu_err /= std::max(1e-300, u_mono.rowwise().norm().maxCoeff());
+  }
 
   // Table 4: nonoperational update, condensed (surface rows only) vs
   // uncondensed (all nonoperational rows, dense (K22^-1 K2I) in dense storage).
@@ -307,6 +360,13 @@ Result run_model(const ModelEntry& e, bool quick, Storage storage) {
   j["speedup_vs_cholmod_solve_only"] = field(mono_solve_ms / frame_ms); j["speedup_vs_cg"] = field(mono_cg_ms / frame_ms);
   j["max_rel_diff_vs_monolithic"] = field(err);
   j["poke_drag"] = std::move(poke_json);
+  if (context) {
+    j["frame_gpu_backend_ms_median"] = field(frame_gpu_ms); j["stage_operational_gpu_ms"] = field(op_gpu_ms);
+    j["gpu_cg_iterations_mean"] = field(gpu_it); j["gpu_max_rel_diff_vs_monolithic"] = field(gpu_err);
+    j["speedup_default_vs_gpu_backend"] = field(frame_gpu_ms / frame_ms);
+    j["frame_direct_device_product_ms_median"] = field(frame_device_product_ms);
+    j["direct_device_product_rel_diff_vs_default"] = field(device_product_diff);
+  }
 
   Result res;
   res.json = std::move(j);
@@ -326,6 +386,10 @@ Result run_model(const ModelEntry& e, bool quick, Storage storage) {
                        f3(mono_solve_ms / frame_ms), "x) | ", f3(mono_cg_ms), " (", f3(mono_cg_ms / frame_ms),
                        "x) | ", cat(err), " |\n");
   res.poke_rows = poke_rows.str();
+  if (context)
+    res.gpu_row = cat("| ", name, " | ", f3(frame_ms), " | ", f3(frame_gpu_ms), " (", f3(frame_gpu_ms / frame_ms),
+                      "x) | ", f3(op_chol_ms), " | ", f3(op_gpu_ms), " | ", f3(gpu_it), " | ", cat(gpu_err), " | ",
+                      f3(frame_device_product_ms), " (", f3(frame_device_product_ms / frame_ms), "x) |\n");
   return res;
 }
 
@@ -353,9 +417,12 @@ int bench_hybrid(const Args& args) {
   bool quick = false;
   std::string json_path, md_path, only, storage_text;
   o.app().add_flag("--quick", quick, "smaller models and fewer frames");
-  o.app().add_option("--only", only, "only the model of this name")->type_name("MODEL");
+  o.app().add_option("--only", only, "only the models of these names (comma-separated)")->type_name("MODEL[,MODEL]");
   o.app().add_option("--storage", storage_text, "nonoperational storage: dense, product, factor or automatic")
       ->type_name("S");
+  bool use_gpu = false;
+  o.app().add_flag("--gpu", use_gpu, "also time full frames with the gpu backend (compute-shader CG) on the EGL "
+                   "device, against the default backend");
   o.app().add_option("--json", json_path, "also write the results as JSON")->type_name("FILE");
   o.app().add_option("--md", md_path, "also write the tables as Markdown")->type_name("FILE");
   if (!o.parse(args)) return 0;
@@ -384,9 +451,20 @@ int bench_hybrid(const Args& args) {
   if (!only.empty()) {
     std::string names;
     for (const ModelEntry& e : models) names += (names.empty() ? "" : ", ") + e.name;
-    models.erase(std::remove_if(models.begin(), models.end(), [&](const ModelEntry& e) { return e.name != only; }),
+    std::vector<std::string> wanted;
+    for (std::size_t a = 0; a <= only.size();) {
+      const std::size_t b = std::min(only.find(',', a), only.size());
+      wanted.push_back(only.substr(a, b - a));
+      a = b + 1;
+    }
+    for (const std::string& w : wanted)
+      if (std::none_of(models.begin(), models.end(), [&](const ModelEntry& e) { return e.name == w; }))
+        usage_fail("bench hybrid: --only ", only, ": no model '", w, "' (models: ", names, ")");
+    models.erase(std::remove_if(models.begin(), models.end(),
+                                [&](const ModelEntry& e) {
+                                  return std::find(wanted.begin(), wanted.end(), e.name) == wanted.end();
+                                }),
                  models.end());
-    if (models.empty()) usage_fail("bench hybrid: --only ", only, ": no such model (models: ", names, ")");
   }
   {
     // Warm-up, untimed: the process's first factorization starts OpenBLAS's
@@ -396,11 +474,29 @@ int bench_hybrid(const Args& args) {
     const std::vector<fem::Material> mat(size_t(w.mesh.num_tets()), fem::Material{3e3, 0.45});
     const Model warm = precompute(w.mesh, mat, make_partition(w.mesh, w.op_mask, w.fixed), {});
   }
-  for (size_t k = 0; k < models.size(); ++k) {
-    const Result r = run_model(models[k], quick, storage);
-    json["models"].push_back(r.json);
-    t2 += r.table_row, t3 += r.precompute_row, t45 += r.update_row, t5 += r.poke_rows;
+  std::optional<gpu::EglContext> context;
+  std::string tg;
+  if (use_gpu) {
+    context.emplace();
+    json["gpu_device"] = context->info().summary();
+    json["gpu_software"] = context->info().software;
+    std::fprintf(stderr, "[bench hybrid] gpu: %s\n", context->info().summary().c_str());
   }
+  for (size_t k = 0; k < models.size(); ++k) {
+    const Result r = run_model(models[k], quick, storage, context ? &*context : nullptr);
+    json["models"].push_back(r.json);
+    t2 += r.table_row, t3 += r.precompute_row, t45 += r.update_row, t5 += r.poke_rows, tg += r.gpu_row;
+  }
+  if (context)
+    tg = cat("\n## The gpu backend on ", context->info().summary(), "\n\n"
+             "Full frames with `--backend gpu` (compute-shader CG, fp32 kernels inside the fp64 refinement, same "
+             "tolerance) against the default backend in the same run; ratio = gpu / default (above 1: the default "
+             "is faster). Last column: the default backend with stage 5's (K*^-1 P*) AI on the device, what `auto` "
+             "builds on a hardware GPU when that block has 4M entries or more (here whatever its size; - without a "
+             "dense block).\n\n| model | default frame | gpu frame (ratio) | default operational solve | gpu "
+             "operational solve | gpu CG iterations | gpu max rel. diff vs monolithic | default + device stage 5 "
+             "(ratio) |\n|---|---|---|---|---|---|---|---|\n",
+             tg);
   std::string md = cat(
       "# Hybrid condensed model: benchmark\n\n"
       "Generated by `softcut bench hybrid", quick ? " --quick" : "", "` (times are medians; one thread, except the frame's dense products (the operational inverse and stage 5, in two halves on two threads when the machine has two idle cores and they read 64k entries or more: `product_threads`), a first touch's backward solve through the K22 factor (its subtrees on the same two threads) and the precompute cache's reads; an untimed warm-up precompute of a small box comes first, so the first model does not pay the process's one-time start of OpenBLAS and the allocator). "
@@ -431,7 +527,7 @@ int bench_hybrid(const Args& args) {
       "(product and factor storage), all of them in one solve (16 nodes at most per solve); measured "
       "right after the frames above, before the monolithic baselines.\n\n"
       "| model | loaded nodes | loaded DOFs | time after first touch (us) | per node (us) | first touch (us) |\n|---|---|---|---|---|---|\n",
-      t5, "\n", kPaper);
+      t5, tg, "\n", kPaper);
   std::fputs(md.c_str(), stdout);
   if (!json_path.empty()) write_file_atomic(json_path, json_text(json));
   if (!md_path.empty()) write_file_atomic(md_path, md);

@@ -37,14 +37,15 @@ class HybridSolver final : public Solver {
       // The kernels compile once, here, so a context without what they need
       // fails at compile time; each run gets its own device buffers.
       Timer tg;
-      context_ = context;
       kernels_ = gpu::compile_cg_kernels(*context, spec.gpu_fp64);
-      // Stage 5's dense product on the device too when the block is large
-      // enough for the device to pay off (bandwidth-bound; double precision).
-      device_product_ = model_.has_Kstar_inv_Pstar() &&
-                        double(model_.Kstar_inv_Pstar.size()) >= gpu::DeviceDenseProduct::kWorthwhileEntries;
       gpu_ms_ = tg.ms();
     }
+    // Stage 5's dense product on the device when the choice allows it and the
+    // block is large enough for the device to pay off (bandwidth-bound;
+    // double precision).
+    context_ = context;
+    device_product_ = choice_.device_product && context && model_.has_Kstar_inv_Pstar() &&
+                      double(model_.Kstar_inv_Pstar.size()) >= choice_.device_product_min_entries;
     const hybrid::PrecomputeTimings& t = model_.timings;
     timings_ = {{"assemble", t.assemble_ms},           {"factor", t.factor_ms},
                 {"K_prime", t.K_prime_ms},             {"KI2_K22inv", t.KI2_K22inv_ms},
@@ -208,10 +209,9 @@ class HybridSolver final : public Solver {
 
  private:
   std::string backend_name() const {
-    if (kernels_)
-      return cat("gpu cg, ", spec_.gpu_fp64 ? "fp64" : "fp32 + fp64 refinement",
-                 device_product_ ? "; (K*^-1 P*) AI on the device" : "");
-    return choice_.backend == Backend::direct ? "cholmod" : "cg";
+    const char* product = device_product_ ? "; (K*^-1 P*) AI on the device" : "";
+    if (kernels_) return cat("gpu cg, ", spec_.gpu_fp64 ? "fp64" : "fp32 + fp64 refinement", product);
+    return cat(choice_.backend == Backend::direct ? "cholmod" : "cg", product);
   }
 
   HybridRunState& run_state(SolverRun& warm) const {

@@ -2,6 +2,7 @@
 
 #include "backend/hybrid_solver.hpp"
 #include "backend/monolithic_solver.hpp"
+#include "gpu/dense_product.hpp"
 #include "gpu/egl_context.hpp"
 
 namespace softcut::backend {
@@ -12,13 +13,11 @@ void check_solve_residual(double r, const char* what) {
          "): the system is singular or nearly so; is a part of the body held only by a node or an edge?");
 }
 
-BackendChoice choose_backend(const SolverSpec& spec, const gpu::EglContext* context) {
+BackendChoice choose_backend(const SolverSpec& spec, const gpu::ContextInfo* info) {
   BackendChoice c;
   c.requested = spec.backend;
-  if (context) {
-    const gpu::ContextInfo& info = context->info();
-    c.device = info.renderer + (info.software ? ", software" : "");
-  }
+  c.device_product_min_entries = gpu::DeviceDenseProduct::kWorthwhileEntries;
+  if (info) c.device = info->renderer + (info->software ? ", software" : "");
   switch (spec.backend) {
     case Backend::cpu:
     case Backend::direct:
@@ -27,26 +26,33 @@ BackendChoice choose_backend(const SolverSpec& spec, const gpu::EglContext* cont
       c.reason = "requested";
       break;
     case Backend::gpu:
-      if (!context)
+      if (!info)
         fail("solver: backend 'gpu' needs an OpenGL context, and none was created (the CLI makes one for --backend "
              "gpu; check the EGL error above, or use --backend cpu)");
-      if (!context->info().compute)
-        fail("solver: backend 'gpu': the OpenGL context (", context->info().summary(),
+      if (!info->compute)
+        fail("solver: backend 'gpu': the OpenGL context (", info->summary(),
              ") has no compute shaders (OpenGL 4.3 needed); use --backend cpu");
       c.backend = Backend::gpu;
-      c.reason = context->info().software ? "requested (on a software rasteriser: correct but slower than cpu)"
-                                          : "requested";
+      c.device_product = true;
+      c.reason = info->software ? "requested (on a software rasteriser: correct but slower than cpu)" : "requested";
       break;
     case Backend::automatic:
-      // Measured (bench hybrid, docs/bench-hybrid.md): the kept CHOLMOD factor
-      // of the operational system beats block-Jacobi CG (100-300 iterations)
-      // at every size. GPU CG has not been measured against it on a hardware
-      // GPU yet, so auto stays on the CPU there too; llvmpipe is never chosen.
+      // Measured (bench hybrid and bench cut --gpu, docs/bench-gpu.md): on an
+      // NVIDIA H100 the kept CHOLMOD factor of the operational system beats
+      // compute-shader CG at every size, before and after cuts (a GPU CG
+      // iteration costs 47-140 us of dispatch and synchronisation; it needs
+      // 140-900 of them), while stage 5's dense product runs there in well
+      // under a millisecond where the CPU streams it in 6-12 ms. So on a
+      // hardware GPU auto keeps CHOLMOD and moves stage 5 to the device;
+      // llvmpipe is the CPU itself and is never chosen.
       c.backend = Backend::direct;
-      c.reason = context && !context->info().software && context->info().compute
-                     ? "auto: CHOLMOD on the operational system (kept factor); GPU CG is not yet measured faster on "
-                       "this machine"
-                     : "auto: CHOLMOD on the operational system (kept factor), the fastest exact solver on a CPU";
+      if (info && !info->software && info->compute) {
+        c.device_product = true;
+        c.reason = "auto: CHOLMOD on the operational system (kept factor), measured faster than GPU CG on a hardware "
+                   "GPU; a large (K*^-1 P*) AI on the GPU";
+      } else {
+        c.reason = "auto: CHOLMOD on the operational system (kept factor), the fastest exact solver on a CPU";
+      }
       break;
   }
   c.gpu_fp64 = c.backend == Backend::gpu && spec.gpu_fp64;
@@ -56,7 +62,7 @@ BackendChoice choose_backend(const SolverSpec& spec, const gpu::EglContext* cont
 std::unique_ptr<Solver> make_solver(const mesh::TetMesh& m, const std::vector<fem::Material>& tet_material,
                                     const hybrid::Partition& partition, const SolverSpec& spec, bool need_interior,
                                     const RunResources& resources, Diagnostics& diag) {
-  BackendChoice choice = choose_backend(spec, resources.context);
+  BackendChoice choice = choose_backend(spec, resources.context ? &resources.context->info() : nullptr);
   if (spec.gpu_fp64 && choice.backend != Backend::gpu)
     diag.warn("solver: gpu_fp64 ignored: the operational backend is ", to_string(choice.backend), " (", choice.reason,
               ")");

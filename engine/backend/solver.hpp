@@ -23,6 +23,7 @@
 
 namespace softcut::gpu {
 class EglContext;
+struct ContextInfo;
 }
 
 namespace softcut::backend {
@@ -42,12 +43,18 @@ struct BackendChoice {
   std::string reason;     // one sentence, e.g. "auto: llvmpipe (...) is a software rasteriser; CPU CG"
   std::string device;     // the context's GL renderer (+ ", software"), empty without a context
   bool gpu_fp64 = false;  // backend gpu: fp64 kernels (else fp32 + fp64 refinement)
+  // Stage 5's dense product (K*^-1 P*) AI on the context's device when the
+  // block has at least device_product_min_entries entries: backend gpu, and
+  // auto on a hardware GPU (measured: docs/bench-gpu.md).
+  bool device_product = false;
+  double device_product_min_entries = 4e6;  // gpu::DeviceDenseProduct::kWorthwhileEntries
 };
 
-// Resolves SolverSpec::backend against the context: automatic -> direct (see
-// the reason in solver.cpp); gpu -> the device even when it is software
+// Resolves SolverSpec::backend against the context's description (null: no
+// context): automatic -> direct (see the reason in solver.cpp), with stage 5
+// on a hardware GPU's device; gpu -> the device even when it is software
 // (llvmpipe), an Error when there is no context or no compute shaders.
-BackendChoice choose_backend(const SolverSpec& spec, const gpu::EglContext* context);
+BackendChoice choose_backend(const SolverSpec& spec, const gpu::ContextInfo* context);
 
 // Every solve is checked: a relative residual ||b - A x|| / ||b|| above
 // kMaxRelativeResidual (or NaN) is an error naming `what`, never a result (a

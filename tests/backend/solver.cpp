@@ -1,5 +1,7 @@
 #include "backend/solver.hpp"
 
+#include "backend/hybrid_solver.hpp"
+
 #include <doctest/doctest.h>
 
 #include <cmath>
@@ -7,6 +9,7 @@
 #include "core/error.hpp"
 #include "core/timer.hpp"
 #include "sim/fixtures.hpp"
+#include "gpu/dense_product.hpp"
 #include "gpu/egl_context.hpp"
 #include "sim/step.hpp"
 #include "test_support.hpp"
@@ -122,16 +125,74 @@ TEST_SUITE("backend/solver") {
     CHECK_THROWS_WITH_AS(sim::compile(spec), doctest::Contains("backend 'gpu' needs an OpenGL context"), Error);
   }
 
-  TEST_CASE("auto never picks llvmpipe: it stays on the CPU's CHOLMOD until GPU CG is measured faster, and says why") {
+  TEST_CASE("auto never picks llvmpipe: it stays on the CPU's CHOLMOD, stage 5 too, and says why") {
     const softcut::gpu::ContextInfo& info = context().info();
     backend::SolverSpec s;
     s.backend = backend::Backend::automatic;
-    const backend::BackendChoice c = backend::choose_backend(s, &context());
+    const backend::BackendChoice c = backend::choose_backend(s, &context().info());
     CHECK(c.backend == backend::Backend::direct);
     CHECK(c.device.find(info.renderer) == 0);
     CHECK(c.reason.find("CHOLMOD") != std::string::npos);
+    CHECK(c.device_product == !info.software);
     const sim::Model m = sim::compile(gpu_spec("auto"), backend::RunResources{&context()});
     CHECK(m.solver->backend().backend == c.backend);
+  }
+
+  TEST_CASE("auto on a hardware GPU: CHOLMOD (measured faster than GPU CG there) with stage 5 on the device") {
+    softcut::gpu::ContextInfo h100;
+    h100.renderer = "NVIDIA H100 80GB HBM3/PCIe/SSE2";
+    h100.compute = true;
+    backend::SolverSpec s;
+    s.backend = backend::Backend::automatic;
+    backend::BackendChoice c = backend::choose_backend(s, &h100);
+    CHECK(c.backend == backend::Backend::direct);
+    CHECK(c.device_product);
+    CHECK(c.device_product_min_entries == softcut::gpu::DeviceDenseProduct::kWorthwhileEntries);
+    CHECK(c.reason.find("measured faster than GPU CG") != std::string::npos);
+    CHECK(c.device == h100.renderer);
+    h100.compute = false;  // no compute shaders: nothing on the device
+    CHECK_FALSE(backend::choose_backend(s, &h100).device_product);
+    s.backend = backend::Backend::direct;  // asked for: the CPU only
+    h100.compute = true;
+    CHECK_FALSE(backend::choose_backend(s, &h100).device_product);
+  }
+
+  TEST_CASE("the direct backend with stage 5 on the device solves like the direct backend on the CPU") {
+    // What auto builds on a hardware GPU, here on llvmpipe with the size
+    // threshold lowered so the small model's dense block goes to the device.
+    if (!context().info().compute) {
+      MESSAGE("no compute shaders in this context: the device product is not testable here");
+      return;
+    }
+    auto spec = gpu_spec("direct");
+    spec.solver.storage = softcut::hybrid::Storage::dense;  // K*^-1 P* kept dense
+    const sim::Model cpu = sim::compile(spec);
+    REQUIRE(cpu.solver->name().find("on the device") == std::string::npos);
+    backend::BackendChoice c = backend::choose_backend(spec.solver, &context().info());
+    c.device_product = true;
+    c.device_product_min_entries = 0;
+    const std::unique_ptr<backend::Solver> dev =
+        backend::make_hybrid_solver(cpu.mesh, cpu.tet_material, cpu.partition, spec.solver, false, c, &context());
+    CHECK(dev->name().find("operational cholmod; (K*^-1 P*) AI on the device") != std::string::npos);
+    backend::SolverRun ra, rb;
+    backend::SolveStats sa, sb;
+    for (int f = 0; f < 3; ++f) {
+      CAPTURE(f);
+      Eigen::MatrixX3d forces = Eigen::MatrixX3d::Zero(cpu.mesh.num_nodes(), 3);
+      for (int v : cpu.surface.nodes)
+        if (cpu.partition.node_set[size_t(v)] != softcut::hybrid::NodeSet::fixed)
+          forces.row(v) = V(0.01 * (f + 1), -0.02, 0.003 * (v % 7));
+      Eigen::MatrixX3d ua, ub;
+      cpu.solver->solve(forces, ua, ra, sa);
+      dev->solve(forces, ub, rb, sb);
+      const double scale = ua.cwiseAbs().maxCoeff();
+      REQUIRE(scale > 0);
+      double diff = 0;
+      for (int v = 0; v < cpu.mesh.num_nodes(); ++v)
+        if (cpu.partition.node_set[size_t(v)] != softcut::hybrid::NodeSet::interior)
+          diff = std::max(diff, (ua.row(v) - ub.row(v)).cwiseAbs().maxCoeff());
+      CHECK(diff <= 1e-12 * scale);  // the same fp64 product, summed in another order
+    }
   }
 
   // llvmpipe runs a CG iteration in milliseconds (dispatch overhead), so

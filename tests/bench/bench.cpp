@@ -182,10 +182,34 @@ TEST_SUITE("bench/bench") {
     }
   }
 
+  TEST_CASE("bench hybrid --gpu: two models, the gpu backend's frames against the monolithic solve") {
+    const fs::path dir = softcut::test::scratch_dir("cli_bench_hybrid_gpu");
+    const auto r = run_cli("bench hybrid --quick --gpu --only ligament_dense,ligament --json " +
+                           (dir / "h.json").string() + " --md " + (dir / "h.md").string());
+    REQUIRE_MESSAGE(r.status == 0, r.output);
+    const std::string md = slurp(dir / "h.md");
+    CHECK(contains(md, "## The gpu backend on "));
+    CHECK(rows_starting(md, "ligament_dense").size() == 3 + 5 + 1);  // tables 2, 3, frames; 5 poke rows; gpu row
+    const Json j = read_json(dir / "h.json");
+    CHECK_FALSE(j.at("gpu_device").get<std::string>().empty());
+    REQUIRE(j.at("models").size() == 2);  // in the bench's order, whatever --only's
+    CHECK(j.at("models").at(0).at("model").get<std::string>() == "ligament");
+    CHECK(j.at("models").at(1).at("model").get<std::string>() == "ligament_dense");
+    for (const Json& m : j.at("models")) {
+      CHECK(m.at("gpu_max_rel_diff_vs_monolithic").get<double>() < 1e-8);
+      CHECK(m.at("direct_device_product_rel_diff_vs_default").get<double>() < 1e-12);
+      CHECK(positive(m.at("frame_direct_device_product_ms_median")));  // both have a dense K*^-1 P*
+      for (const char* key : {"frame_gpu_backend_ms_median", "stage_operational_gpu_ms", "gpu_cg_iterations_mean",
+                              "speedup_default_vs_gpu_backend"})
+        CHECK_MESSAGE(positive(m.at(key)), key);
+    }
+  }
+
   TEST_CASE("bench hybrid: bad options") {
     CHECK(run_cli("bench hybrid --help").status == 0);
     check_rejected("hybrid --storage sparse", "--storage takes dense, product, factor or automatic, got 'sparse'");
-    check_rejected("hybrid --quick --only femur", "--only femur: no such model (models: ligament, upper_leg");
+    check_rejected("hybrid --quick --only femur", "--only femur: no model 'femur' (models: ligament, upper_leg");
+    check_rejected("hybrid --quick --only ligament,", "--only ligament,: no model '' (models: ligament, upper_leg");
     check_rejected("hybrid --frobnicate", "unknown option '--frobnicate'");
   }
 
@@ -257,10 +281,13 @@ TEST_SUITE("bench/bench") {
 
   TEST_CASE("bench cut: the quick series stays equal to the monolithic solve of the cut mesh") {
     const fs::path json = softcut::test::scratch_dir("cli_bench_cut") / "cut.json";
-    const auto r = run_cli("bench cut --quick --json " + json.string());
+    // --gpu: the gpu backend's frames are in the relative error too.
+    const auto r = run_cli("bench cut --quick --gpu --json " + json.string());
     REQUIRE_MESSAGE(r.status == 0, r.output);
+    CHECK(contains(r.output, "gpu backend on "));
     const Json j = read_json(json);
     CHECK(j.at("benchmark").get<std::string>() == "cut");
+    CHECK_FALSE(j.at("gpu_device").get<std::string>().empty());
     CHECK(j.at("quick").get<bool>());
     REQUIRE(j.at("sizes").size() == 2);
     const int target[] = {300, 800};
@@ -290,6 +317,8 @@ TEST_SUITE("bench/bench") {
       CHECK(positive(s.at("refactor_each_cut").at("frame_ms").at("mean")));
       CHECK(s.at("default_backend").at("factors").get<double>() >= 1);
       CHECK(s.at("default_backend").at("corrected_solves_refactored").get<double>() == 0);  // every correction was exact
+      CHECK(positive(s.at("gpu_backend").at("frame_ms").at("mean")));
+      CHECK(positive(s.at("gpu_backend").at("cg_iterations").at("mean")));
     }
     // The larger region's system is past the dense path: its cuts go through
     // the kept factor's correction (the residual and the error above check it).
