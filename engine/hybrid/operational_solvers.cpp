@@ -5,6 +5,7 @@
 #include <future>
 
 #include "core/error.hpp"
+#include "core/threads.hpp"
 #include "hybrid/factor_correction.hpp"
 
 namespace softcut::hybrid {
@@ -128,6 +129,7 @@ void CholmodSolver::launch_refactor(const OperationalSystem& sys) {
   auto r = std::make_unique<Refactor>();
   r->sys = sys;
   r->done = std::async(std::launch::async, [p = r.get()] {
+    SingleThreadedBlas one;  // the frames go on beside it, on the other core
     p->factor.factor(p->sys.assembled(), "operational system (K + K')");
   });
   pending_ = std::move(r);  // only once the thread runs
