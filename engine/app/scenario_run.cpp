@@ -139,10 +139,12 @@ RunOutcome run_watched(const RunRequest& req, const OpenScript& open, const Watc
   }
   const sim::Model model = sim::compile(spec, backend::RunResources{context.get()});
   // Frames are drawn on a worker thread while the next frame is simulated,
-  // unless the GPU solver needs the shared context on this thread.
+  // unless the solver (GPU CG, or stage 5's product on the device) needs the
+  // shared context on this thread.
   std::unique_ptr<render::FrameWriter> frames;
   if (spec.outputs.render.enabled) {
-    const bool solver_on_gpu = model.solver->backend().backend == backend::Backend::gpu;
+    const backend::BackendChoice& b = model.solver->backend();
+    const bool solver_on_gpu = b.backend == backend::Backend::gpu || b.device_product;
     frames = std::make_unique<render::FrameWriter>(*context,
                                                    solver_on_gpu || req.render_inline
                                                        ? render::FrameWriter::Mode::inline_draw

@@ -45,7 +45,9 @@ struct BackendChoice {
   bool gpu_fp64 = false;  // backend gpu: fp64 kernels (else fp32 + fp64 refinement)
   // Stage 5's dense product (K*^-1 P*) AI on the context's device when the
   // block has at least device_product_min_entries entries: backend gpu, and
-  // auto on a hardware GPU (measured: docs/bench-gpu.md).
+  // auto on a hardware GPU (measured: docs/bench-gpu.md). From choose_backend
+  // it says the device may be used; a Solver's backend() says whether it is
+  // (then, like backend gpu, the run needs the context on its own thread).
   bool device_product = false;
   double device_product_min_entries = 4e6;  // gpu::DeviceDenseProduct::kWorthwhileEntries
 };

@@ -136,6 +136,7 @@ TEST_SUITE("backend/solver") {
     CHECK(c.device_product == !info.software);
     const sim::Model m = sim::compile(gpu_spec("auto"), backend::RunResources{&context()});
     CHECK(m.solver->backend().backend == c.backend);
+    CHECK_FALSE(m.solver->backend().device_product);  // llvmpipe; and the cantilever's block is small
   }
 
   TEST_CASE("auto on a hardware GPU: CHOLMOD (measured faster than GPU CG there) with stage 5 on the device") {
@@ -174,6 +175,13 @@ TEST_SUITE("backend/solver") {
     const std::unique_ptr<backend::Solver> dev =
         backend::make_hybrid_solver(cpu.mesh, cpu.tet_material, cpu.partition, spec.solver, false, c, &context());
     CHECK(dev->name().find("operational cholmod; (K*^-1 P*) AI on the device") != std::string::npos);
+    // The solver says it uses the context (softcut run then draws frames on this thread).
+    CHECK(dev->backend().device_product);
+    c.device_product_min_entries = 1e12;  // allowed, but no block is that large: not used
+    CHECK_FALSE(
+        backend::make_hybrid_solver(cpu.mesh, cpu.tet_material, cpu.partition, spec.solver, false, c, &context())
+            ->backend()
+            .device_product);
     backend::SolverRun ra, rb;
     backend::SolveStats sa, sb;
     for (int f = 0; f < 3; ++f) {
