@@ -442,6 +442,7 @@ int bench_hybrid(const Args& args) {
     models.push_back({cat("liver_", k, "k"), [k] { return liver(1000 * k, k > 8 ? 5000 : 1500); }});
 
   Json json = {{"benchmark", "hybrid"}, {"quick", quick}, {"threads", thread_policy().threads},
+               {"blas_threads", thread_policy().blas_threads},
                {"models", Json::array()}};
   std::string t2, t3, t45, t5;
   if (storage == Storage::automatic)  // the paper models also in the paper's dense storage and in factor storage

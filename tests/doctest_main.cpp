@@ -8,6 +8,6 @@
 #include "core/threads.hpp"
 
 int main(int argc, char** argv) {
-  softcut::apply_blas_threads(softcut::thread_policy().threads);
+  softcut::apply_blas_threads(softcut::thread_policy().blas_threads);
   return doctest::Context(argc, argv).run();
 }

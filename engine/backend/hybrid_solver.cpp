@@ -47,6 +47,7 @@ class HybridSolver final : public Solver {
     device_product_ = choice_.device_product && context && model_.has_Kstar_inv_Pstar() &&
                       double(model_.Kstar_inv_Pstar.size()) >= choice_.device_product_min_entries;
     choice_.device_product = device_product_;  // from "may" to "does"
+    if (device_product_ && choice_.backend != Backend::gpu) choice_.reason += "; (K*^-1 P*) AI on the GPU";
     const hybrid::PrecomputeTimings& t = model_.timings;
     timings_ = {{"assemble", t.assemble_ms},           {"factor", t.factor_ms},
                 {"K_prime", t.K_prime_ms},             {"KI2_K22inv", t.KI2_K22inv_ms},

@@ -49,7 +49,7 @@ BackendChoice choose_backend(const SolverSpec& spec, const gpu::ContextInfo* inf
       if (info && !info->software && info->compute) {
         c.device_product = true;
         c.reason = "auto: CHOLMOD on the operational system (kept factor), measured faster than GPU CG on a hardware "
-                   "GPU; a large (K*^-1 P*) AI on the GPU";
+                   "GPU";  // the hybrid solver adds "; (K*^-1 P*) AI on the GPU" when it puts it there
       } else {
         c.reason = "auto: CHOLMOD on the operational system (kept factor), the fastest exact solver on a CPU";
       }

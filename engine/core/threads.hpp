@@ -45,10 +45,14 @@ int blas_threads();
 
 // OpenBLAS on one thread while any such scope is open in the process (the
 // hybrid precompute's block solves run side by side on single-threaded
-// BLAS), then back to the count before the first one opened. Scopes may
-// overlap on several threads (softcut check -j); the count changes only
-// when it differs, and check -j already runs every scenario on one BLAS
-// thread, so scopes there change nothing while other runs call BLAS.
+// BLAS; the direct backend's refactor on a second thread keeps one open
+// from its launch to its adoption), then back to the count before the first
+// one opened. Scopes may overlap on several threads (softcut check -j); the
+// count changes only when it differs, and check -j already runs every
+// scenario on one BLAS thread, so scopes there change nothing while other
+// runs call BLAS. A scope opens and closes at points of the run's own
+// sequence (never at a time another thread happens to finish), so a run's
+// BLAS calls see the same count whatever the timing.
 class SingleThreadedBlas {
  public:
   SingleThreadedBlas();

@@ -19,6 +19,9 @@ class ComputeProgram {
   ComputeProgram& operator=(const ComputeProgram&) = delete;
 
   std::uint32_t id() const { return id_; }
+  // Forgets the program without deleting it (for a destructor that finds its
+  // context current on another thread: the context frees it with itself).
+  void release() noexcept { id_ = 0; }
   void set_uint(const char* uniform, std::uint32_t value) const;
   // Binds the program and dispatches `groups` work groups along x.
   void dispatch(std::uint32_t groups) const;
@@ -29,6 +32,8 @@ class ComputeProgram {
 
 class StorageBuffer {
  public:
+  // Forgets the buffer without deleting it (see ComputeProgram::release).
+  void release() noexcept { id_ = 0, capacity_ = 0; }
   StorageBuffer() = default;
   ~StorageBuffer();
   StorageBuffer(StorageBuffer&& o) noexcept;

@@ -43,7 +43,15 @@ DeviceDenseProduct::DeviceDenseProduct(EglContext& context, const Eigen::MatrixX
   program_.set_uint("cols", unsigned(cols_));
 }
 
-DeviceDenseProduct::~DeviceDenseProduct() = default;
+DeviceDenseProduct::~DeviceDenseProduct() {
+  try {
+    context_.make_current();  // the buffers are freed in it
+  } catch (const Error&) {
+    // Current on another thread: the buffers' handles belong to the context,
+    // which frees them with itself (a destructor must not throw).
+    matrix_.release(), x_.release(), y_.release(), program_.release();
+  }
+}
 
 void DeviceDenseProduct::apply(const Eigen::VectorXd& x, Eigen::VectorXd& y) {
   if (x.size() != cols_)

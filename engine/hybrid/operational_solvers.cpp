@@ -53,6 +53,12 @@ SolveReport CgSolver::solve(const OperationalSystem& sys, const Eigen::VectorXd&
 }
 
 struct CholmodSolver::Refactor {
+  // OpenBLAS on one thread from the launch to the adoption (or the solver's
+  // end): the factorization takes one core and the frames the other. Opened
+  // and closed by the frame thread at points counted in cuts and solves, so
+  // every BLAS call of the run sees the same thread count whatever the
+  // timing. Declared first: closed after the thread has finished.
+  SingleThreadedBlas one_blas_thread;
   OperationalSystem sys;
   solve::Cholesky factor;
   std::future<void> done;  // its destructor waits for the thread
@@ -129,7 +135,6 @@ void CholmodSolver::launch_refactor(const OperationalSystem& sys) {
   auto r = std::make_unique<Refactor>();
   r->sys = sys;
   r->done = std::async(std::launch::async, [p = r.get()] {
-    SingleThreadedBlas one;  // the frames go on beside it, on the other core
     p->factor.factor(p->sys.assembled(), "operational system (K + K')");
   });
   pending_ = std::move(r);  // only once the thread runs

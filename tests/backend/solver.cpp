@@ -177,6 +177,7 @@ TEST_SUITE("backend/solver") {
     CHECK(dev->name().find("operational cholmod; (K*^-1 P*) AI on the device") != std::string::npos);
     // The solver says it uses the context (softcut run then draws frames on this thread).
     CHECK(dev->backend().device_product);
+    CHECK(dev->backend().reason.ends_with("; (K*^-1 P*) AI on the GPU"));
     c.device_product_min_entries = 1e12;  // allowed, but no block is that large: not used
     CHECK_FALSE(
         backend::make_hybrid_solver(cpu.mesh, cpu.tet_material, cpu.partition, spec.solver, false, c, &context())

@@ -2,7 +2,13 @@
 
 #include <doctest/doctest.h>
 
+#include <future>
 #include <random>
+#include <thread>
+#include <vector>
+
+#define GL_GLEXT_PROTOTYPES 1
+#include <GL/glcorearb.h>
 
 #include "../hybrid/fixtures.hpp"
 #include "fem/whole_mesh.hpp"
@@ -61,6 +67,41 @@ TEST_SUITE("gpu/dense_product") {
       }
     }
     CHECK(used >= 2);
+  }
+
+  TEST_CASE("a product destroyed while its context is current on another thread deletes nothing elsewhere") {
+    // A run state dropped on a thread that cannot take the product's context,
+    // with another context current there: the product's buffers stay with
+    // their context, and no buffer of the current one is deleted in their name.
+    auto dev = std::make_unique<gpu::DeviceDenseProduct>(context(), Eigen::MatrixXd::Ones(5, 2));
+    context().release_current();
+    std::promise<void> holding, done;
+    std::thread other([&] {
+      context().make_current();
+      holding.set_value();
+      done.get_future().wait();
+      context().release_current();
+    });
+    holding.get_future().wait();
+    {
+      gpu::EglContext second;  // current here; its buffer names start at 1, as the first context's did
+      second.make_current();
+      std::vector<gpu::StorageBuffer> mine(4096);
+      for (auto& b : mine) b.allocate(16);
+      CHECK_THROWS_AS(context().make_current(), Error);  // current on `other`
+      CHECK_NOTHROW(dev.reset());
+      second.make_current();
+      int alive = 0;
+      for (std::uint32_t id = 1; id <= 4096; ++id) alive += glIsBuffer(id) == GL_TRUE;
+      CHECK(alive == 4096);
+    }
+    done.set_value();
+    other.join();
+    context().make_current();
+    gpu::DeviceDenseProduct again(context(), Eigen::MatrixXd::Ones(5, 2));
+    Eigen::VectorXd y;
+    again.apply(Eigen::VectorXd::Ones(2), y);
+    CHECK(y.isApproxToConstant(2.0));
   }
 
   TEST_CASE("a wrong AI size is an error") {
