@@ -185,13 +185,19 @@ SizeResult run_size(int cells, int target, int steps, gpu::EglContext* context) 
     for (int t = 0; t < nt; ++t)
       if (op_tet[size_t(t)]) op.push_back(t);
     const auto sys = hybrid::rebuild_operational_system(model, m, mat, op, node_fixed);
-    hybrid::set_operational_system(warm, sys);
-    if (warm.u.rows() == rec.nodes_before) warm.u = cut::map_node_field(rec, warm.u);
-    const Eigen::Index old = warm.forces.rows();
-    if (old < nn) {
-      warm.forces.conservativeResize(nn, 3);
-      warm.forces.bottomRows(nn - old).setZero();
-    }
+    // A state onto the cut system: its field carried onto the new nodes (the
+    // warm start) or zeroed, its forces grown to the new node count.
+    auto onto_cut = [&](hybrid::State& st, bool carry) {
+      hybrid::set_operational_system(st, sys);
+      if (!carry) st.u.setZero();
+      else if (st.u.rows() == rec.nodes_before) st.u = cut::map_node_field(rec, st.u);
+      const Eigen::Index had = st.forces.rows();
+      if (had < nn) {
+        st.forces.conservativeResize(nn, 3);
+        st.forces.bottomRows(nn - had).setZero();
+      }
+    };
+    onto_cut(warm, true);
     r.rebuild_ms.add(timer.ms());
 
     const hybrid::FrameReport& f = hybrid::update(model, warm, loads);
@@ -210,29 +216,15 @@ SizeResult run_size(int cells, int target, int steps, gpu::EglContext* context) 
     const hybrid::FrameReport& c = hybrid::update(model, cold, loads);
     r.cold_it.add(c.solve.iterations), r.cold_ms.add(c.total_ms);
 
-    for (hybrid::State* st : {&direct, &refactor}) {
-      hybrid::set_operational_system(*st, sys);
-      st->u.setZero();
-      if (st->forces.rows() < nn) {
-        const Eigen::Index had = st->forces.rows();
-        st->forces.conservativeResize(nn, 3);
-        st->forces.bottomRows(nn - had).setZero();
-      }
-    }
+    onto_cut(direct, false);
+    onto_cut(refactor, false);
     const hybrid::FrameReport& d = hybrid::update(model, direct, loads);
     r.default_ms.add(d.total_ms);
     r.correction_rank.add(d.solve.correction_rank);
     r.refactor_ms.add(hybrid::update(model, refactor, loads).total_ms);
     if (on_gpu) {
-      hybrid::State& g = *on_gpu;
-      hybrid::set_operational_system(g, sys);
-      if (g.u.rows() == rec.nodes_before) g.u = cut::map_node_field(rec, g.u);
-      if (g.forces.rows() < nn) {
-        const Eigen::Index had = g.forces.rows();
-        g.forces.conservativeResize(nn, 3);
-        g.forces.bottomRows(nn - had).setZero();
-      }
-      const hybrid::FrameReport& fg = hybrid::update(model, g, loads);
+      onto_cut(*on_gpu, true);
+      const hybrid::FrameReport& fg = hybrid::update(model, *on_gpu, loads);
       r.gpu_ms.add(fg.total_ms), r.gpu_it.add(fg.solve.iterations);
     }
   }

@@ -2,7 +2,6 @@
 
 #include "backend/hybrid_solver.hpp"
 #include "backend/monolithic_solver.hpp"
-#include "gpu/dense_product.hpp"
 #include "gpu/egl_context.hpp"
 
 namespace softcut::backend {
@@ -16,7 +15,6 @@ void check_solve_residual(double r, const char* what) {
 BackendChoice choose_backend(const SolverSpec& spec, const gpu::ContextInfo* info) {
   BackendChoice c;
   c.requested = spec.backend;
-  c.device_product_min_entries = gpu::DeviceDenseProduct::kWorthwhileEntries;
   if (info) c.device = info->renderer + (info->software ? ", software" : "");
   switch (spec.backend) {
     case Backend::cpu:

@@ -16,15 +16,11 @@
 #include "backend/spec.hpp"
 #include "core/error.hpp"
 #include "fem/material.hpp"
+#include "gpu/dense_product.hpp"
 #include "hybrid/columns.hpp"
 #include "hybrid/partition.hpp"
 #include "hybrid/precompute_cache.hpp"
 #include "mesh/tet_mesh.hpp"
-
-namespace softcut::gpu {
-class EglContext;
-struct ContextInfo;
-}
 
 namespace softcut::backend {
 
@@ -49,7 +45,7 @@ struct BackendChoice {
   // it says the device may be used; a Solver's backend() says whether it is
   // (then, like backend gpu, the run needs the context on its own thread).
   bool device_product = false;
-  double device_product_min_entries = 4e6;  // gpu::DeviceDenseProduct::kWorthwhileEntries
+  double device_product_min_entries = gpu::DeviceDenseProduct::kWorthwhileEntries;
 };
 
 // Resolves SolverSpec::backend against the context's description (null: no

@@ -16,9 +16,9 @@ namespace softcut {
 namespace {
 
 ThreadPolicy decide() {
-  double load = 0;
+  double load = 0;  // thread_policy_for takes NaN and negative values as 0
   std::ifstream in("/proc/loadavg");
-  if (!(in >> load) || !std::isfinite(load) || load < 0) load = 0;
+  if (!(in >> load)) load = 0;
   return thread_policy_for(std::getenv("SOFTCUT_THREADS"), int(std::max(1u, std::thread::hardware_concurrency())),
                            load);
 }
