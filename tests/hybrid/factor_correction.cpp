@@ -7,6 +7,7 @@
 #include <random>
 
 #include "core/error.hpp"
+#include "core/threads.hpp"
 #include "fixtures.hpp"
 #include "hybrid/operational_solvers.hpp"
 #include "hybrid/precompute.hpp"
@@ -71,6 +72,7 @@ double rel(const Eigen::VectorXd& a, const Eigen::VectorXd& b) { return (a - b).
 // assembled system (independent truth) and with a fresh CHOLMOD factor.
 struct Outcome {
   int solves = 0, corrected = 0, refined = 0, appended = 0, dropped = 0;
+  int one_blas_thread = 0;  // solves after which OpenBLAS was on one thread (a refactor pending)
   long refactors = 0, adopted = 0, fallbacks = 0;
 };
 
@@ -117,6 +119,7 @@ Outcome run_changes(unsigned seed, int cases, int steps, int max_cells, double b
       CHECK(rel(x, truth) <= 1e-9);
       CHECK(rel(x, xf) <= 1e-9);
       ++out.solves;
+      out.one_blas_thread += blas_threads() == 1;
       out.corrected += r.correction_rank > 0;
       out.refined += r.iterations > 0;
       // A second right-hand side on the same system: no new factor.
@@ -150,10 +153,19 @@ TEST_SUITE("hybrid/factor_correction") {
   }
 
   TEST_CASE("a long sequence of changes spends the budget: the factor made on the second thread takes over") {
+    // OpenBLAS on two threads, which a pending refactor holds at one from its
+    // launch to its adoption (so the frames keep a core), then gives back.
+    REQUIRE(blas_threads() > 0);
+    const int before = blas_threads();
+    apply_blas_threads(2);
     const Outcome o = run_changes(7, 3, 30, 5, 20.0);
+    CHECK(blas_threads() == 2);
+    apply_blas_threads(before);
     MESSAGE(o.solves, " solves, ", o.corrected, " corrected, ", o.refactors, " factors, ", o.adopted, " from the second thread");
     CHECK(o.solves >= 45);
     CHECK(o.adopted >= 3);
+    CHECK(o.one_blas_thread >= o.adopted);  // each adopted factor was pending over a solve at least
+    CHECK(o.one_blas_thread < o.solves);
     CHECK(o.fallbacks == 0);  // every taken-over factor solved its systems exactly
     CHECK(o.corrected >= o.solves / 3);
   }
