@@ -169,6 +169,84 @@ SparseMatrix assemble_stiffness(const mesh::TetMesh& m, const std::vector<Materi
   return K;
 }
 
+BlockStiffness assemble_node_blocks(const mesh::TetMesh& m, const std::vector<Material>& tet_material,
+                                    const std::vector<int>& tets_in, const std::vector<int>& position,
+                                    int num_positions) {
+  const int nn = m.num_nodes();
+  if (int(position.size()) != nn)
+    fail("assemble_node_blocks: ", position.size(), " node positions for a mesh of ", nn, " nodes");
+  for (int p : position)
+    if (p < -1 || p >= num_positions)
+      fail("assemble_node_blocks: node position ", p, " outside -1..", num_positions - 1);
+  const std::vector<int> tets = tet_set(m, tets_in);
+  check_tets(m, tet_material, tets, "assemble_node_blocks");
+  auto pos = [&](int t, int b) { return position[size_t(m.tets(t, b))]; };
+
+  // Node rows: sorted unique neighbours in the subset (incl. itself).
+  BlockStiffness K;
+  std::vector<int> count(size_t(num_positions) + 1, 0);
+  for (int t : tets)
+    for (int b = 0; b < 4; ++b)
+      if (pos(t, b) >= 0) count[size_t(pos(t, b)) + 1] += 4;
+  std::partial_sum(count.begin(), count.end(), count.begin());
+  std::vector<int> nbr(size_t(count.back()));
+  std::vector<int> fill(count.begin(), count.end() - 1), end(fill);
+  for (int t : tets)
+    for (int b = 0; b < 4; ++b)
+      if (pos(t, b) >= 0)
+        for (int a = 0; a < 4; ++a)
+          if (pos(t, a) >= 0) nbr[size_t(end[size_t(pos(t, b))]++)] = pos(t, a);
+  K.row_start.assign(1, 0);
+  for (int j = 0; j < num_positions; ++j) {
+    auto b = nbr.begin() + fill[size_t(j)], e = nbr.begin() + end[size_t(j)];
+    std::sort(b, e);
+    K.col.insert(K.col.end(), b, std::unique(b, e));
+    K.row_start.push_back(int(K.col.size()));
+  }
+  K.blocks.assign(K.col.size(), Eigen::Matrix3d::Zero());
+
+  for (int t : tets) {
+    if (pos(t, 0) < 0 && pos(t, 1) < 0 && pos(t, 2) < 0 && pos(t, 3) < 0) continue;
+    const Mat12 Ke = element_stiffness(tet_corners(m, t), tet_material[size_t(t)]);
+    for (int b = 0; b < 4; ++b) {
+      const int j = pos(t, b);
+      if (j < 0) continue;
+      const int* first = K.col.data() + K.row_start[size_t(j)];
+      const int* last = K.col.data() + K.row_start[size_t(j) + 1];
+      for (int a = 0; a < 4; ++a) {
+        if (pos(t, a) < 0) continue;
+        Eigen::Matrix3d& B = K.blocks[size_t(std::lower_bound(first, last, pos(t, a)) - K.col.data())];
+        for (int c = 0; c < 3; ++c)
+          for (int r = 0; r < 3; ++r) B(c, r) += Ke(3 * a + r, 3 * b + c);  // K(3 i + r, 3 j + c) as assembled
+      }
+    }
+  }
+  return K;
+}
+
+SparseMatrix BlockStiffness::to_sparse() const {
+  const int n = nodes();
+  SparseMatrix K(3 * Eigen::Index(n), 3 * Eigen::Index(n));
+  K.resizeNonZeros(9 * Eigen::Index(col.size()));
+  int* outer = K.outerIndexPtr();
+  int* inner = K.innerIndexPtr();
+  double* val = K.valuePtr();
+  for (int j = 0; j < n; ++j) {
+    const int first = row_start[size_t(j)], deg = row_start[size_t(j) + 1] - first;
+    for (int c = 0; c < 3; ++c) {
+      const int off = 9 * first + 3 * c * deg;
+      outer[3 * j + c] = off;
+      for (int k = 0; k < deg; ++k)
+        for (int r = 0; r < 3; ++r) {
+          inner[off + 3 * k + r] = 3 * col[size_t(first + k)] + r;
+          val[off + 3 * k + r] = blocks[size_t(first + k)](c, r);  // column 3j+c, row 3i+r (symmetric)
+        }
+    }
+  }
+  outer[3 * n] = 9 * int(col.size());
+  return K;
+}
+
 SparseMatrix assemble_stiffness_triplets(const mesh::TetMesh& m, const std::vector<Material>& tet_material,
                                          const std::vector<int>& tets_in) {
   const int nn = m.num_nodes();

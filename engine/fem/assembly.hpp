@@ -25,6 +25,30 @@ using SparseMatrix = Eigen::SparseMatrix<double>;  // column-major, int indices
 SparseMatrix assemble_stiffness(const mesh::TetMesh& m, const std::vector<Material>& tet_material,
                                 const std::vector<int>& tets = {}, int threads = 0);
 
+// K of the tets restricted to a subset of nodes and renumbered, in 3x3 node
+// blocks (block CSR; K is symmetric, so node row j is node column j):
+// K(3 row + a, 3 col + b) = blocks[k](a, b) for the blocks k of node row
+// `row`, their column nodes in increasing order. Each entry receives the same
+// additions in the same order as assemble_stiffness's, so to_sparse() equals
+// that matrix's rows and columns of the subset bit for bit (pairs with a node
+// outside the subset dropped, structural zeros kept).
+struct BlockStiffness {
+  std::vector<int> row_start;            // (nodes + 1) first block of each node row
+  std::vector<int> col;                  // node column of each block
+  std::vector<Eigen::Matrix3d> blocks;   // N/m
+
+  int nodes() const { return int(row_start.size()) - 1; }
+  // (3 nodes x 3 nodes), both triangles stored.
+  SparseMatrix to_sparse() const;
+};
+
+// `position` (nnode) numbers the subset's nodes 0..num_positions-1 (-1: not
+// in it). Same checks as assemble_stiffness. Used after every cut: it skips
+// the whole-mesh pattern and the extraction of the subset (8k tets: 10 -> 5 ms).
+BlockStiffness assemble_node_blocks(const mesh::TetMesh& m, const std::vector<Material>& tet_material,
+                                    const std::vector<int>& tets, const std::vector<int>& position,
+                                    int num_positions);
+
 // The same matrix through Eigen's setFromTriplets (144 triplets per tet): the
 // baseline `softcut bench assembly` compares against, and a reference in tests.
 SparseMatrix assemble_stiffness_triplets(const mesh::TetMesh& m, const std::vector<Material>& tet_material,

@@ -91,10 +91,14 @@ OperationalSystem build_operational_system(const mesh::TetMesh& m, const std::ve
   sys.nodes.insert(sys.nodes.end(), interface_nodes.begin(), interface_nodes.end());
   sys.num_interface = int(interface_nodes.size());
   sys.node_index = node_positions(sys.nodes, nn);
-  if (operational_tets.empty())
-    sys.K = SparseMatrix(sys.size(), sys.size());
-  else
-    sys.K = node_block(fem::assemble_stiffness(m, tet_material, operational_tets), sys.nodes, sys.nodes);
+  // K in 3x3 node blocks (apply() runs on them), and as a sparse matrix.
+  fem::BlockStiffness blocks;
+  if (operational_tets.empty()) blocks.row_start.assign(sys.nodes.size() + 1, 0);
+  else blocks = fem::assemble_node_blocks(m, tet_material, operational_tets, sys.node_index, int(sys.nodes.size()));
+  sys.K = blocks.to_sparse();
+  sys.block_row_start = std::move(blocks.row_start);
+  sys.block_col = std::move(blocks.col);
+  sys.blocks = std::move(blocks.blocks);
   // Initial strains of the operational tets (split tets carry their parent's).
   bool strained = false;
   for (int t : operational_tets) strained = strained || fem::has_initial_strain(tet_material[size_t(t)]);
@@ -102,28 +106,6 @@ OperationalSystem build_operational_system(const mesh::TetMesh& m, const std::ve
     sys.prestress = gather_nodes(fem::initial_strain_forces(m, tet_material, operational_tets), sys.nodes);
   sys.K_prime = std::move(K_prime);
   sys.generation = next_generation++;
-  // Node blocks of K, row by row. K's column c holds its row c (symmetric),
-  // so the blocks of node column j, transposed, are node row j's.
-  const int nb = int(sys.nodes.size());
-  std::vector<int> slot(static_cast<size_t>(nb), -1);
-  std::vector<int> rows_seen;
-  sys.block_row_start.assign(1, 0);
-  for (int j = 0; j < nb; ++j) {
-    for (int b = 0; b < 3; ++b)
-      for (SparseMatrix::InnerIterator it(sys.K, 3 * j + b); it; ++it) {
-        const int i = int(it.row()) / 3;
-        if (slot[size_t(i)] < 0) {
-          slot[size_t(i)] = int(sys.blocks.size());
-          sys.blocks.push_back(Eigen::Matrix3d::Zero());
-          sys.block_col.push_back(i);
-          rows_seen.push_back(i);
-        }
-        sys.blocks[size_t(slot[size_t(i)])](b, int(it.row()) % 3) = it.value();  // K(i, j) block = K(j, i)^T
-      }
-    for (int i : rows_seen) slot[size_t(i)] = -1;
-    rows_seen.clear();
-    sys.block_row_start.push_back(int(sys.blocks.size()));
-  }
   return sys;
 }
 

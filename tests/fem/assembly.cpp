@@ -73,6 +73,51 @@ TEST_SUITE("fem/assembly") {
     CHECK((K1 - Kt).norm() <= 1e-14 * Kt.norm());
   }
 
+  TEST_CASE("node blocks of a node subset equal the assembled matrix's rows and columns bit for bit") {
+    for (unsigned seed = 1; seed <= 10; ++seed) {
+      const mesh::TetMesh m = test::jittered_box(2 + seed % 3, 3, 2, 0.2, seed);
+      const auto mats = test::random_materials(m.num_tets(), seed);
+      const std::vector<int> tets = test::random_subset(m.num_tets(), 0.6, seed);
+      // A random subset of the nodes in a random order.
+      std::mt19937 rng(seed);
+      std::vector<int> nodes(size_t(m.num_nodes()));
+      for (int v = 0; v < m.num_nodes(); ++v) nodes[size_t(v)] = v;
+      std::shuffle(nodes.begin(), nodes.end(), rng);
+      nodes.resize(nodes.size() * 2 / 3);
+      std::vector<int> position(size_t(m.num_nodes()), -1);
+      for (size_t k = 0; k < nodes.size(); ++k) position[size_t(nodes[k])] = int(k);
+      const fem::BlockStiffness B = fem::assemble_node_blocks(m, mats, tets, position, int(nodes.size()));
+      const fem::SparseMatrix K = B.to_sparse();
+      CAPTURE(seed);
+      // Reference: the whole assembled matrix, its subset's entries copied.
+      const fem::SparseMatrix full = fem::assemble_stiffness(m, mats, tets, 1);
+      const Eigen::Index n = 3 * Eigen::Index(nodes.size());
+      Eigen::MatrixXd ref = Eigen::MatrixXd::Zero(n, n);
+      Eigen::MatrixXi stored = Eigen::MatrixXi::Zero(n, n);
+      for (int col = 0; col < full.outerSize(); ++col)
+        for (fem::SparseMatrix::InnerIterator it(full, col); it; ++it) {
+          const int i = position[size_t(it.row() / 3)], j = position[size_t(col / 3)];
+          if (i < 0 || j < 0) continue;
+          ref(3 * i + it.row() % 3, 3 * j + col % 3) = it.value();
+          stored(3 * i + it.row() % 3, 3 * j + col % 3) = 1;
+        }
+      REQUIRE(K.rows() == n);
+      CHECK(K.nonZeros() == stored.sum());  // the same pattern, structural zeros included
+      CHECK((Eigen::MatrixXd(K).array() == ref.array()).all());
+      for (int j = 0; j < B.nodes(); ++j) {
+        CHECK(std::is_sorted(B.col.begin() + B.row_start[size_t(j)], B.col.begin() + B.row_start[size_t(j) + 1]));
+        for (int k = B.row_start[size_t(j)]; k < B.row_start[size_t(j) + 1]; ++k)
+          CHECK(B.blocks[size_t(k)] == ref.block<3, 3>(3 * j, 3 * B.col[size_t(k)]));
+      }
+    }
+    const mesh::TetMesh m = test::jittered_box(1, 1, 1, 0, 1);
+    const auto mats = test::random_materials(m.num_tets(), 1);
+    CHECK_THROWS_WITH_AS(fem::assemble_node_blocks(m, mats, {}, std::vector<int>(3, 0), 1),
+                         doctest::Contains("3 node positions for a mesh of"), Error);
+    CHECK_THROWS_WITH_AS(fem::assemble_node_blocks(m, mats, {}, std::vector<int>(size_t(m.num_nodes()), 2), 2),
+                         doctest::Contains("node position 2 outside -1..1"), Error);
+  }
+
   TEST_CASE("an unconstrained body has exactly six zero eigenvalues (the rigid motions)") {
     for (unsigned seed = 1; seed <= 3; ++seed) {
       const mesh::TetMesh m = test::jittered_box(2, 2, 1 + int(seed) % 2, 0.2, seed);
