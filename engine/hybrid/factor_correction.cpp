@@ -1,10 +1,13 @@
 #include "hybrid/factor_correction.hpp"
 
 #include <algorithm>
+#include <exception>
+#include <optional>
 
 #include <Eigen/Cholesky>
 
 #include "core/error.hpp"
+#include "core/threads.hpp"
 
 namespace softcut::hybrid {
 
@@ -44,6 +47,7 @@ Eigen::Matrix3d diagonal_block(const OperationalSystem& sys, int pos) {
 void FactorCorrection::clear() {
   base_dofs_ = 0;
   base_generation_ = -1;
+  cols_ = 0;
   W_.resize(0, 0);
   gram_.resize(0, 0);
   col_of_dof_.clear();
@@ -68,7 +72,6 @@ bool FactorCorrection::prepare(const OperationalSystem& base, const solve::Chole
     base_generation_ = base.generation;
     base_dofs_ = base.size();
     col_of_dof_.assign(size_t(base_dofs_), -1);
-    W_.resize(base_dofs_, 0);
   }
   const int n = base_dofs_;
 
@@ -100,10 +103,10 @@ bool FactorCorrection::prepare(const OperationalSystem& base, const solve::Chole
   for (int p : k_nodes)
     for (int a = 0; a < 3; ++a)
       if (col_of_dof_[size_t(3 * p + a)] < 0) missing.push_back(3 * p + a);
-  const double c = double(missing.size()), cols_after = double(W_.cols()) + c;
+  const double c = double(missing.size()), cols_after = double(cols_) + c;
   // Columns (forward solves) and Gram entries, then G Delta, G Delta G, the
-  // definiteness check's LL' and the capacitance LU: about 5 k^3.
-  const double cost = c * (2 * F.factor_nonzeros() + 2.0 * n * cols_after) + 5.0 * double(k) * k * k;
+  // L_G, T = L_G' Delta L_G and I + T's factor: about 3 k^3.
+  const double cost = c * (2 * F.factor_nonzeros() + 2.0 * n * cols_after) + 3.0 * double(k) * k * k;
   if (cost > max_flops) return false;
 
   // Appended nodes: N_aa (sparse, factored) and their coupling to the
@@ -126,26 +129,69 @@ bool FactorCorrection::prepare(const OperationalSystem& base, const solve::Chole
   coupling_.resize(k, 3 * na);
   coupling_.setFromTriplets(ka.begin(), ka.end());
   added_ = 3 * na;
+  // The Schur term's changed DOFs J (rows of N_oa with a nonzero) and
+  // X = N_aa^-1 N_aJ.
+  std::vector<int> touching;
+  Eigen::MatrixXd X;
   if (na > 0) {
-    added_llt_.compute(Naa);
-    if (added_llt_.info() != Eigen::Success) return false;  // not SPD: a refactor says why
-    added_response_ = added_llt_.solve(Eigen::MatrixXd(coupling_.transpose()));
-  } else {
-    added_response_.resize(0, k);
+    try {
+      added_factor_.factor(Naa, "appended nodes");
+    } catch (const Error&) {
+      return false;  // not positive definite: a refactor says why
+    }
+    const SparseMatrix coupling_t = coupling_.transpose();
+    std::vector<char> nonzero(size_t(k), 0);
+    for (int col = 0; col < coupling_t.outerSize(); ++col)
+      for (SparseMatrix::InnerIterator it(coupling_t, col); it; ++it) nonzero[size_t(col)] = 1;
+    for (int j = 0; j < k; ++j)
+      if (nonzero[size_t(j)]) touching.push_back(j);
+    Eigen::MatrixXd NaJ = Eigen::MatrixXd::Zero(3 * na, Eigen::Index(touching.size()));
+    for (size_t j = 0; j < touching.size(); ++j)
+      for (SparseMatrix::InnerIterator it(coupling_t, touching[j]); it; ++it) NaJ(it.row(), Eigen::Index(j)) = it.value();
+    X = added_factor_.solve(NaJ, ws);
   }
 
-  // New columns of W and of its Gram matrix.
+  // New columns of W and of its Gram matrix, in two fixed halves.
   if (!missing.empty()) {
-    Eigen::MatrixXd E = Eigen::MatrixXd::Zero(n, Eigen::Index(missing.size()));
-    for (size_t j = 0; j < missing.size(); ++j) E(missing[j], Eigen::Index(j)) = 1;
-    Eigen::MatrixXd Wn;
-    F.forward_into(E, Wn, ws);
-    const Eigen::Index old = W_.cols(), add = Wn.cols();
-    W_.conservativeResize(Eigen::NoChange, old + add);
-    W_.rightCols(add) = Wn;
-    gram_.conservativeResize(old + add, old + add);
-    gram_.rightCols(add).noalias() = W_.transpose() * Wn;
-    gram_.bottomLeftCorner(add, old) = gram_.topRightCorner(old, add).transpose();
+    const Eigen::Index old = cols_, add = Eigen::Index(missing.size()), h = add / 2;
+    if (old + add > W_.cols()) {  // grow by doubling, keeping the first cols_
+      const Eigen::Index cap = std::max(old + add, 2 * Eigen::Index(W_.cols()));
+      Eigen::MatrixXd W(n, cap), gram(cap, cap);
+      W.leftCols(old) = W_.leftCols(old);
+      gram.topLeftCorner(old, old) = gram_.topLeftCorner(old, old);
+      W_.swap(W), gram_.swap(gram);
+    }
+    std::exception_ptr error[2];
+    auto halves = [&](auto&& work) {
+      const auto half = [&](int k) {
+        const Eigen::Index c0 = k == 0 ? 0 : h, w = k == 0 ? h : add - h;
+        try {
+          if (w > 0) work(k, c0, w);
+        } catch (...) {
+          error[k] = std::current_exception();
+        }
+      };
+      if (helper_) helper_->run_halves(half);
+      else half(0), half(1);
+      for (const auto& e : error)
+        if (e) std::rethrow_exception(e);
+    };
+    {
+      std::optional<SingleThreadedBlas> one_blas_thread;
+      if (helper_) one_blas_thread.emplace();
+      halves([&](int k, Eigen::Index c0, Eigen::Index w) {
+        Eigen::MatrixXd E = Eigen::MatrixXd::Zero(n, w), Wn;
+        for (Eigen::Index j = 0; j < w; ++j) E(missing[size_t(c0 + j)], j) = 1;
+        F.forward_into(E, Wn, k == 0 ? ws : helper_ws_);
+        W_.middleCols(old + c0, w) = Wn;
+      });
+    }
+    halves([&](int, Eigen::Index c0, Eigen::Index w) {
+      gram_.block(0, old + c0, old + add, w).noalias() =
+          W_.leftCols(old + add).transpose() * W_.middleCols(old + c0, w);
+    });
+    gram_.block(old, 0, add, old) = gram_.block(0, old, old, add).transpose();
+    cols_ = int(old + add);
     for (size_t j = 0; j < missing.size(); ++j) col_of_dof_[size_t(missing[j])] = int(old + Eigen::Index(j));
   }
 
@@ -165,7 +211,10 @@ bool FactorCorrection::prepare(const OperationalSystem& base, const solve::Chole
     else delta_.block<3, 3>(3 * i, 3 * i) += diagonal_block(base, p);
     add_row(BlockRow{base, p}, [](int pos) { return pos; }, -1.0);
   }
-  if (na > 0) delta_.noalias() -= coupling_ * added_response_;
+  if (!touching.empty()) {
+    const Eigen::MatrixXd schur = coupling_ * X;  // (k x J) N_oa N_aa^-1 N_ao, zero outside J's rows
+    for (size_t j = 0; j < touching.size(); ++j) delta_.col(touching[j]) -= schur.col(Eigen::Index(j));
+  }
 
   changed_.clear();
   for (int p : k_nodes)
@@ -173,22 +222,25 @@ bool FactorCorrection::prepare(const OperationalSystem& base, const solve::Chole
   Eigen::MatrixXd G(k, k);
   for (int i = 0; i < k; ++i)
     for (int j = 0; j < k; ++j) G(i, j) = gram_(col_of_dof_[size_t(changed_[size_t(i)])], col_of_dof_[size_t(changed_[size_t(j)])]);
-  // R = M + E Delta E' is positive definite exactly when
-  // S = G + G Delta G = G^1/2 (I + G^1/2 Delta G^1/2) G^1/2 is (G = W'W is):
-  // the check a refactor's Cholesky would make. A nearly singular R (a part
-  // hanging by a node) is left to the refactor, which names it.
+  // R = M + E Delta E' is positive definite exactly when I + T is (see the
+  // header): the check a refactor's Cholesky would make. A nearly singular R
+  // (a part hanging by a node) is left to the refactor, which names it.
   if (k > 0) {
-    Eigen::MatrixXd GD = G * delta_;
-    Eigen::MatrixXd S = G;
-    S.noalias() += GD * G;
-    S = 0.5 * (S + S.transpose()).eval();
-    const Eigen::LLT<Eigen::MatrixXd> spd(S);
-    if (spd.info() != Eigen::Success || !(spd.rcond() > 1e-13)) {
+    const Eigen::LLT<Eigen::MatrixXd> gram_llt(G);
+    if (gram_llt.info() != Eigen::Success) {  // W's columns dependent: cannot happen for an SPD base
       changed_.clear();
       return false;
     }
-    GD.diagonal().array() += 1.0;
-    capacitance_.compute(GD);
+    gram_factor_ = gram_llt.matrixL();
+    Eigen::MatrixXd T = delta_ * gram_factor_.triangularView<Eigen::Lower>();
+    T = gram_factor_.transpose().triangularView<Eigen::Upper>() * T;
+    T = 0.5 * (T + T.transpose()).eval();
+    T.diagonal().array() += 1.0;
+    capacitance_.compute(T);
+    if (capacitance_.info() != Eigen::Success || !(capacitance_.rcond() > 1e-13)) {
+      changed_.clear();
+      return false;
+    }
   }
   ext_of_next_.resize(size_t(next.size()));
   for (int q = 0; q < nn; ++q) {
@@ -197,6 +249,22 @@ bool FactorCorrection::prepare(const OperationalSystem& base, const solve::Chole
   }
   if (flops) *flops = cost;
   return true;
+}
+
+// work(start, count) over [0, n) in two fixed halves, the second on the
+// helper when it is awake: W's two products in a solve read n x cols doubles
+// each (18 MB at 8k operational tets), which two cores stream faster. Same
+// halves either way: same bits.
+template <class Work>
+void FactorCorrection::in_halves(Eigen::Index n, const Work& work) const {
+  const Eigen::Index h = (n / 2 + 7) / 8 * 8;  // aligned halves
+  if (n < 64) {
+    work(0, n);
+    return;
+  }
+  const auto half = [&](int k) { k == 0 ? work(0, h) : work(h, n - h); };
+  if (helper_) helper_->run_halves(half);
+  else half(0), half(1);
 }
 
 void FactorCorrection::solve(const solve::Cholesky& F, const Eigen::VectorXd& b, Eigen::VectorXd& x,
@@ -214,24 +282,37 @@ void FactorCorrection::solve(const solve::Cholesky& F, const Eigen::VectorXd& b,
   }
   // Appended nodes eliminated: c = b_o - N_oa N_aa^-1 b_a.
   if (added_ > 0) {
-    xa_ = added_llt_.solve(ba_);
+    added_factor_.solve_into(ba_, xa_, ws);
     q_.noalias() = coupling_ * xa_;
     for (int j = 0; j < k; ++j) b_(changed_[size_t(j)], 0) -= q_[j];
   }
   F.forward_into(b_, y_, ws);
-  t_.noalias() = W_.transpose() * y_.col(0);
+  t_.resize(cols_);
+  in_halves(cols_, [&](Eigen::Index c0, Eigen::Index w) {
+    t_.segment(c0, w).noalias() = W_.middleCols(c0, w).transpose() * y_.col(0);
+  });
   g_.resize(k);
   for (int j = 0; j < k; ++j) g_[j] = t_[col_of_dof_[size_t(changed_[size_t(j)])]];
-  if (k > 0) q_.noalias() = delta_ * capacitance_.solve(g_);
-  else q_.resize(0);
-  t_.setZero(W_.cols());
+  if (k > 0) {
+    // z = L_G (I + T)^-1 L_G^-1 g, q = Delta z.
+    gram_factor_.triangularView<Eigen::Lower>().solveInPlace(g_);
+    capacitance_.solveInPlace(g_);
+    g_ = gram_factor_.triangularView<Eigen::Lower>() * g_;
+    q_.noalias() = delta_ * g_;
+  } else {
+    q_.resize(0);
+  }
+  t_.setZero(cols_);
   for (int j = 0; j < k; ++j) t_[col_of_dof_[size_t(changed_[size_t(j)])]] = q_[j];
-  y_.col(0).noalias() -= W_ * t_;
+  in_halves(n, [&](Eigen::Index r0, Eigen::Index h) {
+    y_.col(0).segment(r0, h).noalias() -= W_.block(r0, 0, h, cols_) * t_;
+  });
   F.backward_into(y_.col(0), xb_, ws);
-  // x_a = N_aa^-1 (b_a - N_ao x_o) = xa - (N_aa^-1 N_ao) x_o.
+  // x_a = N_aa^-1 (b_a - N_ao x_o).
   if (added_ > 0) {
     for (int j = 0; j < k; ++j) g_[j] = xb_[changed_[size_t(j)]];
-    xa_.noalias() -= added_response_ * g_;
+    ba_.noalias() -= coupling_.transpose() * g_;
+    added_factor_.solve_into(ba_, xa_, ws);
   }
   x.resize(Eigen::Index(ext_of_next_.size()));
   for (size_t i = 0; i < ext_of_next_.size(); ++i) {

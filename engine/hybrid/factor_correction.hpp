@@ -15,27 +15,36 @@
 //
 // where E selects the k base DOFs whose rows changed (the appended nodes'
 // neighbours among them) and Delta (k x k, dense) is R - M on them. N_aa is
-// small and sparse (Eigen's simplicial LL'). R is solved with M's factor by
-// Sherman-Morrison-Woodbury in capacitance form:
+// small and sparse (its own CHOLMOD factor N_aa = P_a' L_a L_a' P_a); only
+// the changed DOFs J that touch an appended node enter the Schur term:
+// N_oa N_aa^-1 N_ao = Y'Y on J with Y = L_a^-1 P_a N_aJ. R is solved with M's
+// factor by Sherman-Morrison-Woodbury:
 //
 //   y = L^-1 P c,   (I + G Delta) z = W' y,   x_o = P' L'^-1 (y - W Delta z)
 //
 // with W = L^-1 P E (n x k, one forward solve per changed DOF) and
-// G = W'W = E' M^-1 E. No inverse of Delta is needed (it is singular when a
-// cut only removes stiffness). Columns of W are kept while the base is, so a
-// second cut against the same base solves only for its newly changed DOFs.
+// G = W'W = E' M^-1 E (symmetric positive definite). With G = L_G L_G' and
+// T = L_G' Delta L_G (symmetric),
+//
+//   I + G Delta = L_G (I + T) L_G^-1,
+//
+// so z = L_G (I + T)^-1 L_G^-1 W'y, and R = M + E Delta E' is positive
+// definite exactly when I + T is (congruent to I + G^1/2 Delta G^1/2): one
+// Cholesky factor both checks and solves. No inverse of Delta is needed (it
+// is singular when a cut only removes stiffness). Columns of W are kept
+// while the base is, so a second cut against the same base solves only for
+// its newly changed DOFs.
 //
 // Cost: c new columns cost c forward solves (2 nnz(L) flops each, BLAS 3) and
-// a Gram update (2 n c cols), plus about 5 k^3 for the capacitance matrix
-// and the check that N is positive definite; a frame
-// costs one solve with the base factor, two n x k products and a k x k LU
-// solve. The caller weighs that against a refactor (Cholesky::factor_flops)
-// and checks every residual.
+// a Gram update (2 n c cols), plus about 3 k^3 for L_G, T and I + T's factor;
+// a frame costs one solve with the base factor, two n x k products and four
+// k x k triangular solves. The caller weighs that against a refactor
+// (Cholesky::factor_flops) and checks every residual.
+#include <Eigen/Cholesky>
 #include <Eigen/Core>
-#include <Eigen/LU>
-#include <Eigen/SparseCholesky>
 #include <vector>
 
+#include "core/helper_thread.hpp"
 #include "hybrid/operational_system.hpp"
 #include "solve/cholesky.hpp"
 
@@ -43,6 +52,12 @@ namespace softcut::hybrid {
 
 class FactorCorrection {
  public:
+  // New columns (forward solves and Gram entries) are computed in two fixed
+  // halves, the second on `helper` when it is awake (OpenBLAS on one thread
+  // meanwhile, so the two do not fight over its pool): the same bits with or
+  // without it. Null: both halves on the caller.
+  void share_helper(HelperThread* helper) { helper_ = helper; }
+
   // Forgets every kept column (a new base).
   void clear();
 
@@ -60,26 +75,34 @@ class FactorCorrection {
   void solve(const solve::Cholesky& F, const Eigen::VectorXd& b, Eigen::VectorXd& x, solve::SolveWorkspace& ws);
 
   int rank() const { return int(changed_.size()); }  // k: changed DOFs of the prepared system
-  int kept_columns() const { return int(W_.cols()); }
+  int kept_columns() const { return cols_; }
   double kept_bytes() const { return 8.0 * double(W_.size() + gram_.size()); }
 
  private:
+  template <class Work>
+  void in_halves(Eigen::Index n, const Work& work) const;
+
+  HelperThread* helper_ = nullptr;
+  solve::SolveWorkspace helper_ws_;  // CHOLMOD's workspace for the helper's half
   int base_dofs_ = 0;                // n: DOFs of the base system (rows of W)
   long base_generation_ = -1;        // the base the kept columns belong to
-  // Columns kept for this base: W(:, c) = L^-1 P e_{dof_of_col_[c]}.
-  Eigen::MatrixXd W_;                // (n x cols)
-  Eigen::MatrixXd gram_;             // (cols x cols) W'W
+  // Columns kept for this base: W(:, c) = L^-1 P e_{dof_of_col_[c]}, in
+  // the first cols_ columns of storage that grows by doubling (a cut adds
+  // tens of columns to hundreds: no copy of all of them per cut).
+  int cols_ = 0;
+  Eigen::MatrixXd W_;                // (n x capacity)
+  Eigen::MatrixXd gram_;             // (capacity x capacity) W'W on the first cols_
   std::vector<int> col_of_dof_;      // (n) column of each base DOF, -1 if none
 
   // The prepared system.
   std::vector<int> ext_of_next_;     // (next.size()) base DOF (< n) or n + appended DOF of each DOF of next
   std::vector<int> changed_;         // (k) changed base DOFs, increasing
   Eigen::MatrixXd delta_;            // (k x k) R - M on them
-  Eigen::PartialPivLU<Eigen::MatrixXd> capacitance_;  // I + G Delta
+  Eigen::MatrixXd gram_factor_;      // (k x k) L_G, lower
+  Eigen::LLT<Eigen::MatrixXd> capacitance_;  // I + T
   int added_ = 0;                    // 3 |a|
-  Eigen::SimplicialLLT<SparseMatrix> added_llt_;     // N_aa
+  solve::Cholesky added_factor_;     // N_aa
   SparseMatrix coupling_;            // (k x 3|a|) N_oa on the changed rows
-  Eigen::MatrixXd added_response_;   // (3|a| x k) N_aa^-1 N_ao
   Eigen::VectorXd g_, q_, t_, xb_, ba_, xa_;  // scratch
   Eigen::MatrixXd y_, b_;
 };

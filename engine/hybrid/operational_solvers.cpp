@@ -70,6 +70,11 @@ CholmodSolver::CholmodSolver(bool allow_dense, bool allow_correction, double cor
 
 CholmodSolver::~CholmodSolver() = default;
 
+void CholmodSolver::share_helper(std::shared_ptr<HelperThread> helper) {
+  helper_ = std::move(helper);
+  correction_->share_helper(helper_.get());
+}
+
 void CholmodSolver::refactor(const OperationalSystem& sys) {
   // Small systems: a dense LL' factor and the inverse it gives, so a solve
   // is one symmetric product reading half the matrix once (a triangular
@@ -81,6 +86,7 @@ void CholmodSolver::refactor(const OperationalSystem& sys) {
   // is made.
   pending_.reset();
   corrected_ = false;
+  correcting_blas_.reset();
   correction_->clear();
   correction_flops_ = 0;
   const SparseMatrix A = sys.assembled();
@@ -103,6 +109,7 @@ void CholmodSolver::refactor(const OperationalSystem& sys) {
 bool CholmodSolver::correct(const OperationalSystem& sys) {
   if (!dense_ && factor_.factored() && sys.generation == base_.generation) {  // the factor's own system
     corrected_ = false;
+    correcting_blas_.reset();
     return true;
   }
   // Budget: all corrections against one factor together cost at most its
@@ -115,6 +122,7 @@ bool CholmodSolver::correct(const OperationalSystem& sys) {
       !correction_->prepare(base_, factor_, sys, max_rank, budget, ws_, &spent))
     return false;
   corrected_ = true;
+  if (helper_ && !correcting_blas_) correcting_blas_.emplace();
   correction_flops_ += spent;
   return true;
 }
@@ -127,6 +135,7 @@ void CholmodSolver::adopt_pending() {
   correction_->clear();
   correction_flops_ = 0;
   corrected_ = false;
+  correcting_blas_.reset();
   ++refactors_;
   ++adopted_;
 }

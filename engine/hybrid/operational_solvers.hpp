@@ -5,11 +5,13 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "core/helper_thread.hpp"
+#include "core/threads.hpp"
 #include "hybrid/operational_system.hpp"
 #include "solve/cg.hpp"
 #include "solve/cholesky.hpp"
@@ -92,7 +94,7 @@ class CholmodSolver : public OperationalSolver {
   long refactors() const { return refactors_; }      // factors made (the first included)
   long adopted() const { return adopted_; }          // of those, made on the second thread
   long fallbacks() const { return fallbacks_; }      // corrected solves whose residual needed a refactor
-  void share_helper(std::shared_ptr<HelperThread> helper) override { helper_ = std::move(helper); }
+  void share_helper(std::shared_ptr<HelperThread> helper) override;
   static constexpr int kDenseMax = 500;  // unknowns: up to here a dense LL' is used
 
  private:
@@ -110,6 +112,11 @@ class CholmodSolver : public OperationalSolver {
   OperationalSystem base_;         // the system factor_ belongs to (K' shared)
   std::unique_ptr<FactorCorrection> correction_;  // solves a changed system with factor_
   bool corrected_ = false;         // the current system goes through correction_
+  // While corrected with a helper thread: OpenBLAS on one thread. The
+  // correction's column work runs in two halves on this thread and the
+  // helper; an OpenBLAS worker spinning after a two-thread call would take
+  // the helper's core (bench cut, 8k tets: frames 46 -> 38 ms).
+  std::optional<SingleThreadedBlas> correcting_blas_;
   double correction_flops_ = 0;    // spent on corrections against factor_
   std::unique_ptr<Refactor> pending_;
   int solves_since_launch_ = 0;

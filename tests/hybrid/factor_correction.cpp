@@ -4,6 +4,7 @@
 
 #include <Eigen/LU>
 #include <algorithm>
+#include <cstdlib>
 #include <random>
 
 #include "core/error.hpp"
@@ -74,10 +75,13 @@ struct Outcome {
   int solves = 0, corrected = 0, refined = 0, appended = 0, dropped = 0;
   int one_blas_thread = 0;  // solves after which OpenBLAS was on one thread (a refactor pending)
   long refactors = 0, adopted = 0, fallbacks = 0;
+  std::vector<Eigen::VectorXd> solutions;
 };
 
-Outcome run_changes(unsigned seed, int cases, int steps, int max_cells, double budget) {
+Outcome run_changes(unsigned seed, int cases, int steps, int max_cells, double budget,
+                    std::shared_ptr<HelperThread> helper = nullptr) {
   std::mt19937 rng(seed);
+  std::srand(seed);  // Eigen's Random: the same right-hand sides for the same seed
   Outcome out;
   for (int trial = 0; trial < cases; ++trial) {
     test::HybridCase c;
@@ -88,6 +92,7 @@ Outcome run_changes(unsigned seed, int cases, int steps, int max_cells, double b
     for (int t = 0; t < c.mesh.num_tets(); ++t)
       if (c.partition.operational_tet[size_t(t)]) ch.op_tets.push_back(t);
     CholmodSolver kept(false, true, budget);
+    if (helper) kept.share_helper(helper);
     Eigen::VectorXd x;
     std::shared_ptr<const OperationalSystem> sys = M.operational;
     for (int s = 0; s <= steps; ++s) {
@@ -119,6 +124,7 @@ Outcome run_changes(unsigned seed, int cases, int steps, int max_cells, double b
       CHECK(rel(x, truth) <= 1e-9);
       CHECK(rel(x, xf) <= 1e-9);
       ++out.solves;
+      out.solutions.push_back(x);
       out.one_blas_thread += blas_threads() == 1;
       out.corrected += r.correction_rank > 0;
       out.refined += r.iterations > 0;
@@ -168,6 +174,28 @@ TEST_SUITE("hybrid/factor_correction") {
     CHECK(o.one_blas_thread < o.solves);
     CHECK(o.fallbacks == 0);  // every taken-over factor solved its systems exactly
     CHECK(o.corrected >= o.solves / 3);
+  }
+
+  TEST_CASE("with the run's helper thread: the same bits, OpenBLAS on one thread while corrected, given back") {
+    // Both runs start from OpenBLAS on two threads; the helper computes the
+    // second halves of new columns and of W's products.
+    REQUIRE(blas_threads() > 0);
+    const int before = blas_threads();
+    apply_blas_threads(2);
+    const Outcome alone = run_changes(43, 4, 8, 6, 1e9);
+    auto helper = std::make_shared<HelperThread>();
+    const Outcome helped = run_changes(43, 4, 8, 6, 1e9, helper);
+    CHECK(blas_threads() == 2);  // the solvers are gone: given back
+    apply_blas_threads(before);
+    REQUIRE(helped.solutions.size() == alone.solutions.size());
+    REQUIRE(alone.corrected >= 20);
+    for (size_t k = 0; k < alone.solutions.size(); ++k) {
+      CAPTURE(k);
+      CHECK((helped.solutions[k].array() == alone.solutions[k].array()).all());
+    }
+    CHECK(helper->helped() > 0);
+    CHECK(alone.one_blas_thread == 0);
+    CHECK(helped.one_blas_thread == helped.corrected);  // held exactly while corrected
   }
 
   TEST_CASE("prepare refuses what it cannot correct: another interface, more changed DOFs than allowed, no budget") {
