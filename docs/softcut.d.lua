@@ -1,5 +1,5 @@
 ---@meta softcut
--- Generated from lua/api.lua by lua/docs.lua; do not edit.
+-- Generated from lua/api.lua by scripts/lua_api_docs.lua; do not edit.
 -- Editor annotations (lua-language-server) for softcut scenarios.
 
 ---@class Scenario

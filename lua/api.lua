@@ -1,6 +1,6 @@
 -- The scenario API as data: every public function with its fields, types,
 -- units, ranges, docs and an example. check.lua checks arguments against it;
--- docs.lua renders docs/lua-api.md and docs/softcut.d.lua from it (tests
+-- scripts/lua_api_docs.lua renders docs/lua-api.md and docs/softcut.d.lua from it (tests
 -- compare both files with the rendering). Units are SI: m, s, N, Pa, Hz, rad.
 local function F(name, type, doc, opt)
   local f = { name = name, type = type, doc = doc }

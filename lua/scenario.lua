@@ -132,18 +132,11 @@ function Scenario:fix(args)
   self._fixed[#self._fixed + 1] = { sel = a.nodes, where = check.where() }
 end
 
-local function unique_name(s, list, fname, name)
-  for _, x in ipairs(list) do
-    if x.name == name then check.fail(fname, "name '%s' is already used at %s", name, x.where) end
-  end
-  return name
-end
-
 function Scenario:load(args)
   editable(self, "load")
   local a = check.args("Scenario:load", args)
   resolve(self, "load", a.nodes)
-  local l = { name = unique_name(self, self._loads, "load", a.name or ("load" .. (#self._loads + 1))),
+  local l = { name = a.name or ("load" .. (#self._loads + 1)),
               where = check.where(), nodes = a.nodes, per_node = a.per_node }
   if a.force then
     local len = math.sqrt(a.force[1] ^ 2 + a.force[2] ^ 2 + a.force[3] ^ 2)
@@ -161,7 +154,7 @@ end
 local function tool(s, kind, args)
   editable(s, kind)
   local a = check.args("Scenario:" .. kind, args)
-  local t = { name = unique_name(s, s._tools, kind, a.name), where = check.where(), kind = kind,
+  local t = { name = a.name, where = check.where(), kind = kind,
               drive = a.stiffness and "spring" or "force", path = M.as_path(a.path), radius = a.radius,
               force = a.force and M.scaled_ramp(a.force, 1) or nil, direction = a.direction, stiffness = a.stiffness,
               start = a.start, stop = a.stop, implicit = a.implicit, shaft = a.shaft }
@@ -171,7 +164,7 @@ function Scenario:probe(args) tool(self, "probe", args) end
 function Scenario:scalpel(args)
   editable(self, "scalpel")
   local a = check.args("Scenario:scalpel", args)
-  local t = { name = unique_name(self, self._tools, "scalpel", a.name), where = check.where(), kind = "scalpel",
+  local t = { name = a.name, where = check.where(), kind = "scalpel",
               drive = a.stiffness and "spring" or "force", path = M.as_path(a.path), radius = a.radius,
               force = a.force and M.scaled_ramp(a.force, 1) or nil, direction = a.direction, stiffness = a.stiffness,
               start = a.start, stop = a.stop, length = a.length, axis = a.axis, cut_pressure = a.cut_pressure,
@@ -199,15 +192,7 @@ end
 function Scenario:expect(args)
   editable(self, "expect")
   local a = check.args("Scenario:expect", args)
-  if a.nodes then
-    resolve(self, "expect", a.nodes)
-    if a.min == nil and a.max == nil then check.fail("expect", "give min, max or both (m)") end
-  elseif a.min or a.max then
-    check.fail("expect", "min/max bound the displacement of `nodes`; with `check` return false, \"why\" instead")
-  end
-  if a.at > self.duration + 1e-12 then
-    check.fail("expect", "at = %g s is after the end of the timeline (duration = %g s)", a.at, self.duration)
-  end
+  if a.nodes then resolve(self, "expect", a.nodes) end
   a.where = check.where()
   a.name = a.name or ("expect" .. (#self._expect + 1))
   self._expect[#self._expect + 1] = a

@@ -69,11 +69,14 @@ void check_spec(const ScenarioSpec& s) {
   for (const auto& e : s.expectations) {
     const std::string w = prefixed(e.where, "expectation '" + e.name + "'");
     if (!(std::isfinite(e.at) && e.at >= 0)) fail(w, ": at must be a finite time >= 0 s, got ", e.at);
+    if (e.at > tl.duration + 1e-12)
+      fail(w, ": at = ", e.at, " s is after the end of the timeline (duration = ", tl.duration, " s)");
     if (e.bounds && !e.min && !e.max) fail(w, ": give min, max or both (m)");
     if ((e.min && !std::isfinite(*e.min)) || (e.max && !std::isfinite(*e.max)))
       fail(w, ": min and max must be finite numbers (m)");
     if (e.min && e.max && *e.min > *e.max) fail(w, ": min = ", *e.min, " > max = ", *e.max);
-    if (!e.bounds && (e.min || e.max)) fail(w, ": min/max bound the displacement of nodes; a check has none");
+    if (!e.bounds && (e.min || e.max))
+      fail(w, ": min/max bound the displacement of `nodes`; with `check` return false, \"why\" instead");
   }
   for (const auto& t : s.tools) {
     if (!names.insert("tool " + t.name).second)

@@ -230,7 +230,7 @@ return s
 )")),
                    "scenario.lua:2: scenario: no fixed nodes"));
     CHECK(contains(scenario_error(write_scenario("runner_late", std::string(kBoxHead) + "s:expect{ at = 3, nodes = tip, max = 1 }\nreturn s\n")),
-                   "scenario.lua:7: expect: at = 3 s is after the end of the timeline (duration = 0.5 s)"));
+                   "scenario.lua:7: expectation 'expect1': at = 3 s is after the end of the timeline (duration = 0.5 s)"));
   }
 
   TEST_CASE("load_scenario_spec fills the engine's spec") {

@@ -1,4 +1,4 @@
-// lua/api.lua + lua/docs.lua: the API description is complete, and
+// lua/api.lua + scripts/lua_api_docs.lua: the API description is complete, and
 // docs/lua-api.md and docs/softcut.d.lua are its current renderings.
 #include <doctest/doctest.h>
 #include <lua.hpp>
@@ -16,24 +16,28 @@ using softcut::test::slurp;
 
 namespace {
 
-std::string render(const char* fn) {
+// A runtime that finds the docs renderer, a tool beside the scripts (not
+// part of the embedded library), with require.
+softcut::lua::SandboxOptions docs_options() {
   softcut::lua::SandboxOptions opt;
-  opt.trusted = true;  // the docs module is not part of a scenario's view
-  softcut::lua::Runtime rt(opt);
-  rt.run_string(softcut::cat("return require('docs').", fn, "()"), "=docs", 1);
+  opt.read_dir = fs::path(SOFTCUT_SOURCE_DIR) / "scripts";
+  return opt;
+}
+
+std::string render(const char* fn) {
+  softcut::lua::Runtime rt(docs_options());
+  rt.run_string(softcut::cat("return require('lua_api_docs').", fn, "()"), "=docs", 1);
   std::string s = lua_tostring(rt.state(), -1);
   return s;
 }
 
 // Every function reachable from `softcut` and the method tables.
 std::vector<std::string> registered() {
-  softcut::lua::SandboxOptions opt;
-  opt.trusted = true;
-  softcut::lua::Runtime rt(opt);
+  softcut::lua::Runtime rt(docs_options());
   lua_State* L = rt.state();
   rt.run_string(R"(
 local sc, check = require("scenario"), require("check")
-local names = require("docs").registered(softcut,
+local names = require("lua_api_docs").registered(softcut,
   { Scenario = sc.Scenario, Frame = sc.Frame, Selection = check.Selection, Ramp = check.Ramp, Path = check.Path })
 return table.concat(names, "\n"))", "=reg", 1);
   std::vector<std::string> out;

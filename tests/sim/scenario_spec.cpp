@@ -119,5 +119,20 @@ TEST_SUITE("sim/scenario_spec") {
       s.loads.push_back(s.loads[0]);
       CHECK_THROWS_WITH_AS(check_spec(s), doctest::Contains("load 'push': another load has the same name"), Error);
     }
+    {
+      ScenarioSpec s;
+      s.timeline.duration = 0.5;
+      ExpectationSpec e;
+      e.name = "late";
+      e.where = "scenario.lua:7";
+      e.at = 0.5;  // the last frame: due
+      s.expectations.push_back(e);
+      CHECK_NOTHROW(check_spec(s));
+      s.expectations[0].at = 3;
+      CHECK_THROWS_WITH_AS(check_spec(s),
+                           doctest::Contains("scenario.lua:7: expectation 'late': at = 3 s is after the end of the "
+                                             "timeline (duration = 0.5 s)"),
+                           Error);
+    }
   }
 }

@@ -1,6 +1,7 @@
--- Renders the API description (api.lua) as docs/lua-api.md and as LuaLS
--- annotations docs/softcut.d.lua. test_lua compares both files with these
--- renderings; SOFTCUT_WRITE_DOCS=1 test_lua rewrites them.
+-- Renders the API description (lua/api.lua) as docs/lua-api.md and as LuaLS
+-- annotations docs/softcut.d.lua. A tool, not part of the embedded library:
+-- test_lua loads it from here, compares both files with these renderings,
+-- and SOFTCUT_WRITE_DOCS=1 test_lua rewrites them.
 local api = require("api")
 
 local docs = {}
@@ -8,7 +9,7 @@ local docs = {}
 local intro = [[
 # softcut Lua API
 
-<!-- Generated from lua/api.lua by lua/docs.lua; do not edit. Regenerate with
+<!-- Generated from lua/api.lua by scripts/lua_api_docs.lua; do not edit. Regenerate with
      `SOFTCUT_WRITE_DOCS=1 build/tests/test_lua`. -->
 
 A scenario is a Lua 5.4 script run by `softcut run SCENARIO.lua` (or `softcut check`). It builds
@@ -44,7 +45,7 @@ and the engine (loading meshes, evaluating selections); once it runs out, or Ctr
 heap, the meshes the script holds and what its numbers make the engine allocate; meshes have at most
 2,000,000 tetrahedra (`--max-tets N` changes it). What the script writes counts towards the run's
 `--max-output`.
-`require "name"` loads the embedded library first (`softcut`, `scenario`, `check`, `api`, `docs`: a module of yours
+`require "name"` loads the embedded library first (`softcut`, `scenario`, `check`, `api`: a module of yours
 needs another name), then `name.lua` below the scenario's
 folder (dots are folders: `require "lib.organs"` loads `lib/organs.lua`): text only, through the same
 checked open (no link, no `..`), its reading and parsing charged like `load`'s, run once with `(name, file)`
@@ -153,7 +154,7 @@ local function doc_line(f)
 end
 
 function docs.annotations()
-  local out = { "---@meta softcut", "-- Generated from lua/api.lua by lua/docs.lua; do not edit.",
+  local out = { "---@meta softcut", "-- Generated from lua/api.lua by scripts/lua_api_docs.lua; do not edit.",
                 "-- Editor annotations (lua-language-server) for softcut scenarios.", "" }
   local classes = { "Scenario", "Selection", "Ramp", "Path", "Frame" }
   for _, c in ipairs(classes) do out[#out + 1] = ("---@class %s\nlocal %s = {}\n"):format(c, c) end
