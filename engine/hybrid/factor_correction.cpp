@@ -44,6 +44,43 @@ Eigen::Matrix3d diagonal_block(const OperationalSystem& sys, int pos) {
 
 }  // namespace
 
+// work(half, first, count) over columns [0, n) in two fixed halves (the
+// second on the helper when it is awake); an exception of either is rethrown
+// once both are done.
+template <class Work>
+void FactorCorrection::column_halves(Eigen::Index n, const Work& work) {
+  std::exception_ptr error[2];
+  const Eigen::Index h = n / 2;
+  const auto half = [&](int k) {
+    const Eigen::Index c0 = k == 0 ? 0 : h, w = k == 0 ? h : n - h;
+    try {
+      if (w > 0) work(k, c0, w);
+    } catch (...) {
+      error[k] = std::current_exception();
+    }
+  };
+  if (helper_) helper_->run_halves(half);
+  else half(0), half(1);
+  for (const auto& e : error)
+    if (e) std::rethrow_exception(e);
+}
+
+// work(start, count) over [0, n) in two fixed halves, the second on the
+// helper when it is awake: W's two products in a solve read n x cols doubles
+// each (18 MB at 8k operational tets), which two cores stream faster. Same
+// halves either way: same bits.
+template <class Work>
+void FactorCorrection::in_halves(Eigen::Index n, const Work& work) const {
+  const Eigen::Index h = (n / 2 + 7) / 8 * 8;  // aligned halves
+  if (n < 64) {
+    work(0, n);
+    return;
+  }
+  const auto half = [&](int k) { k == 0 ? work(0, h) : work(h, n - h); };
+  if (helper_) helper_->run_halves(half);
+  else half(0), half(1);
+}
+
 void FactorCorrection::clear() {
   base_dofs_ = 0;
   base_generation_ = -1;
@@ -148,12 +185,15 @@ bool FactorCorrection::prepare(const OperationalSystem& base, const solve::Chole
     Eigen::MatrixXd NaJ = Eigen::MatrixXd::Zero(3 * na, Eigen::Index(touching.size()));
     for (size_t j = 0; j < touching.size(); ++j)
       for (SparseMatrix::InnerIterator it(coupling_t, touching[j]); it; ++it) NaJ(it.row(), Eigen::Index(j)) = it.value();
-    X = added_factor_.solve(NaJ, ws);
+    X.resize(3 * na, NaJ.cols());
+    column_halves(NaJ.cols(), [&](int k, Eigen::Index c0, Eigen::Index w) {
+      X.middleCols(c0, w) = added_factor_.solve(Eigen::MatrixXd(NaJ.middleCols(c0, w)), k == 0 ? ws : helper_ws_);
+    });
   }
 
   // New columns of W and of its Gram matrix, in two fixed halves.
   if (!missing.empty()) {
-    const Eigen::Index old = cols_, add = Eigen::Index(missing.size()), h = add / 2;
+    const Eigen::Index old = cols_, add = Eigen::Index(missing.size());
     if (old + add > W_.cols()) {  // grow by doubling, keeping the first cols_
       const Eigen::Index cap = std::max(old + add, 2 * Eigen::Index(W_.cols()));
       Eigen::MatrixXd W(n, cap), gram(cap, cap);
@@ -161,32 +201,17 @@ bool FactorCorrection::prepare(const OperationalSystem& base, const solve::Chole
       gram.topLeftCorner(old, old) = gram_.topLeftCorner(old, old);
       W_.swap(W), gram_.swap(gram);
     }
-    std::exception_ptr error[2];
-    auto halves = [&](auto&& work) {
-      const auto half = [&](int k) {
-        const Eigen::Index c0 = k == 0 ? 0 : h, w = k == 0 ? h : add - h;
-        try {
-          if (w > 0) work(k, c0, w);
-        } catch (...) {
-          error[k] = std::current_exception();
-        }
-      };
-      if (helper_) helper_->run_halves(half);
-      else half(0), half(1);
-      for (const auto& e : error)
-        if (e) std::rethrow_exception(e);
-    };
     {
       std::optional<SingleThreadedBlas> one_blas_thread;
       if (helper_) one_blas_thread.emplace();
-      halves([&](int k, Eigen::Index c0, Eigen::Index w) {
+      column_halves(add, [&](int k, Eigen::Index c0, Eigen::Index w) {
         Eigen::MatrixXd E = Eigen::MatrixXd::Zero(n, w), Wn;
         for (Eigen::Index j = 0; j < w; ++j) E(missing[size_t(c0 + j)], j) = 1;
         F.forward_into(E, Wn, k == 0 ? ws : helper_ws_);
         W_.middleCols(old + c0, w) = Wn;
       });
     }
-    halves([&](int, Eigen::Index c0, Eigen::Index w) {
+    column_halves(add, [&](int, Eigen::Index c0, Eigen::Index w) {
       gram_.block(0, old + c0, old + add, w).noalias() =
           W_.leftCols(old + add).transpose() * W_.middleCols(old + c0, w);
     });
@@ -249,22 +274,6 @@ bool FactorCorrection::prepare(const OperationalSystem& base, const solve::Chole
   }
   if (flops) *flops = cost;
   return true;
-}
-
-// work(start, count) over [0, n) in two fixed halves, the second on the
-// helper when it is awake: W's two products in a solve read n x cols doubles
-// each (18 MB at 8k operational tets), which two cores stream faster. Same
-// halves either way: same bits.
-template <class Work>
-void FactorCorrection::in_halves(Eigen::Index n, const Work& work) const {
-  const Eigen::Index h = (n / 2 + 7) / 8 * 8;  // aligned halves
-  if (n < 64) {
-    work(0, n);
-    return;
-  }
-  const auto half = [&](int k) { k == 0 ? work(0, h) : work(h, n - h); };
-  if (helper_) helper_->run_halves(half);
-  else half(0), half(1);
 }
 
 void FactorCorrection::solve(const solve::Cholesky& F, const Eigen::VectorXd& b, Eigen::VectorXd& x,

@@ -80,6 +80,8 @@ class FactorCorrection {
 
  private:
   template <class Work>
+  void column_halves(Eigen::Index n, const Work& work);
+  template <class Work>
   void in_halves(Eigen::Index n, const Work& work) const;
 
   HelperThread* helper_ = nullptr;
