@@ -3,11 +3,13 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <exception>
 #include <limits>
 #include <numeric>
 #include <thread>
 
 #include "core/error.hpp"
+#include "core/threads.hpp"
 #include "fem/element_stiffness.hpp"
 
 namespace softcut::fem {
@@ -171,7 +173,7 @@ SparseMatrix assemble_stiffness(const mesh::TetMesh& m, const std::vector<Materi
 
 BlockStiffness assemble_node_blocks(const mesh::TetMesh& m, const std::vector<Material>& tet_material,
                                     const std::vector<int>& tets_in, const std::vector<int>& position,
-                                    int num_positions) {
+                                    int num_positions, int threads) {
   const int nn = m.num_nodes();
   if (int(position.size()) != nn)
     fail("assemble_node_blocks: ", position.size(), " node positions for a mesh of ", nn, " nodes");
@@ -205,12 +207,12 @@ BlockStiffness assemble_node_blocks(const mesh::TetMesh& m, const std::vector<Ma
   }
   K.blocks.assign(K.col.size(), Eigen::Matrix3d::Zero());
 
-  for (int t : tets) {
-    if (pos(t, 0) < 0 && pos(t, 1) < 0 && pos(t, 2) < 0 && pos(t, 3) < 0) continue;
+  // Adds tet t into the node rows in [lo, hi).
+  auto scatter = [&](int t, int lo, int hi) {
     const Mat12 Ke = element_stiffness(tet_corners(m, t), tet_material[size_t(t)]);
     for (int b = 0; b < 4; ++b) {
       const int j = pos(t, b);
-      if (j < 0) continue;
+      if (j < lo || j >= hi) continue;
       const int* first = K.col.data() + K.row_start[size_t(j)];
       const int* last = K.col.data() + K.row_start[size_t(j) + 1];
       for (int a = 0; a < 4; ++a) {
@@ -220,7 +222,36 @@ BlockStiffness assemble_node_blocks(const mesh::TetMesh& m, const std::vector<Ma
           for (int r = 0; r < 3; ++r) B(c, r) += Ke(3 * a + r, 3 * b + c);  // K(3 i + r, 3 j + c) as assembled
       }
     }
+  };
+  // Owner computes, as assemble_stiffness: two row ranges of equal block
+  // counts, each thread walking the tets that touch its range in tet order
+  // (same additions in the same order per entry, whatever the threads).
+  const int nthreads = threads > 0 ? std::min(threads, 2) : tets.size() >= 2000 ? std::min(2, thread_policy().threads) : 1;
+  auto range = [&](int lo, int hi) {
+    for (int t : tets)
+      for (int b = 0; b < 4; ++b)
+        if (pos(t, b) >= lo && pos(t, b) < hi) {
+          scatter(t, lo, hi);
+          break;
+        }
+  };
+  if (nthreads == 1 || num_positions < 2) {
+    range(0, num_positions);
+    return K;
   }
+  const int split = int(std::lower_bound(K.row_start.begin(), K.row_start.end(), int(K.col.size() / 2)) -
+                        K.row_start.begin());
+  std::exception_ptr error;  // check_tets ran: nothing should throw, but never across a thread
+  std::thread second([&] {
+    try {
+      range(split, num_positions);
+    } catch (...) {
+      error = std::current_exception();
+    }
+  });
+  range(0, split);
+  second.join();
+  if (error) std::rethrow_exception(error);
   return K;
 }
 

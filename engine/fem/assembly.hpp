@@ -45,9 +45,11 @@ struct BlockStiffness {
 // `position` (nnode) numbers the subset's nodes 0..num_positions-1 (-1: not
 // in it). Same checks as assemble_stiffness. Used after every cut: it skips
 // the whole-mesh pattern and the extraction of the subset (8k tets: 10 -> 5 ms).
+// `threads` (at most 2) splits the node rows in two ranges, owner computes
+// as above; 0: two from 2,000 tets when the thread policy has two.
 BlockStiffness assemble_node_blocks(const mesh::TetMesh& m, const std::vector<Material>& tet_material,
                                     const std::vector<int>& tets, const std::vector<int>& position,
-                                    int num_positions);
+                                    int num_positions, int threads = 0);
 
 // The same matrix through Eigen's setFromTriplets (144 triplets per tet): the
 // baseline `softcut bench assembly` compares against, and a reference in tests.

@@ -1,6 +1,7 @@
 #include "hybrid/factor_correction.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <exception>
 #include <optional>
 
@@ -257,8 +258,19 @@ bool FactorCorrection::prepare(const OperationalSystem& base, const solve::Chole
       return false;
     }
     gram_factor_ = gram_llt.matrixL();
-    Eigen::MatrixXd T = delta_ * gram_factor_.triangularView<Eigen::Lower>();
-    T = gram_factor_.transpose().triangularView<Eigen::Upper>() * T;
+    // T = L_G' (Delta L_G) in column halves: Delta L_G's column j needs
+    // Delta's columns from j on (L_G is lower), so its split point balances
+    // the flops, k (1 - 1/sqrt 2); the second product splits evenly.
+    Eigen::MatrixXd P(k, k), T(k, k);
+    const Eigen::Index split = Eigen::Index(double(k) * (1 - std::sqrt(0.5)));
+    column_halves(k, [&](int half, Eigen::Index c0, Eigen::Index w) {
+      if (half == 0) c0 = 0, w = split;
+      else c0 = split, w = k - split;
+      P.middleCols(c0, w).noalias() = delta_.rightCols(k - c0) * gram_factor_.block(c0, c0, k - c0, w);
+    });
+    column_halves(k, [&](int, Eigen::Index c0, Eigen::Index w) {
+      T.middleCols(c0, w).noalias() = gram_factor_.transpose().triangularView<Eigen::Upper>() * P.middleCols(c0, w);
+    });
     T = 0.5 * (T + T.transpose()).eval();
     T.diagonal().array() += 1.0;
     capacitance_.compute(T);

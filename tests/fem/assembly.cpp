@@ -86,8 +86,9 @@ TEST_SUITE("fem/assembly") {
       nodes.resize(nodes.size() * 2 / 3);
       std::vector<int> position(size_t(m.num_nodes()), -1);
       for (size_t k = 0; k < nodes.size(); ++k) position[size_t(nodes[k])] = int(k);
-      const fem::BlockStiffness B = fem::assemble_node_blocks(m, mats, tets, position, int(nodes.size()));
+      const fem::BlockStiffness B = fem::assemble_node_blocks(m, mats, tets, position, int(nodes.size()), 1);
       const fem::SparseMatrix K = B.to_sparse();
+      CHECK(same_bits(fem::assemble_node_blocks(m, mats, tets, position, int(nodes.size()), 2).to_sparse(), K));
       CAPTURE(seed);
       // Reference: the whole assembled matrix, its subset's entries copied.
       const fem::SparseMatrix full = fem::assemble_stiffness(m, mats, tets, 1);
