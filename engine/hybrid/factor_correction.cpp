@@ -45,13 +45,13 @@ Eigen::Matrix3d diagonal_block(const OperationalSystem& sys, int pos) {
 
 }  // namespace
 
-// work(half, first, count) over columns [0, n) in two fixed halves (the
-// second on the helper when it is awake); an exception of either is rethrown
-// once both are done.
+// work(half, first, count) over columns [0, n) in two fixed halves split at
+// `h` (the middle when negative), the second on the helper when it is awake;
+// an exception of either is rethrown once both are done.
 template <class Work>
-void FactorCorrection::column_halves(Eigen::Index n, const Work& work) {
+void FactorCorrection::column_halves(Eigen::Index n, const Work& work, Eigen::Index h) {
   std::exception_ptr error[2];
-  const Eigen::Index h = n / 2;
+  if (h < 0) h = n / 2;
   const auto half = [&](int k) {
     const Eigen::Index c0 = k == 0 ? 0 : h, w = k == 0 ? h : n - h;
     try {
@@ -178,11 +178,8 @@ bool FactorCorrection::prepare(const OperationalSystem& base, const solve::Chole
       return false;  // not positive definite: a refactor says why
     }
     const SparseMatrix coupling_t = coupling_.transpose();
-    std::vector<char> nonzero(size_t(k), 0);
-    for (int col = 0; col < coupling_t.outerSize(); ++col)
-      for (SparseMatrix::InnerIterator it(coupling_t, col); it; ++it) nonzero[size_t(col)] = 1;
     for (int j = 0; j < k; ++j)
-      if (nonzero[size_t(j)]) touching.push_back(j);
+      if (coupling_t.col(j).nonZeros() > 0) touching.push_back(j);
     Eigen::MatrixXd NaJ = Eigen::MatrixXd::Zero(3 * na, Eigen::Index(touching.size()));
     for (size_t j = 0; j < touching.size(); ++j)
       for (SparseMatrix::InnerIterator it(coupling_t, touching[j]); it; ++it) NaJ(it.row(), Eigen::Index(j)) = it.value();
@@ -263,11 +260,9 @@ bool FactorCorrection::prepare(const OperationalSystem& base, const solve::Chole
     // the flops, k (1 - 1/sqrt 2); the second product splits evenly.
     Eigen::MatrixXd P(k, k), T(k, k);
     const Eigen::Index split = Eigen::Index(double(k) * (1 - std::sqrt(0.5)));
-    column_halves(k, [&](int half, Eigen::Index c0, Eigen::Index w) {
-      if (half == 0) c0 = 0, w = split;
-      else c0 = split, w = k - split;
+    column_halves(k, [&](int, Eigen::Index c0, Eigen::Index w) {
       P.middleCols(c0, w).noalias() = delta_.rightCols(k - c0) * gram_factor_.block(c0, c0, k - c0, w);
-    });
+    }, split);
     column_halves(k, [&](int, Eigen::Index c0, Eigen::Index w) {
       T.middleCols(c0, w).noalias() = gram_factor_.transpose().triangularView<Eigen::Upper>() * P.middleCols(c0, w);
     });

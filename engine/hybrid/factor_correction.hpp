@@ -15,10 +15,9 @@
 //
 // where E selects the k base DOFs whose rows changed (the appended nodes'
 // neighbours among them) and Delta (k x k, dense) is R - M on them. N_aa is
-// small and sparse (its own CHOLMOD factor N_aa = P_a' L_a L_a' P_a); only
-// the changed DOFs J that touch an appended node enter the Schur term:
-// N_oa N_aa^-1 N_ao = Y'Y on J with Y = L_a^-1 P_a N_aJ. R is solved with M's
-// factor by Sherman-Morrison-Woodbury:
+// small and sparse (its own CHOLMOD factor); only the changed DOFs J that
+// touch an appended node enter the Schur term N_oa (N_aa^-1 N_aJ). R is
+// solved with M's factor by Sherman-Morrison-Woodbury:
 //
 //   y = L^-1 P c,   (I + G Delta) z = W' y,   x_o = P' L'^-1 (y - W Delta z)
 //
@@ -37,8 +36,8 @@
 //
 // Cost: c new columns cost c forward solves (2 nnz(L) flops each, BLAS 3) and
 // a Gram update (2 n c cols), plus about 3 k^3 for L_G, T and I + T's factor;
-// a frame costs one solve with the base factor, two n x k products and four
-// k x k triangular solves. The caller weighs that against a refactor
+// a frame costs one solve with the base factor, two n x k products, k x k
+// triangular solves and two small sparse solves for the appended nodes. The caller weighs that against a refactor
 // (Cholesky::factor_flops) and checks every residual.
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
@@ -52,10 +51,11 @@ namespace softcut::hybrid {
 
 class FactorCorrection {
  public:
-  // New columns (forward solves and Gram entries) are computed in two fixed
-  // halves, the second on `helper` when it is awake (OpenBLAS on one thread
-  // meanwhile, so the two do not fight over its pool): the same bits with or
-  // without it. Null: both halves on the caller.
+  // New columns (forward solves and Gram entries), the appended nodes' Schur
+  // solves, the capacitance's products and a solve's two n x k products run
+  // in two fixed halves, the second on `helper` when it is awake (OpenBLAS on
+  // one thread meanwhile, so the two do not fight over its pool): the same
+  // bits with or without it. Null: both halves on the caller.
   void share_helper(HelperThread* helper) { helper_ = helper; }
 
   // Forgets every kept column (a new base).
@@ -80,7 +80,7 @@ class FactorCorrection {
 
  private:
   template <class Work>
-  void column_halves(Eigen::Index n, const Work& work);
+  void column_halves(Eigen::Index n, const Work& work, Eigen::Index split = -1);
   template <class Work>
   void in_halves(Eigen::Index n, const Work& work) const;
 
