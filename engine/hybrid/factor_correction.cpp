@@ -1,7 +1,6 @@
 #include "hybrid/factor_correction.hpp"
 
 #include <algorithm>
-#include <cmath>
 #include <exception>
 #include <optional>
 
@@ -45,13 +44,13 @@ Eigen::Matrix3d diagonal_block(const OperationalSystem& sys, int pos) {
 
 }  // namespace
 
-// work(half, first, count) over columns [0, n) in two fixed halves split at
-// `h` (the middle when negative), the second on the helper when it is awake;
-// an exception of either is rethrown once both are done.
+// work(half, first, count) over columns [0, n) in two fixed halves, the
+// second on the helper when it is awake; an exception of either is rethrown
+// once both are done.
 template <class Work>
-void FactorCorrection::column_halves(Eigen::Index n, const Work& work, Eigen::Index h) {
+void FactorCorrection::column_halves(Eigen::Index n, const Work& work) {
   std::exception_ptr error[2];
-  if (h < 0) h = n / 2;
+  const Eigen::Index h = n / 2;
   const auto half = [&](int k) {
     const Eigen::Index c0 = k == 0 ? 0 : h, w = k == 0 ? h : n - h;
     try {
@@ -110,6 +109,7 @@ bool FactorCorrection::prepare(const OperationalSystem& base, const solve::Chole
     base_generation_ = base.generation;
     base_dofs_ = base.size();
     col_of_dof_.assign(size_t(base_dofs_), -1);
+    W_.resize(base_dofs_, 0);  // n rows from the start: W' y is defined with no column
   }
   const int n = base_dofs_;
 
@@ -143,8 +143,8 @@ bool FactorCorrection::prepare(const OperationalSystem& base, const solve::Chole
       if (col_of_dof_[size_t(3 * p + a)] < 0) missing.push_back(3 * p + a);
   const double c = double(missing.size()), cols_after = double(cols_) + c;
   // Columns (forward solves) and Gram entries, then G Delta, G Delta G, the
-  // L_G, T = L_G' Delta L_G and I + T's factor: about 3 k^3.
-  const double cost = c * (2 * F.factor_nonzeros() + 2.0 * n * cols_after) + 3.0 * double(k) * k * k;
+  // definiteness check's LL' and the capacitance LU: about 5 k^3.
+  const double cost = c * (2 * F.factor_nonzeros() + 2.0 * n * cols_after) + 5.0 * double(k) * k * k;
   if (cost > max_flops) return false;
 
   // Appended nodes: N_aa (sparse, factored) and their coupling to the
@@ -245,34 +245,27 @@ bool FactorCorrection::prepare(const OperationalSystem& base, const solve::Chole
   Eigen::MatrixXd G(k, k);
   for (int i = 0; i < k; ++i)
     for (int j = 0; j < k; ++j) G(i, j) = gram_(col_of_dof_[size_t(changed_[size_t(i)])], col_of_dof_[size_t(changed_[size_t(j)])]);
-  // R = M + E Delta E' is positive definite exactly when I + T is (see the
-  // header): the check a refactor's Cholesky would make. A nearly singular R
-  // (a part hanging by a node) is left to the refactor, which names it.
+  // R = M + E Delta E' is positive definite exactly when
+  // S = G + G Delta G = G^1/2 (I + G^1/2 Delta G^1/2) G^1/2 is (G = W'W is):
+  // the check a refactor's Cholesky would make. A nearly singular R (a part
+  // hanging by a node) is left to the refactor, which names it. G Delta and
+  // G Delta G in column halves.
   if (k > 0) {
-    const Eigen::LLT<Eigen::MatrixXd> gram_llt(G);
-    if (gram_llt.info() != Eigen::Success) {  // W's columns dependent: cannot happen for an SPD base
-      changed_.clear();
-      return false;
-    }
-    gram_factor_ = gram_llt.matrixL();
-    // T = L_G' (Delta L_G) in column halves: Delta L_G's column j needs
-    // Delta's columns from j on (L_G is lower), so its split point balances
-    // the flops, k (1 - 1/sqrt 2); the second product splits evenly.
-    Eigen::MatrixXd P(k, k), T(k, k);
-    const Eigen::Index split = Eigen::Index(double(k) * (1 - std::sqrt(0.5)));
+    Eigen::MatrixXd GD(k, k), S = G;
     column_halves(k, [&](int, Eigen::Index c0, Eigen::Index w) {
-      P.middleCols(c0, w).noalias() = delta_.rightCols(k - c0) * gram_factor_.block(c0, c0, k - c0, w);
-    }, split);
-    column_halves(k, [&](int, Eigen::Index c0, Eigen::Index w) {
-      T.middleCols(c0, w).noalias() = gram_factor_.transpose().triangularView<Eigen::Upper>() * P.middleCols(c0, w);
+      GD.middleCols(c0, w).noalias() = G * delta_.middleCols(c0, w);
     });
-    T = 0.5 * (T + T.transpose()).eval();
-    T.diagonal().array() += 1.0;
-    capacitance_.compute(T);
-    if (capacitance_.info() != Eigen::Success || !(capacitance_.rcond() > 1e-13)) {
+    column_halves(k, [&](int, Eigen::Index c0, Eigen::Index w) {
+      S.middleCols(c0, w).noalias() += GD * G.middleCols(c0, w);
+    });
+    S = 0.5 * (S + S.transpose()).eval();
+    const Eigen::LLT<Eigen::MatrixXd> spd(S);
+    if (spd.info() != Eigen::Success || !(spd.rcond() > 1e-13)) {
       changed_.clear();
       return false;
     }
+    GD.diagonal().array() += 1.0;
+    capacitance_.compute(GD);
   }
   ext_of_next_.resize(size_t(next.size()));
   for (int q = 0; q < nn; ++q) {
@@ -310,19 +303,16 @@ void FactorCorrection::solve(const solve::Cholesky& F, const Eigen::VectorXd& b,
   g_.resize(k);
   for (int j = 0; j < k; ++j) g_[j] = t_[col_of_dof_[size_t(changed_[size_t(j)])]];
   if (k > 0) {
-    // z = L_G (I + T)^-1 L_G^-1 g, q = Delta z.
-    gram_factor_.triangularView<Eigen::Lower>().solveInPlace(g_);
-    capacitance_.solveInPlace(g_);
-    g_ = gram_factor_.triangularView<Eigen::Lower>() * g_;
-    q_.noalias() = delta_ * g_;
+    q_.noalias() = delta_ * capacitance_.solve(g_);
   } else {
     q_.resize(0);
   }
   t_.setZero(cols_);
   for (int j = 0; j < k; ++j) t_[col_of_dof_[size_t(changed_[size_t(j)])]] = q_[j];
-  in_halves(n, [&](Eigen::Index r0, Eigen::Index h) {
-    y_.col(0).segment(r0, h).noalias() -= W_.block(r0, 0, h, cols_) * t_;
-  });
+  if (cols_ > 0)  // (no block of a matrix without storage)
+    in_halves(n, [&](Eigen::Index r0, Eigen::Index h) {
+      y_.col(0).segment(r0, h).noalias() -= W_.block(r0, 0, h, cols_) * t_;
+    });
   F.backward_into(y_.col(0), xb_, ws);
   // x_a = N_aa^-1 (b_a - N_ao x_o).
   if (added_ > 0) {

@@ -22,25 +22,18 @@
 //   y = L^-1 P c,   (I + G Delta) z = W' y,   x_o = P' L'^-1 (y - W Delta z)
 //
 // with W = L^-1 P E (n x k, one forward solve per changed DOF) and
-// G = W'W = E' M^-1 E (symmetric positive definite). With G = L_G L_G' and
-// T = L_G' Delta L_G (symmetric),
-//
-//   I + G Delta = L_G (I + T) L_G^-1,
-//
-// so z = L_G (I + T)^-1 L_G^-1 W'y, and R = M + E Delta E' is positive
-// definite exactly when I + T is (congruent to I + G^1/2 Delta G^1/2): one
-// Cholesky factor both checks and solves. No inverse of Delta is needed (it
-// is singular when a cut only removes stiffness). Columns of W are kept
-// while the base is, so a second cut against the same base solves only for
-// its newly changed DOFs.
+// G = W'W = E' M^-1 E. No inverse of Delta is needed (it is singular when a
+// cut only removes stiffness). Columns of W are kept while the base is, so a
+// second cut against the same base solves only for its newly changed DOFs.
 //
 // Cost: c new columns cost c forward solves (2 nnz(L) flops each, BLAS 3) and
-// a Gram update (2 n c cols), plus about 3 k^3 for L_G, T and I + T's factor;
-// a frame costs one solve with the base factor, two n x k products, k x k
-// triangular solves and two small sparse solves for the appended nodes. The caller weighs that against a refactor
+// a Gram update (2 n c cols), plus about 5 k^3 for the capacitance matrix
+// and the check that N is positive definite; a frame costs one solve with
+// the base factor, two n x k products, a k x k LU solve and two small sparse
+// solves for the appended nodes. The caller weighs that against a refactor
 // (Cholesky::factor_flops) and checks every residual.
-#include <Eigen/Cholesky>
 #include <Eigen/Core>
+#include <Eigen/LU>
 #include <vector>
 
 #include "core/helper_thread.hpp"
@@ -52,7 +45,7 @@ namespace softcut::hybrid {
 class FactorCorrection {
  public:
   // New columns (forward solves and Gram entries), the appended nodes' Schur
-  // solves, the capacitance's products and a solve's two n x k products run
+  // solves, G Delta and G Delta G, and a solve's two n x k products run
   // in two fixed halves, the second on `helper` when it is awake (OpenBLAS on
   // one thread meanwhile, so the two do not fight over its pool): the same
   // bits with or without it. Null: both halves on the caller.
@@ -80,7 +73,7 @@ class FactorCorrection {
 
  private:
   template <class Work>
-  void column_halves(Eigen::Index n, const Work& work, Eigen::Index split = -1);
+  void column_halves(Eigen::Index n, const Work& work);
   template <class Work>
   void in_halves(Eigen::Index n, const Work& work) const;
 
@@ -100,8 +93,7 @@ class FactorCorrection {
   std::vector<int> ext_of_next_;     // (next.size()) base DOF (< n) or n + appended DOF of each DOF of next
   std::vector<int> changed_;         // (k) changed base DOFs, increasing
   Eigen::MatrixXd delta_;            // (k x k) R - M on them
-  Eigen::MatrixXd gram_factor_;      // (k x k) L_G, lower
-  Eigen::LLT<Eigen::MatrixXd> capacitance_;  // I + T
+  Eigen::PartialPivLU<Eigen::MatrixXd> capacitance_;  // I + G Delta
   int added_ = 0;                    // 3 |a|
   solve::Cholesky added_factor_;     // N_aa
   SparseMatrix coupling_;            // (k x 3|a|) N_oa on the changed rows
