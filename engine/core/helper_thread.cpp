@@ -124,4 +124,13 @@ void HelperThread::loop() {
   }
 }
 
+void run_halves(HelperThread* helper, const std::function<void(int)>& fn) {
+  if (helper) {
+    helper->run_halves(fn);
+  } else {
+    fn(0);
+    fn(1);
+  }
+}
+
 }  // namespace softcut

@@ -67,4 +67,22 @@ class HelperThread {
   std::thread thread_;
 };
 
+// fn(0) and fn(1) through helper->run_halves, or both on this thread when
+// there is no helper: the same halves either way.
+void run_halves(HelperThread* helper, const std::function<void(int)>& fn);
+
+// work(first, count) over rows [0, n) in two fixed halves split at a
+// multiple of 8 (each half's rows start aligned), through run_halves; below
+// 64 rows a single call work(0, n). The split depends on n alone: same bits
+// with or without a helper.
+template <class Work>
+void row_halves(HelperThread* helper, long n, const Work& work) {
+  if (n < 64) {
+    work(0L, n);
+    return;
+  }
+  const long h = (n / 2 + 7) / 8 * 8;
+  run_halves(helper, [&](int k) { k == 0 ? work(0L, h) : work(h, n - h); });
+}
+
 }  // namespace softcut

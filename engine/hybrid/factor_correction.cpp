@@ -59,26 +59,9 @@ void FactorCorrection::column_halves(Eigen::Index n, const Work& work) {
       error[k] = std::current_exception();
     }
   };
-  if (helper_) helper_->run_halves(half);
-  else half(0), half(1);
+  run_halves(helper_, half);
   for (const auto& e : error)
     if (e) std::rethrow_exception(e);
-}
-
-// work(start, count) over [0, n) in two fixed halves, the second on the
-// helper when it is awake: W's two products in a solve read n x cols doubles
-// each (18 MB at 8k operational tets), which two cores stream faster. Same
-// halves either way: same bits.
-template <class Work>
-void FactorCorrection::in_halves(Eigen::Index n, const Work& work) const {
-  const Eigen::Index h = (n / 2 + 7) / 8 * 8;  // aligned halves
-  if (n < 64) {
-    work(0, n);
-    return;
-  }
-  const auto half = [&](int k) { k == 0 ? work(0, h) : work(h, n - h); };
-  if (helper_) helper_->run_halves(half);
-  else half(0), half(1);
 }
 
 void FactorCorrection::clear() {
@@ -297,7 +280,9 @@ void FactorCorrection::solve(const solve::Cholesky& F, const Eigen::VectorXd& b,
   }
   F.forward_into(b_, y_, ws);
   t_.resize(cols_);
-  in_halves(cols_, [&](Eigen::Index c0, Eigen::Index w) {
+  // W's two products read n x cols doubles each (18 MB at 8k operational
+  // tets), which two cores stream faster.
+  row_halves(helper_, cols_, [&](Eigen::Index c0, Eigen::Index w) {
     t_.segment(c0, w).noalias() = W_.middleCols(c0, w).transpose() * y_.col(0);
   });
   g_.resize(k);
@@ -310,7 +295,7 @@ void FactorCorrection::solve(const solve::Cholesky& F, const Eigen::VectorXd& b,
   t_.setZero(cols_);
   for (int j = 0; j < k; ++j) t_[col_of_dof_[size_t(changed_[size_t(j)])]] = q_[j];
   if (cols_ > 0)  // (no block of a matrix without storage)
-    in_halves(n, [&](Eigen::Index r0, Eigen::Index h) {
+    row_halves(helper_, n, [&](Eigen::Index r0, Eigen::Index h) {
       y_.col(0).segment(r0, h).noalias() -= W_.block(r0, 0, h, cols_) * t_;
     });
   F.backward_into(y_.col(0), xb_, ws);

@@ -74,8 +74,6 @@ class FactorCorrection {
  private:
   template <class Work>
   void column_halves(Eigen::Index n, const Work& work);
-  template <class Work>
-  void in_halves(Eigen::Index n, const Work& work) const;
 
   HelperThread* helper_ = nullptr;
   solve::SolveWorkspace helper_ws_;  // CHOLMOD's workspace for the helper's half

@@ -188,20 +188,12 @@ void CholmodSolver::dense_product(const Eigen::VectorXd& b, Eigen::VectorXd& x) 
     return;
   }
   x.resize(n);
-  const Eigen::Index h = (n / 2 + 7) / 8 * 8;  // aligned halves
-  const auto half = [&](int k) {
-    const Eigen::Index r0 = k == 0 ? 0 : h, rows = k == 0 ? h : n - h;
+  row_halves(helper_.get(), n, [&](Eigen::Index r0, Eigen::Index rows) {
     auto out = x.segment(r0, rows);
     out.setZero();
     for (const auto& [start, len] : runs_)
       out.noalias() += dense_inverse_.block(r0, start, rows, len) * b.segment(start, len);
-  };
-  if (helper_) {
-    helper_->run_halves(half);
-  } else {
-    half(0);
-    half(1);
-  }
+  });
 }
 
 SolveReport CholmodSolver::solve(const OperationalSystem& sys, const Eigen::VectorXd& b, Eigen::VectorXd& x) {

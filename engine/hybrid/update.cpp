@@ -30,21 +30,9 @@ void scatter_interior(const Model& M, const Eigen::VectorXd& w, State& S) {
 // helper thread when there is one. Same halves either way: same bits.
 void product_rows(const Eigen::MatrixXd& A, const Eigen::VectorXd& x, Eigen::VectorXd& out, HelperThread* helper) {
   out.resize(A.rows());
-  const Eigen::Index h = (A.rows() / 2 + 7) / 8 * 8;  // aligned halves
-  if (A.rows() < 64) {
-    out.noalias() = A * x;
-    return;
-  }
-  const auto half = [&](int k) {
-    if (k == 0) out.head(h).noalias() = A.topRows(h) * x;
-    else out.tail(A.rows() - h).noalias() = A.bottomRows(A.rows() - h) * x;
-  };
-  if (helper) {
-    helper->run_halves(half);
-  } else {
-    half(0);
-    half(1);
-  }
+  row_halves(helper, A.rows(), [&](Eigen::Index r0, Eigen::Index rows) {
+    out.segment(r0, rows).noalias() = A.middleRows(r0, rows) * x;
+  });
 }
 
 }  // namespace
