@@ -164,6 +164,10 @@ bool FactorCorrection::prepare(const OperationalSystem& base, const solve::Chole
     for (int j = 0; j < k; ++j)
       if (coupling_t.col(j).nonZeros() > 0) touching.push_back(j);
     Eigen::MatrixXd NaJ = Eigen::MatrixXd::Zero(3 * na, Eigen::Index(touching.size()));
+    // CHOLMOD solves in two halves at once: OpenBLAS on one thread while
+    // they run (two callers would fight over its pool).
+    std::optional<SingleThreadedBlas> one_blas_thread;
+    if (helper_) one_blas_thread.emplace();
     for (size_t j = 0; j < touching.size(); ++j)
       for (SparseMatrix::InnerIterator it(coupling_t, touching[j]); it; ++it) NaJ(it.row(), Eigen::Index(j)) = it.value();
     X.resize(3 * na, NaJ.cols());
@@ -182,16 +186,11 @@ bool FactorCorrection::prepare(const OperationalSystem& base, const solve::Chole
       gram.topLeftCorner(old, old) = gram_.topLeftCorner(old, old);
       W_.swap(W), gram_.swap(gram);
     }
-    {
-      std::optional<SingleThreadedBlas> one_blas_thread;
-      if (helper_) one_blas_thread.emplace();
-      column_halves(add, [&](int k, Eigen::Index c0, Eigen::Index w) {
-        Eigen::MatrixXd E = Eigen::MatrixXd::Zero(n, w), Wn;
-        for (Eigen::Index j = 0; j < w; ++j) E(missing[size_t(c0 + j)], j) = 1;
-        F.forward_into(E, Wn, k == 0 ? ws : helper_ws_);
-        W_.middleCols(old + c0, w) = Wn;
-      });
-    }
+    column_halves(add, [&](int k, Eigen::Index c0, Eigen::Index w) {
+      Eigen::MatrixXd Wn;
+      F.forward_columns_into(std::span(missing).subspan(size_t(c0), size_t(w)), Wn, k == 0 ? ws : helper_ws_);
+      W_.middleCols(old + c0, w) = Wn;
+    });
     column_halves(add, [&](int, Eigen::Index c0, Eigen::Index w) {
       gram_.block(0, old + c0, old + add, w).noalias() =
           W_.leftCols(old + add).transpose() * W_.middleCols(old + c0, w);

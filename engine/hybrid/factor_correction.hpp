@@ -26,7 +26,8 @@
 // cut only removes stiffness). Columns of W are kept while the base is, so a
 // second cut against the same base solves only for its newly changed DOFs.
 //
-// Cost: c new columns cost c forward solves (2 nnz(L) flops each, BLAS 3) and
+// Cost: c new columns cost c forward solves along their elimination-tree
+// paths (at most 2 nnz(L) flops each, what the budget counts; BLAS 3) and
 // a Gram update (2 n c cols), plus about 5 k^3 for the capacitance matrix
 // and the check that N is positive definite; a frame costs one solve with
 // the base factor, two n x k products, a k x k LU solve and two small sparse

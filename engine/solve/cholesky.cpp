@@ -337,10 +337,25 @@ void Cholesky::backward_into(const Eigen::MatrixXd& Y, Eigen::MatrixXd& X, Solve
   for (Eigen::Index k = 0; k < Y.rows(); ++k) X.row(perm ? perm[k] : k) = T.row(k);
 }
 
-void Cholesky::forward_unit_into(std::span<const int> rows, Eigen::MatrixXd& Y, SolveWorkspace& ws) const {
+std::vector<int> Cholesky::unit_columns(std::span<const int> rows) const {
   if (!llt_) fail("Cholesky::forward called before factor()");
   for (int r : rows)
     if (r < 0 || r >= rows_) fail("Cholesky::forward: unit column at row ", r, " of a ", rows_, "-row factor");
+  // P e_r = e_k with perm[k] = r.
+  const int* perm = static_cast<const int*>(llt_->raw()->Perm);
+  const size_t m = rows.size();
+  std::vector<int> column(m, -1), wanted(static_cast<size_t>(rows_), -1);
+  for (size_t j = 0; j < m; ++j) wanted[size_t(rows[j])] = int(j);
+  for (int k = 0; k < rows_; ++k) {
+    const int j = wanted[size_t(perm ? perm[k] : k)];
+    if (j >= 0) column[size_t(j)] = k;
+  }
+  for (size_t j = 0; j < m; ++j) column[j] = column[size_t(wanted[size_t(rows[j])])];
+  return column;
+}
+
+void Cholesky::forward_unit_into(std::span<const int> rows, Eigen::MatrixXd& Y, SolveWorkspace& ws) const {
+  const std::vector<int> column = unit_columns(rows);
   const cholmod_factor* L = llt_->raw();
   const Eigen::Index m = Eigen::Index(rows.size());
   if (!L->is_super) {
@@ -350,19 +365,6 @@ void Cholesky::forward_unit_into(std::span<const int> rows, Eigen::MatrixXd& Y, 
     return;
   }
   const Supernodes sn(*L);
-  const int* perm = static_cast<const int*>(L->Perm);
-
-  // Column of L where each unit vector lands after the permutation (P e_r = e_k with perm[k] = r).
-  std::vector<int> column(size_t(m), -1);
-  {
-    std::vector<int> wanted(size_t(rows_), -1);
-    for (Eigen::Index j = 0; j < m; ++j) wanted[size_t(rows[size_t(j)])] = int(j);
-    for (int k = 0; k < rows_; ++k) {
-      const int j = wanted[size_t(perm ? perm[k] : k)];
-      if (j >= 0) column[size_t(j)] = k;
-    }
-    for (Eigen::Index j = 0; j < m; ++j) column[size_t(j)] = column[size_t(wanted[size_t(rows[size_t(j)])])];
-  }
   // The supernodes on the paths from those columns to the root, children first.
   std::vector<int> path;
   std::vector<char> on(size_t(sn.count), 0);
@@ -395,6 +397,51 @@ void Cholesky::forward_unit_into(std::span<const int> rows, Eigen::MatrixXd& Y, 
       }
     }
     for (int i = 0; i < nsrow; ++i) Y.row(rows_of_s[i]) = V.row(i);
+  }
+}
+
+void Cholesky::forward_columns_into(std::span<const int> rows, Eigen::MatrixXd& Y, SolveWorkspace& ws) const {
+  const std::vector<int> column = unit_columns(rows);
+  const cholmod_factor* L = llt_->raw();
+  const Eigen::Index m = Eigen::Index(rows.size());
+  if (!L->is_super) {
+    forward_unit_into(rows, Y, ws);
+    return;
+  }
+  const Supernodes sn(*L);
+  // (supernode, column) for every supernode on each column's path to its
+  // root, grouped by supernode (children before parents), columns increasing.
+  std::vector<std::pair<int, int>> on_path;
+  for (Eigen::Index j = 0; j < m; ++j)
+    for (int s = sn.of(column[size_t(j)]);;) {
+      on_path.emplace_back(s, int(j));
+      if (sn.rows(s) == sn.cols(s)) break;
+      s = sn.of(sn.Ls[sn.pi[s] + sn.cols(s)]);
+    }
+  std::sort(on_path.begin(), on_path.end());
+
+  Y.setZero(rows_, m);
+  for (Eigen::Index j = 0; j < m; ++j) Y(column[size_t(j)], j) = 1;
+  // Each supernode: V = its rows of Y in its active columns (its own rows
+  // first); V_top = L_ss^-1 V_top, V_below -= L_below V_top; back into Y.
+  // Rows below the diagonal block belong to ancestors, which are on the
+  // same paths: Y stays exactly zero off them.
+  Eigen::MatrixXd V;
+  std::vector<int> active;
+  for (size_t first = 0; first < on_path.size();) {
+    const int s = on_path[first].first;
+    active.clear();
+    for (; first < on_path.size() && on_path[first].first == s; ++first) active.push_back(on_path[first].second);
+    const int nsrow = sn.rows(s), nscol = sn.cols(s), na = int(active.size());
+    const int* rows_of_s = sn.Ls + sn.pi[s];
+    V.resize(nsrow, na);
+    for (int q = 0; q < na; ++q)
+      for (int i = 0; i < nsrow; ++i) V(i, q) = Y(rows_of_s[i], active[size_t(q)]);
+    const auto block = sn.block(s);
+    block.topRows(nscol).triangularView<Eigen::Lower>().solveInPlace(V.topRows(nscol));
+    if (nsrow > nscol) V.bottomRows(nsrow - nscol).noalias() -= block.bottomRows(nsrow - nscol) * V.topRows(nscol);
+    for (int q = 0; q < na; ++q)
+      for (int i = 0; i < nsrow; ++i) Y(rows_of_s[i], active[size_t(q)]) = V(i, q);
   }
 }
 

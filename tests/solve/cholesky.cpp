@@ -141,6 +141,44 @@ TEST_SUITE("solve/cholesky") {
     }
   }
 
+  TEST_CASE("forward over many unit columns equals CHOLMOD's forward solve, with a dense block on top") {
+    // A grid with a dense SPD block on its last 300 unknowns (as K' on the
+    // operational system's interface): supernodal, its top a dense block.
+    const Eigen::SparseMatrix<double> G = test::grid_spd(10, 3);
+    const Eigen::Index n = G.rows(), nd = 300;
+    const Eigen::MatrixXd R = Eigen::MatrixXd::Random(nd, nd);
+    Eigen::MatrixXd D = R * R.transpose() / double(nd);
+    D.diagonal().array() += 1.0;
+    Eigen::MatrixXd Adense = Eigen::MatrixXd(G);
+    Adense.bottomRightCorner(nd, nd) += D;
+    const Eigen::SparseMatrix<double> A = Adense.sparseView();
+    for (const Eigen::SparseMatrix<double>& M : {A, test::grid_spd(3, 2)}) {
+      const solve::Cholesky chol(M, "test matrix");
+      CHECK(chol.supernodal() == (M.rows() == n));
+      solve::SolveWorkspace ws;
+      std::vector<int> rows;
+      for (int j = 0; j < 45; ++j) rows.push_back(int((j * 7919L) % M.rows()));
+      rows.push_back(int(M.rows()) - 1);  // in the dense block
+      rows.push_back(rows[3]);            // twice
+      for (const std::vector<int>& r : {rows, std::vector<int>{5}, std::vector<int>{}}) {
+        Eigen::MatrixXd E = Eigen::MatrixXd::Zero(M.rows(), Eigen::Index(r.size()));
+        for (size_t j = 0; j < r.size(); ++j) E(r[j], Eigen::Index(j)) = 1;
+        Eigen::MatrixXd Yd, Yc;
+        chol.forward_into(E, Yd, ws);
+        chol.forward_columns_into(r, Yc, ws);
+        REQUIRE(Yc.rows() == Yd.rows());
+        REQUIRE(Yc.cols() == Yd.cols());
+        CHECK((Yc - Yd).norm() <= 1e-13 * std::max(1.0, Yd.norm()));
+        // Y Y' = E' A^-1 E: the Gram matrix a low-rank correction uses.
+        const Eigen::MatrixXd X = Eigen::MatrixXd(chol.solve(E));
+        CHECK((Yc.transpose() * Yc - E.transpose() * X).norm() <= 1e-12 * std::max(1.0, X.norm()));
+      }
+      Eigen::MatrixXd Y2;
+      CHECK_THROWS_WITH_AS(chol.forward_columns_into(std::vector<int>{-1}, Y2, ws),
+                           doctest::Contains("unit column at row"), softcut::Error);
+    }
+  }
+
   TEST_CASE("backward on two threads gives the bits of one, and a column the bits it has alone") {
     const Eigen::SparseMatrix<double> A = test::grid_spd(12, 7);
     const solve::Cholesky chol(A, "test matrix");
