@@ -191,9 +191,21 @@ bool FactorCorrection::prepare(const OperationalSystem& base, const solve::Chole
       F.forward_columns_into(std::span(missing).subspan(size_t(c0), size_t(w)), Wn, k == 0 ? ws : helper_ws_);
       W_.middleCols(old + c0, w) = Wn;
     });
+    // Gram entries over the rows where the new columns are nonzero (their
+    // elimination-tree paths): runs of consecutive rows.
     column_halves(add, [&](int, Eigen::Index c0, Eigen::Index w) {
-      gram_.block(0, old + c0, old + add, w).noalias() =
-          W_.leftCols(old + add).transpose() * W_.middleCols(old + c0, w);
+      auto out = gram_.block(0, old + c0, old + add, w);
+      out.setZero();
+      const auto Wn = W_.middleCols(old + c0, w);
+      for (Eigen::Index r = 0; r < n;) {
+        if ((Wn.row(r).array() == 0).all()) {
+          ++r;
+          continue;
+        }
+        const Eigen::Index start = r;
+        while (r < n && !(Wn.row(r).array() == 0).all()) ++r;
+        out.noalias() += W_.block(start, 0, r - start, old + add).transpose() * Wn.middleRows(start, r - start);
+      }
     });
     gram_.block(old, 0, add, old) = gram_.block(0, old, old, add).transpose();
     cols_ = int(old + add);
@@ -264,25 +276,25 @@ void FactorCorrection::solve(const solve::Cholesky& F, const Eigen::VectorXd& b,
   if (b.size() != Eigen::Index(ext_of_next_.size()) || F.rows() != n)
     fail("FactorCorrection::solve: a right-hand side of size ", b.size(), " for a prepared system of ",
          ext_of_next_.size(), " unknowns (base factor ", F.rows(), " rows, kept columns for ", n, ")");
-  b_.setZero(n, 1);
+  b_.setZero(n);
   ba_.setZero(added_);
   for (size_t i = 0; i < ext_of_next_.size(); ++i) {
     const int e = ext_of_next_[i];
-    if (e < n) b_(e, 0) = b[Eigen::Index(i)];
+    if (e < n) b_[e] = b[Eigen::Index(i)];
     else ba_[e - n] = b[Eigen::Index(i)];
   }
   // Appended nodes eliminated: c = b_o - N_oa N_aa^-1 b_a.
   if (added_ > 0) {
     added_factor_.solve_into(ba_, xa_, ws);
     q_.noalias() = coupling_ * xa_;
-    for (int j = 0; j < k; ++j) b_(changed_[size_t(j)], 0) -= q_[j];
+    for (int j = 0; j < k; ++j) b_[changed_[size_t(j)]] -= q_[j];
   }
-  F.forward_into(b_, y_, ws);
+  F.forward_vector(b_, y_, ws, helper_);
   t_.resize(cols_);
   // W's two products read n x cols doubles each (18 MB at 8k operational
   // tets), which two cores stream faster.
   row_halves(helper_, cols_, [&](Eigen::Index c0, Eigen::Index w) {
-    t_.segment(c0, w).noalias() = W_.middleCols(c0, w).transpose() * y_.col(0);
+    t_.segment(c0, w).noalias() = W_.middleCols(c0, w).transpose() * y_;
   });
   g_.resize(k);
   for (int j = 0; j < k; ++j) g_[j] = t_[col_of_dof_[size_t(changed_[size_t(j)])]];
@@ -295,9 +307,9 @@ void FactorCorrection::solve(const solve::Cholesky& F, const Eigen::VectorXd& b,
   for (int j = 0; j < k; ++j) t_[col_of_dof_[size_t(changed_[size_t(j)])]] = q_[j];
   if (cols_ > 0)  // (no block of a matrix without storage)
     row_halves(helper_, n, [&](Eigen::Index r0, Eigen::Index h) {
-      y_.col(0).segment(r0, h).noalias() -= W_.block(r0, 0, h, cols_) * t_;
+      y_.segment(r0, h).noalias() -= W_.block(r0, 0, h, cols_) * t_;
     });
-  F.backward_into(y_.col(0), xb_, ws);
+  F.backward_vector(y_, xb_, ws, helper_);
   // x_a = N_aa^-1 (b_a - N_ao x_o).
   if (added_ > 0) {
     for (int j = 0; j < k; ++j) g_[j] = xb_[changed_[size_t(j)]];

@@ -46,8 +46,9 @@ namespace softcut::hybrid {
 class FactorCorrection {
  public:
   // New columns (forward solves and Gram entries), the appended nodes' Schur
-  // solves, G Delta and G Delta G, and a solve's two n x k products run
-  // in two fixed halves, the second on `helper` when it is awake (OpenBLAS on
+  // solves, G Delta and G Delta G, a solve's two n x k products and the
+  // products beside its triangular solves' dense top block run in two fixed
+  // halves, the second on `helper` when it is awake (OpenBLAS on
   // one thread meanwhile, so the two do not fight over its pool): the same
   // bits with or without it. Null: both halves on the caller.
   void share_helper(HelperThread* helper) { helper_ = helper; }
@@ -96,8 +97,7 @@ class FactorCorrection {
   int added_ = 0;                    // 3 |a|
   solve::Cholesky added_factor_;     // N_aa
   SparseMatrix coupling_;            // (k x 3|a|) N_oa on the changed rows
-  Eigen::VectorXd g_, q_, t_, xb_, ba_, xa_;  // scratch
-  Eigen::MatrixXd y_, b_;
+  Eigen::VectorXd g_, q_, t_, xb_, ba_, xa_, y_, b_;  // scratch
 };
 
 }  // namespace softcut::hybrid

@@ -445,6 +445,102 @@ void Cholesky::forward_columns_into(std::span<const int> rows, Eigen::MatrixXd& 
   }
 }
 
+void Cholesky::forward_vector(const Eigen::VectorXd& b, Eigen::VectorXd& y, SolveWorkspace& ws,
+                              HelperThread* helper) const {
+  if (!llt_) fail("Cholesky::forward called before factor()");
+  if (b.size() != rows_) fail("Cholesky::forward: a vector of size ", b.size(), " for a ", rows_, "-row factor");
+  const cholmod_factor* L = llt_->raw();
+  if (!L->is_super) {
+    Eigen::MatrixXd Y;
+    forward_into(b, Y, ws);
+    y = Y.col(0);
+    return;
+  }
+  const Supernodes sn(*L);
+  const int* perm = static_cast<const int*>(L->Perm);
+  y.resize(rows_);
+  for (int k = 0; k < rows_; ++k) y[k] = b[perm ? perm[k] : k];
+  const int top = sn.count - 1;
+  const bool split = sn.rows(top) == sn.cols(top) && sn.cols(top) >= kSplitTop;
+  Eigen::VectorXd v;
+  for (int s = 0; s < sn.count - (split ? 1 : 0); ++s) {
+    const int nsrow = sn.rows(s), nscol = sn.cols(s);
+    const int* rows_of_s = sn.Ls + sn.pi[s];
+    const auto block = sn.block(s);
+    v.resize(nsrow);
+    for (int i = 0; i < nsrow; ++i) v[i] = y[rows_of_s[i]];
+    block.topRows(nscol).triangularView<Eigen::Lower>().solveInPlace(v.head(nscol));
+    if (nsrow > nscol) v.tail(nsrow - nscol).noalias() -= block.bottomRows(nsrow - nscol) * v.head(nscol);
+    for (int i = 0; i < nsrow; ++i) y[rows_of_s[i]] = v[i];
+  }
+  if (!split) return;
+  // The top's rows are the last nt of y, in order.
+  const auto T = sn.block(top);
+  const Eigen::Index nt = T.cols();
+  auto yt = y.tail(nt);
+  for (Eigen::Index j0 = 0; j0 < nt; j0 += kSplitTop) {
+    const Eigen::Index jb = std::min<Eigen::Index>(kSplitTop, nt - j0), r = j0 + jb;
+    T.block(j0, j0, jb, jb).triangularView<Eigen::Lower>().solveInPlace(yt.segment(j0, jb));
+    row_halves(helper, long(nt - r), [&](Eigen::Index r0, Eigen::Index w) {
+      yt.segment(r + r0, w).noalias() -= T.block(r + r0, j0, w, jb) * yt.segment(j0, jb);
+    });
+  }
+}
+
+void Cholesky::backward_vector(const Eigen::VectorXd& y, Eigen::VectorXd& x, SolveWorkspace& ws,
+                               HelperThread* helper) const {
+  if (!llt_) fail("Cholesky::backward called before factor()");
+  if (y.size() != rows_) fail("Cholesky::backward: a vector of size ", y.size(), " for a ", rows_, "-row factor");
+  const cholmod_factor* L = llt_->raw();
+  if (!L->is_super) {
+    backward_into(y, x, ws);
+    return;
+  }
+  const Supernodes sn(*L);
+  Eigen::VectorXd t = y;  // L'^-1 y in L's order, finished from the top down
+  const int top = sn.count - 1;
+  const bool split = sn.rows(top) == sn.cols(top) && sn.cols(top) >= kSplitTop;
+  if (split) {
+    // Each block: its rows of t less the block's rows below it times their
+    // finished values (two partial sums over fixed row halves, added in
+    // order), then the transposed triangular solve.
+    const auto T = sn.block(top);
+    const Eigen::Index nt = T.cols();
+    auto tt = t.tail(nt);
+    Eigen::VectorXd part[2];
+    for (Eigen::Index j0 = (nt - 1) / kSplitTop * kSplitTop; j0 >= 0; j0 -= kSplitTop) {
+      const Eigen::Index jb = std::min<Eigen::Index>(kSplitTop, nt - j0), r = j0 + jb;
+      part[0].setZero(jb), part[1].setZero(jb);
+      if (nt > r) {
+        const long below = long(nt - r), h = below < 64 ? below : (below / 2 + 7) / 8 * 8;
+        run_halves(helper, [&](int k) {
+          const Eigen::Index r0 = k == 0 ? 0 : h, w = k == 0 ? h : below - h;
+          if (w > 0) part[k].noalias() = T.block(r + r0, j0, w, jb).transpose() * tt.segment(r + r0, w);
+        });
+      }
+      tt.segment(j0, jb) -= part[0];
+      tt.segment(j0, jb) -= part[1];
+      T.block(j0, j0, jb, jb).triangularView<Eigen::Lower>().transpose().solveInPlace(tt.segment(j0, jb));
+    }
+  }
+  Eigen::VectorXd v;
+  for (int s = sn.count - 1 - (split ? 1 : 0); s >= 0; --s) {
+    const int nsrow = sn.rows(s), nscol = sn.cols(s);
+    const int* rows_of_s = sn.Ls + sn.pi[s];
+    const auto block = sn.block(s);
+    auto ts = t.segment(sn.super[s], nscol);
+    if (nsrow > nscol) {
+      v.resize(nsrow - nscol);
+      for (int i = nscol; i < nsrow; ++i) v[i - nscol] = t[rows_of_s[i]];
+      ts.noalias() -= block.bottomRows(nsrow - nscol).transpose() * v;
+    }
+    block.topRows(nscol).triangularView<Eigen::Lower>().transpose().solveInPlace(ts);
+  }
+  const int* perm = static_cast<const int*>(L->Perm);
+  x.resize(rows_);
+  for (int k = 0; k < rows_; ++k) x[perm ? perm[k] : k] = t[k];
+}
+
 void Cholesky::set_items() {
   item_ = subtree_items(Supernodes(*llt_->raw()));
   items_ = item_.empty() ? 0 : *std::max_element(item_.begin(), item_.end());

@@ -179,6 +179,48 @@ TEST_SUITE("solve/cholesky") {
     }
   }
 
+  TEST_CASE("one-vector forward and backward equal CHOLMOD's, with the same bits on two threads") {
+    // Grids with and without a dense SPD block on their last 600 unknowns
+    // (a top supernode of three kSplitTop blocks), and a simplicial factor.
+    const Eigen::SparseMatrix<double> G = test::grid_spd(10, 5);
+    const Eigen::Index nd = 600;
+    const Eigen::MatrixXd R = Eigen::MatrixXd::Random(nd, nd);
+    Eigen::MatrixXd Adense = Eigen::MatrixXd(G);
+    Adense.bottomRightCorner(nd, nd) += R * R.transpose() / double(nd) + Eigen::MatrixXd::Identity(nd, nd);
+    const Eigen::SparseMatrix<double> A = Adense.sparseView();
+    softcut::HelperThread helper;
+    const std::vector<Eigen::SparseMatrix<double>> matrices{A, G, test::grid_spd(3, 4)};
+    for (size_t which = 0; which < matrices.size(); ++which) {
+      const Eigen::SparseMatrix<double>& M = matrices[which];
+      const solve::Cholesky chol(M, "test matrix");
+      solve::SolveWorkspace ws;
+      const Eigen::VectorXd b = Eigen::VectorXd::Random(M.rows());
+      Eigen::MatrixXd Yref;
+      chol.forward_into(b, Yref, ws);
+      Eigen::VectorXd y, x, xref, y2, x2;
+      chol.forward_vector(b, y, ws);
+      CHECK((y - Yref.col(0)).norm() <= 1e-13 * Yref.norm());
+      chol.backward_vector(y, x, ws);
+      chol.backward_into(Eigen::VectorXd(Yref.col(0)), xref, ws);
+      CHECK((x - xref).norm() <= 1e-12 * xref.norm());
+      const Eigen::VectorXd xs = chol.solve(b);
+      CHECK((x - xs).norm() <= 1e-12 * xs.norm());
+      const long before = helper.helped();
+      for (int attempt = 0; attempt < 50 && (attempt == 0 || helper.helped() == before); ++attempt) {
+        helper.wake();
+        chol.forward_vector(b, y2, ws, &helper);
+        chol.backward_vector(y2, x2, ws, &helper);
+        CHECK(y2 == y);
+        CHECK(x2 == x);
+      }
+      if (which == 0) CHECK(helper.helped() > before);  // the dense top's halves
+      CHECK_THROWS_WITH_AS(chol.forward_vector(Eigen::VectorXd::Zero(3), y2, ws), doctest::Contains("a vector of size 3"),
+                           softcut::Error);
+      CHECK_THROWS_WITH_AS(chol.backward_vector(Eigen::VectorXd::Zero(3), x2, ws), doctest::Contains("a vector of size 3"),
+                           softcut::Error);
+    }
+  }
+
   TEST_CASE("backward on two threads gives the bits of one, and a column the bits it has alone") {
     const Eigen::SparseMatrix<double> A = test::grid_spd(12, 7);
     const solve::Cholesky chol(A, "test matrix");
