@@ -1,6 +1,7 @@
 #include "hybrid/update.hpp"
 
 #include <algorithm>
+#include <optional>
 
 #include "core/error.hpp"
 #include "core/threads.hpp"
@@ -88,6 +89,13 @@ const FrameReport& update(const Model& M, State& S, std::span<const Load> loads,
                           const UpdateOptions& opt) {
   Timer total, t;
   FrameReport rep;
+  // With a helper thread, OpenBLAS stays on one thread through the frame:
+  // after a two-thread call its worker spins on the helper's core for a
+  // while, and the helper's halves (stage 5, a first touch's subtrees) then
+  // crawl (a 3-column backward solve: helper took 1 of 11 subtrees, no
+  // faster than one thread; with BLAS on one thread 10 of 11, 1.5x faster).
+  std::optional<SingleThreadedBlas> one_blas_thread;
+  if (S.helper) one_blas_thread.emplace();
   if (S.helper) S.helper->wake();  // spinning by the time stages 4 and 5 come
   const OperationalSystem& op = *S.operational;
   const int nn_op = int(op.node_index.size());

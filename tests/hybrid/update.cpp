@@ -7,6 +7,7 @@
 #include <random>
 
 #include "core/error.hpp"
+#include "core/threads.hpp"
 #include "fixtures.hpp"
 #include "fem/whole_mesh.hpp"
 #include "mesh/generate/presets.hpp"
@@ -110,6 +111,39 @@ TEST_SUITE("hybrid/update") {
                                                     po.initial_loads + test::load_field(c.mesh.num_nodes(), loads));
       CHECK(test::relative_error(state.u, ref, visible_nodes(c.partition)) <= 1e-8);
     }
+  }
+
+  TEST_CASE("a frame with the run's helper thread holds OpenBLAS at one thread, and gives it back") {
+    // The operational solver sees the BLAS thread count the frame runs with.
+    struct Probe : OperationalSolver {
+      CgSolver cg;
+      std::vector<int> seen;
+      std::string name() const override { return "probe"; }
+      SolveReport solve(const OperationalSystem& sys, const Eigen::VectorXd& b, Eigen::VectorXd& x) override {
+        seen.push_back(blas_threads());
+        return cg.solve(sys, b, x);
+      }
+    };
+    REQUIRE(blas_threads() > 0);
+    const int before = blas_threads();
+    apply_blas_threads(2);
+    std::mt19937 rng(5);
+    const HybridCase c = test::random_case(rng, 0);
+    const Model model = precompute(c.mesh, c.material, c.partition);
+    const auto loads = test::random_loads(c.partition, rng, 2);
+    for (const int threads : {1, 2}) {
+      StateOptions so;
+      so.product_threads = threads;
+      State state = make_state(model, std::make_unique<Probe>(), so);
+      REQUIRE(bool(state.helper) == (threads == 2));
+      update(model, state, loads);
+      update(model, state, loads);
+      CHECK(blas_threads() == 2);  // given back after each frame
+      const auto& seen = static_cast<Probe&>(*state.solver).seen;
+      REQUIRE(seen.size() == 2);
+      for (int t : seen) CHECK(t == (threads == 2 ? 1 : 2));
+    }
+    apply_blas_threads(before);
   }
 
   TEST_CASE("dense, product and factor storage give the same displacements frame after frame") {
