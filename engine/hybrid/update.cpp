@@ -95,8 +95,10 @@ const FrameReport& update(const Model& M, State& S, std::span<const Load> loads,
   // crawl (a 3-column backward solve: helper took 1 of 11 subtrees, no
   // faster than one thread; with BLAS on one thread 10 of 11, 1.5x faster).
   std::optional<SingleThreadedBlas> one_blas_thread;
-  if (S.helper) one_blas_thread.emplace();
-  if (S.helper) S.helper->wake();  // spinning by the time stages 4 and 5 come
+  if (S.helper) {
+    one_blas_thread.emplace();
+    S.helper->wake();  // spinning by the time stages 4 and 5 come
+  }
   const OperationalSystem& op = *S.operational;
   const int nn_op = int(op.node_index.size());
   if (S.u.rows() < nn_op) {  // nodes appended by cutting

@@ -73,6 +73,8 @@ struct Supernodes {
   }
   // The supernode holding column `col`.
   int of(int col) const { return int(std::upper_bound(super, super + count + 1, col) - super) - 1; }
+  // The parent of s, -1 for a root (no rows below its diagonal block).
+  int parent(int s) const { return rows(s) > cols(s) ? of(Ls[pi[s] + cols(s)]) : -1; }
 };
 
 using RowMajorMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
@@ -158,8 +160,7 @@ std::vector<int> subtree_items(const Supernodes& sn) {
     const double cols = sn.cols(s);
     own[size_t(s)] = cols * sn.rows(s) - cols * (cols - 1) / 2;
     weight[size_t(s)] += own[size_t(s)];
-    if (sn.rows(s) > sn.cols(s)) {
-      const int p = sn.of(sn.Ls[sn.pi[s] + sn.cols(s)]);
+    if (const int p = sn.parent(s); p >= 0) {
       parent[size_t(s)] = p;
       weight[size_t(p)] += weight[size_t(s)];
       children[size_t(p)].push_back(s);
@@ -377,11 +378,9 @@ void Cholesky::forward_unit_into(std::span<const int> rows, Eigen::MatrixXd& Y, 
   std::vector<int> path;
   std::vector<char> on(size_t(sn.count), 0);
   for (int k : column)
-    for (int s = sn.of(k); !on[size_t(s)];) {
+    for (int s = sn.of(k); s >= 0 && !on[size_t(s)]; s = sn.parent(s)) {
       on[size_t(s)] = 1;
       path.push_back(s);
-      if (sn.rows(s) == sn.cols(s)) break;
-      s = sn.of(sn.Ls[sn.pi[s] + sn.cols(s)]);
     }
   std::sort(path.begin(), path.end());
 
@@ -421,11 +420,7 @@ void Cholesky::forward_columns_into(std::span<const int> rows, Eigen::MatrixXd& 
   // root, grouped by supernode (children before parents), columns increasing.
   std::vector<std::pair<int, int>> on_path;
   for (Eigen::Index j = 0; j < m; ++j)
-    for (int s = sn.of(column[size_t(j)]);;) {
-      on_path.emplace_back(s, int(j));
-      if (sn.rows(s) == sn.cols(s)) break;
-      s = sn.of(sn.Ls[sn.pi[s] + sn.cols(s)]);
-    }
+    for (int s = sn.of(column[size_t(j)]); s >= 0; s = sn.parent(s)) on_path.emplace_back(s, int(j));
   std::sort(on_path.begin(), on_path.end());
 
   Y.setZero(rows_, m);
@@ -519,13 +514,9 @@ void Cholesky::backward_vector(const Eigen::VectorXd& y, Eigen::VectorXd& x, Sol
     for (Eigen::Index j0 = (nt - 1) / kSplitTop * kSplitTop; j0 >= 0; j0 -= kSplitTop) {
       const Eigen::Index jb = std::min<Eigen::Index>(kSplitTop, nt - j0), r = j0 + jb;
       part[0].setZero(jb), part[1].setZero(jb);
-      if (nt > r) {
-        const long below = long(nt - r), h = below < 64 ? below : (below / 2 + 7) / 8 * 8;
-        run_halves(helper, [&](int k) {
-          const Eigen::Index r0 = k == 0 ? 0 : h, w = k == 0 ? h : below - h;
-          if (w > 0) part[k].noalias() = T.block(r + r0, j0, w, jb).transpose() * tt.segment(r + r0, w);
-        });
-      }
+      row_halves(helper, long(nt - r), [&](Eigen::Index r0, Eigen::Index w) {
+        if (w > 0) part[r0 == 0 ? 0 : 1].noalias() = T.block(r + r0, j0, w, jb).transpose() * tt.segment(r + r0, w);
+      });
       tt.segment(j0, jb) -= part[0];
       tt.segment(j0, jb) -= part[1];
       T.block(j0, j0, jb, jb).triangularView<Eigen::Lower>().transpose().solveInPlace(tt.segment(j0, jb));
