@@ -321,9 +321,9 @@ TEST_SUITE("solve/cholesky") {
     const int n = int(A.rows());
     REQUIRE(good.super.size() >= 3);
     CHECK(good.load() == "");  // taken apart and written back unchanged: it loads
-    // Each break keeps the checksum valid. cholmod_check_factor refuses most;
-    // a last row equal to n, still increasing, passes it and only the layout
-    // check (supernodes_well_formed) stops it before a solve reads row n.
+    // Each break keeps the checksum valid; the load checks the layout itself
+    // (cholmod_check_factor let a last row equal to n, still increasing,
+    // through, and never looked at maxesize, the solve's workspace).
     // A supernode with rows below its own columns.
     size_t k = 0;
     while (k + 1 < good.super.size() && good.pi[k + 1] - good.pi[k] <= good.super[k + 1] - good.super[k]) ++k;
@@ -341,6 +341,13 @@ TEST_SUITE("solve/cholesky") {
         {"the supernodes ending before n", [&](SavedSupernodal& f) { f.super.back() = n - 1; }},
         {"a supernode's block past the values", [&](SavedSupernodal& f) { f.px.back() = int(f.x.size()) + 1; }},
         {"a supernode's own rows not its columns", [&](SavedSupernodal& f) { f.s[size_t(good.pi[k])] += 1; }},
+        {"a supernode's rows past the row array, the last end still right",
+         [&](SavedSupernodal& f) { f.pi[1] = int(f.s.size()) + 1000; }},
+        {"a supernode's block smaller than rows x columns", [&](SavedSupernodal& f) { f.px[1] -= 1; }},
+        {"maxesize, the solve's workspace, too small", [&](SavedSupernodal& f) { f.header[10] = 0; }},
+        {"a permutation that repeats a row", [&](SavedSupernodal& f) { f.perm[1] = f.perm[0]; }},
+        {"a permutation past n", [&](SavedSupernodal& f) { f.perm[0] = n; }},
+        {"a column count past the rows below it", [&](SavedSupernodal& f) { f.colcount.back() = 2; }},
     };
     for (const auto& [what, broken] : breaks) {
       const std::string name = what;
