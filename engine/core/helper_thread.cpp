@@ -59,7 +59,8 @@ void HelperThread::publish(int count, int taken, const std::function<void(int)>&
 
 void HelperThread::finish_and_wait() {
   int item = 0;
-  for (uint64_t job = job_.load(std::memory_order_acquire); claim(job, item);) {  // what the helper has not taken
+  for (uint64_t job = job_.load(std::memory_order_acquire); !leave_to_helper_.load() && claim(job, item);) {
+    // what the helper has not taken
     (*fn_)(item);
     done_.fetch_add(1, std::memory_order_release);
   }
@@ -91,7 +92,9 @@ void HelperThread::run_items(int count, const std::function<void(int)>& fn) {
 
 void HelperThread::loop() {
   using Clock = std::chrono::steady_clock;
-  uint64_t seen = job_.load();
+  // The word job_ was constructed with: a job published before this thread
+  // first looks is new to it (it was taken as seen, and left to the caller).
+  uint64_t seen = 0;
   while (!stop_.load()) {
     Clock::time_point since = Clock::now();
     for (int spins = 0;; ++spins) {

@@ -46,6 +46,11 @@ class HelperThread {
   void run_items(int count, const std::function<void(int)>& fn);
   // Items (halves included) the helper computed so far (for tests and the bench).
   long helped() const { return helped_.load(std::memory_order_relaxed); }
+  // For tests: the caller leaves every item it has not started to the helper
+  // and waits for it (run_halves still runs half 0 on the caller), so a test
+  // of "the same bits whoever computed what" sees the helper's work on a
+  // loaded machine too, where the caller would otherwise often take both.
+  void leave_to_helper(bool on) { leave_to_helper_.store(on); }
 
  private:
   void loop();
@@ -63,6 +68,7 @@ class HelperThread {
   std::atomic<bool> sleeping_{false};
   std::atomic<bool> stop_{false};
   std::atomic<long> helped_{0};
+  std::atomic<bool> leave_to_helper_{false};
   const std::function<void(int)>* fn_ = nullptr;  // valid while a job runs
   std::thread thread_;
 };

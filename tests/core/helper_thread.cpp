@@ -64,6 +64,25 @@ TEST_SUITE("core/helper_thread") {
     CHECK(sum == 300);
   }
 
+  TEST_CASE("left to the helper (tests' hook), every item the caller has not started runs on the helper") {
+    HelperThread h;
+    h.leave_to_helper(true);
+    const std::thread::id caller = std::this_thread::get_id();
+    for (int job = 0; job < 50; ++job) {
+      // Asleep past its spin time, or spinning: the job wakes it either way.
+      if (job % 2) std::this_thread::sleep_for(std::chrono::microseconds(3 * HelperThread::kSpinMicroseconds));
+      std::array<std::thread::id, 2> ran{};
+      h.run_halves([&](int half) { ran[size_t(half)] = std::this_thread::get_id(); });
+      REQUIRE(ran[0] == caller);
+      REQUIRE(ran[1] != caller);
+      std::array<std::thread::id, 5> items{};
+      h.run_items(5, [&](int item) { items[size_t(item)] = std::this_thread::get_id(); });
+      for (const auto& id : items) REQUIRE((id != caller && id != std::thread::id{}));
+    }
+    CHECK(h.helped() == 50 * 6);
+    h.leave_to_helper(false);
+  }
+
   TEST_CASE("a job of items runs each exactly once, whoever claims them") {
     HelperThread h;
     for (int job = 0; job < 5000; ++job) {
