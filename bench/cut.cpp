@@ -184,7 +184,7 @@ SizeResult run_size(int cells, int target, int steps, gpu::EglContext* context) 
     std::vector<int> op;
     for (int t = 0; t < nt; ++t)
       if (op_tet[size_t(t)]) op.push_back(t);
-    const auto sys = hybrid::rebuild_operational_system(model, m, mat, op, node_fixed);
+    const auto sys = hybrid::rebuild_operational_system(model, m, mat, op, node_fixed, warm.operational.get());
     // A state onto the cut system: its field carried onto the new nodes (the
     // warm start) or zeroed, its forces grown to the new node count.
     auto onto_cut = [&](hybrid::State& st, bool carry) {

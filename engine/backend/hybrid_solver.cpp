@@ -78,7 +78,7 @@ class HybridSolver final : public Solver {
     rs->state = hybrid::make_state(model_, make_operational_solver());
     if (device_product_)
       rs->state.nonoperational_product = std::make_shared<gpu::DeviceDenseProduct>(*context_, model_.Kstar_inv_Pstar);
-    if (cut) hybrid::set_operational_system(rs->state, cut_system(*cut));
+    if (cut) hybrid::set_operational_system(rs->state, cut_system(*cut, model_.operational.get()));
     warm.backend = std::move(rs);
   }
 
@@ -89,7 +89,7 @@ class HybridSolver final : public Solver {
 
   void apply_cut(const CutBody& cm, SolverRun& warm) const override {
     HybridRunState& rs = run_state(warm);
-    hybrid::set_operational_system(rs.state, cut_system(cm));
+    hybrid::set_operational_system(rs.state, cut_system(cm, rs.state.operational.get()));
     // Warm start and running state onto the new nodes (the next update
     // gathers the CG start from u because the system generation changed).
     if (cm.carry && rs.state.u.rows() == cm.nodes_before) rs.state.u = cm.carry(rs.state.u);
@@ -221,11 +221,14 @@ class HybridSolver final : public Solver {
     return static_cast<HybridRunState&>(*warm.backend);
   }
 
-  std::shared_ptr<const hybrid::OperationalSystem> cut_system(const CutBody& cm) const {
+  // The system of the cut mesh; `before` is the one it replaces (its rows
+  // that the cut left alone are reused).
+  std::shared_ptr<const hybrid::OperationalSystem> cut_system(const CutBody& cm,
+                                                              const hybrid::OperationalSystem* before) const {
     std::vector<int> op;
     for (int t = 0; t < cm.mesh.num_tets(); ++t)
       if (cm.operational_tet[size_t(t)]) op.push_back(t);
-    return hybrid::rebuild_operational_system(model_, cm.mesh, cm.tet_material, op, cm.node_fixed);
+    return hybrid::rebuild_operational_system(model_, cm.mesh, cm.tet_material, op, cm.node_fixed, before);
   }
 
   // One per run: CPU solvers keep a factor or warm start, the device solver

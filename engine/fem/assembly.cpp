@@ -1,6 +1,7 @@
 #include "fem/assembly.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <exception>
@@ -24,8 +25,8 @@ std::vector<int> tet_set(const mesh::TetMesh& m, const std::vector<int>& tets_in
   return all;
 }
 
-// Everything that would make an element matrix wrong, named, before any
-// (possibly threaded) work starts.
+}  // namespace
+
 void check_tets(const mesh::TetMesh& m, const std::vector<Material>& tet_material, const std::vector<int>& tets,
                 const char* who) {
   const int nn = m.num_nodes(), nt = m.num_tets();
@@ -54,8 +55,6 @@ void check_tets(const mesh::TetMesh& m, const std::vector<Material>& tet_materia
            " m: it is inverted or degenerate; run mesh::validate (which reorients) or fix its nodes");
   }
 }
-
-}  // namespace
 
 SparseMatrix assemble_stiffness(const mesh::TetMesh& m, const std::vector<Material>& tet_material,
                                 const std::vector<int>& tets_in, int threads) {
@@ -210,18 +209,9 @@ BlockStiffness assemble_node_blocks(const mesh::TetMesh& m, const std::vector<Ma
   // Adds tet t into the node rows in [lo, hi).
   auto scatter = [&](int t, int lo, int hi) {
     const Mat12 Ke = element_stiffness(tet_corners(m, t), tet_material[size_t(t)]);
-    for (int b = 0; b < 4; ++b) {
-      const int j = pos(t, b);
-      if (j < lo || j >= hi) continue;
-      const int* first = K.col.data() + K.row_start[size_t(j)];
-      const int* last = K.col.data() + K.row_start[size_t(j) + 1];
-      for (int a = 0; a < 4; ++a) {
-        if (pos(t, a) < 0) continue;
-        Eigen::Matrix3d& B = K.blocks[size_t(std::lower_bound(first, last, pos(t, a)) - K.col.data())];
-        for (int c = 0; c < 3; ++c)
-          for (int r = 0; r < 3; ++r) B(c, r) += Ke(3 * a + r, 3 * b + c);  // K(3 i + r, 3 j + c) as assembled
-      }
-    }
+    const std::array<int, 4> p{pos(t, 0), pos(t, 1), pos(t, 2), pos(t, 3)};
+    for (int b = 0; b < 4; ++b)
+      if (p[size_t(b)] >= lo && p[size_t(b)] < hi) add_element_row(K, Ke, p, b);
   };
   // Owner computes, as assemble_stiffness: two row ranges of equal block
   // counts, each thread walking the tets that touch its range in tet order
@@ -253,6 +243,18 @@ BlockStiffness assemble_node_blocks(const mesh::TetMesh& m, const std::vector<Ma
   second.join();
   if (error) std::rethrow_exception(error);
   return K;
+}
+
+void add_element_row(BlockStiffness& K, const Mat12& Ke, const std::array<int, 4>& pos, int b) {
+  const int j = pos[size_t(b)];
+  const int* first = K.col.data() + K.row_start[size_t(j)];
+  const int* last = K.col.data() + K.row_start[size_t(j) + 1];
+  for (int a = 0; a < 4; ++a) {
+    if (pos[size_t(a)] < 0) continue;
+    Eigen::Matrix3d& B = K.blocks[size_t(std::lower_bound(first, last, pos[size_t(a)]) - K.col.data())];
+    for (int c = 0; c < 3; ++c)
+      for (int r = 0; r < 3; ++r) B(c, r) += Ke(3 * a + r, 3 * b + c);  // K(3 i + r, 3 j + c) as assembled
+  }
 }
 
 SparseMatrix BlockStiffness::to_sparse() const {

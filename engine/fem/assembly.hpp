@@ -4,8 +4,10 @@
 // dof = 3 * node + axis over all nodes of the mesh; nodes outside the tet set
 // get empty rows and columns.
 #include <Eigen/SparseCore>
+#include <array>
 #include <vector>
 
+#include "fem/element_stiffness.hpp"
 #include "fem/material.hpp"
 
 namespace softcut::fem {
@@ -32,6 +34,13 @@ SparseMatrix assemble_stiffness(const mesh::TetMesh& m, const std::vector<Materi
 // additions in the same order as assemble_stiffness's, so to_sparse() equals
 // that matrix's rows and columns of the subset bit for bit (pairs with a node
 // outside the subset dropped, structural zeros kept).
+// Throws, naming the tet, on everything that would make an element matrix
+// wrong: a tet id or node out of range, a bad material, an inverted or
+// degenerate tet; `who` starts the message. The assemblers call it before any
+// (possibly threaded) work starts.
+void check_tets(const mesh::TetMesh& m, const std::vector<Material>& tet_material, const std::vector<int>& tets,
+                const char* who);
+
 struct BlockStiffness {
   std::vector<int> row_start;            // (nodes + 1) first block of each node row
   std::vector<int> col;                  // node column of each block
@@ -41,6 +50,12 @@ struct BlockStiffness {
   // (3 nodes x 3 nodes), both triangles stored.
   SparseMatrix to_sparse() const;
 };
+
+// Adds an element matrix (tet corners' positions `pos`, -1: not in the
+// subset) into block row pos[b] of K, whose pattern holds the row's
+// neighbours: the one addition every block assembler makes, so that they all
+// sum the same terms the same way (bit for bit).
+void add_element_row(BlockStiffness& K, const Mat12& Ke, const std::array<int, 4>& pos, int b);
 
 // `position` (nnode) numbers the subset's nodes 0..num_positions-1 (-1: not
 // in it). Same checks as assemble_stiffness. Used after every cut: it skips

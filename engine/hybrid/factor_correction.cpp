@@ -17,10 +17,10 @@ namespace {
 struct BlockRow {
   const OperationalSystem& sys;
   int pos;
-  int begin() const { return sys.block_row_start[size_t(pos)]; }
-  int end() const { return sys.block_row_start[size_t(pos) + 1]; }
-  int node(int k) const { return sys.nodes[size_t(sys.block_col[size_t(k)])]; }
-  const Eigen::Matrix3d& block(int k) const { return sys.blocks[size_t(k)]; }
+  int begin() const { return sys.block.row_start[size_t(pos)]; }
+  int end() const { return sys.block.row_start[size_t(pos) + 1]; }
+  int node(int k) const { return sys.nodes[size_t(sys.block.col[size_t(k)])]; }
+  const Eigen::Matrix3d& block(int k) const { return sys.block.blocks[size_t(k)]; }
 };
 
 // Rows equal bit for bit: same neighbour nodes in the same order, same blocks.
@@ -38,7 +38,7 @@ int position(const OperationalSystem& sys, int node) {
 Eigen::Matrix3d diagonal_block(const OperationalSystem& sys, int pos) {
   const BlockRow r{sys, pos};
   for (int k = r.begin(); k < r.end(); ++k)
-    if (sys.block_col[size_t(k)] == pos) return r.block(k);
+    if (sys.block.col[size_t(k)] == pos) return r.block(k);
   return Eigen::Matrix3d::Zero();
 }
 
@@ -81,7 +81,7 @@ bool FactorCorrection::prepare(const OperationalSystem& base, const solve::Chole
   if (flops) *flops = 0;
   const int nb = int(base.nodes.size()), nn = int(next.nodes.size());
   if (F.rows() != base.size() || base.num_interface != next.num_interface || base.K_prime != next.K_prime ||
-      int(base.block_row_start.size()) != nb + 1 || int(next.block_row_start.size()) != nn + 1 ||
+      int(base.block.row_start.size()) != nb + 1 || int(next.block.row_start.size()) != nn + 1 ||
       !std::equal(base.nodes.begin() + base.num_operational, base.nodes.end(),
                   next.nodes.begin() + next.num_operational))
     return false;
@@ -136,7 +136,7 @@ bool FactorCorrection::prepare(const OperationalSystem& base, const solve::Chole
   for (int e = nb; e < ext_nodes; ++e) {
     const BlockRow r{next, next_of_ext[size_t(e)]};
     for (int b = r.begin(); b < r.end(); ++b) {
-      const int f = ext_node[size_t(next.block_col[size_t(b)])];
+      const int f = ext_node[size_t(next.block.col[size_t(b)])];
       const int i = 3 * (e - nb);
       for (int u = 0; u < 3; ++u)
         for (int v = 0; v < 3; ++v) {
@@ -219,7 +219,7 @@ bool FactorCorrection::prepare(const OperationalSystem& base, const solve::Chole
     const int p = k_nodes[size_t(i)], q = next_of_ext[size_t(p)];
     auto add_row = [&](const BlockRow& r, auto base_pos, double sign) {
       for (int b = r.begin(); b < r.end(); ++b) {
-        const int f = base_pos(r.sys.block_col[size_t(b)]);
+        const int f = base_pos(r.sys.block.col[size_t(b)]);
         const int j = f >= 0 && f < nb ? k_of_node[size_t(f)] : -1;
         if (j >= 0) delta_.block<3, 3>(3 * i, 3 * j) += sign * r.block(b);
       }

@@ -13,12 +13,12 @@ std::atomic<long> next_generation{1};
 
 void OperationalSystem::apply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
   const int nb = size() / 3;
-  if (int(block_row_start.size()) == nb + 1) {
+  if (int(block.row_start.size()) == nb + 1) {
     y.resize(size());
     for (int i = 0; i < nb; ++i) {
       Eigen::Vector3d acc = Eigen::Vector3d::Zero();
-      for (int k = block_row_start[size_t(i)]; k < block_row_start[size_t(i) + 1]; ++k)
-        acc.noalias() += blocks[size_t(k)] * x.segment<3>(3 * Eigen::Index(block_col[size_t(k)]));
+      for (int k = block.row_start[size_t(i)]; k < block.row_start[size_t(i) + 1]; ++k)
+        acc.noalias() += block.blocks[size_t(k)] * x.segment<3>(3 * Eigen::Index(block.col[size_t(k)]));
       y.segment<3>(3 * Eigen::Index(i)) = acc;
     }
   } else {
@@ -62,7 +62,8 @@ OperationalSystem build_operational_system(const mesh::TetMesh& m, const std::ve
                                            const std::vector<int>& interface_nodes,
                                            const std::vector<char>& node_fixed,
                                            const std::vector<char>& node_nonoperational,
-                                           std::shared_ptr<const Eigen::MatrixXd> K_prime) {
+                                           std::shared_ptr<const Eigen::MatrixXd> K_prime,
+                                           const OperationalSystem* before, fem::ReassemblyReport* report) {
   const int nn = m.num_nodes();
   const Eigen::Index ni = 3 * Eigen::Index(interface_nodes.size());
   if (!K_prime || K_prime->rows() != ni || K_prime->cols() != ni)
@@ -92,13 +93,21 @@ OperationalSystem build_operational_system(const mesh::TetMesh& m, const std::ve
   sys.num_interface = int(interface_nodes.size());
   sys.node_index = node_positions(sys.nodes, nn);
   // K in 3x3 node blocks (apply() runs on them), and as a sparse matrix.
-  fem::BlockStiffness blocks;
-  if (operational_tets.empty()) blocks.row_start.assign(sys.nodes.size() + 1, 0);
-  else blocks = fem::assemble_node_blocks(m, tet_material, operational_tets, sys.node_index, int(sys.nodes.size()));
-  sys.K = blocks.to_sparse();
-  sys.block_row_start = std::move(blocks.row_start);
-  sys.block_col = std::move(blocks.col);
-  sys.blocks = std::move(blocks.blocks);
+  // After a cut, the rows no changed tet touches come from the system before
+  // it (the same bits: fem/reassembly.hpp).
+  const int np = int(sys.nodes.size());
+  fem::AssemblyInputs inputs;
+  if (operational_tets.empty()) {
+    sys.block.row_start.assign(size_t(np) + 1, 0);
+  } else if (before && before->assembly) {
+    sys.block = fem::reassemble_node_blocks(before->block, *before->assembly, m, tet_material, operational_tets,
+                                            sys.node_index, np, report, &inputs);
+  } else {
+    sys.block = fem::assemble_node_blocks(m, tet_material, operational_tets, sys.node_index, np);
+    inputs = fem::assembly_inputs(m, tet_material, operational_tets, sys.node_index, np);
+  }
+  sys.assembly = std::make_shared<const fem::AssemblyInputs>(std::move(inputs));
+  sys.K = sys.block.to_sparse();
   // Initial strains of the operational tets (split tets carry their parent's).
   bool strained = false;
   for (int t : operational_tets) strained = strained || fem::has_initial_strain(tet_material[size_t(t)]);

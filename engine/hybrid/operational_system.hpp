@@ -30,7 +30,9 @@
 #include <string>
 #include <vector>
 
+#include "fem/assembly.hpp"
 #include "fem/material.hpp"
+#include "fem/reassembly.hpp"
 #include "hybrid/node_blocks.hpp"
 #include "mesh/tet_mesh.hpp"
 
@@ -50,9 +52,10 @@ struct OperationalSystem {
   // K again in 3x3 node blocks, row by row (block CSR; K is symmetric), made by
   // build_operational_system: apply() runs on it, 3x faster than the scalar
   // sparse product. Empty for a hand-made system: apply() uses K then.
-  std::vector<int> block_row_start;      // (size()/3 + 1) first block of each node row
-  std::vector<int> block_col;            // node column of each block
-  std::vector<Eigen::Matrix3d> blocks;   // K(3 row + a, 3 col + b) = blocks[k](a, b)
+  fem::BlockStiffness block;
+  // What `block` was assembled from, so that the system of a cut mesh
+  // reassembles only the rows the cut changed (fem/reassembly.hpp).
+  std::shared_ptr<const fem::AssemblyInputs> assembly;
 
   int size() const { return int(3 * nodes.size()); }
   int interface_offset() const { return 3 * num_operational; }
@@ -72,12 +75,17 @@ struct OperationalSystem {
 // operational tet touches one any more); `node_fixed` (nnode) marks fixed
 // nodes. K_prime must be (3|I| x 3|I|). Throws when an operational tet uses a
 // nonoperational node that is not an interface node (the precomputed data
-// would no longer describe the nonoperational region).
+// would no longer describe the nonoperational region). `before` (optional):
+// the system this one replaces (a cut); the rows of K that no changed tet
+// touches are taken from it, with the same result bit for bit; `report`
+// (optional) says how many rows were assembled.
 OperationalSystem build_operational_system(const mesh::TetMesh& m, const std::vector<fem::Material>& tet_material,
                                            const std::vector<int>& operational_tets,
                                            const std::vector<int>& interface_nodes,
                                            const std::vector<char>& node_fixed,
                                            const std::vector<char>& node_nonoperational,
-                                           std::shared_ptr<const Eigen::MatrixXd> K_prime);
+                                           std::shared_ptr<const Eigen::MatrixXd> K_prime,
+                                           const OperationalSystem* before = nullptr,
+                                           fem::ReassemblyReport* report = nullptr);
 
 }  // namespace softcut::hybrid

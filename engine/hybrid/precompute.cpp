@@ -260,7 +260,8 @@ Model precompute(const mesh::TetMesh& m, const std::vector<fem::Material>& tet_m
 
 std::shared_ptr<const OperationalSystem> rebuild_operational_system(
     const Model& model, const mesh::TetMesh& m, const std::vector<fem::Material>& tet_material,
-    const std::vector<int>& operational_tets, const std::vector<char>& new_fixed) {
+    const std::vector<int>& operational_tets, const std::vector<char>& new_fixed, const OperationalSystem* before,
+    fem::ReassemblyReport* report) {
   if (m.num_nodes() < model.num_nodes)
     fail("rebuild operational system: the mesh has ", m.num_nodes(), " nodes, fewer than the ", model.num_nodes,
          " of the precomputed model; cutting may only append nodes");
@@ -272,7 +273,7 @@ std::shared_ptr<const OperationalSystem> rebuild_operational_system(
   return std::make_shared<const OperationalSystem>(
       build_operational_system(m, tet_material, operational_tets, model.partition.interface,
                                new_fixed.empty() ? model.node_fixed : new_fixed, model.node_nonoperational,
-                               model.K_prime));
+                               model.K_prime, before, report));
 }
 
 std::string describe(const Model& M) {

@@ -142,10 +142,12 @@ void build_operational(const mesh::TetMesh& m, Model& M);
 // original ones; `tet_material` (m.num_tets()); `operational_tets` the
 // operational tets of `m`; `new_fixed` (optional, m.num_nodes()) marks fixed
 // nodes, default: the model's fixed nodes, appended nodes free. Nonoperational
-// data of the model are reused unchanged.
+// data of the model are reused unchanged. `before` (optional): the system
+// being replaced, whose unchanged rows of K are reused (build_operational_system).
 std::shared_ptr<const OperationalSystem> rebuild_operational_system(
     const Model& model, const mesh::TetMesh& m, const std::vector<fem::Material>& tet_material,
-    const std::vector<int>& operational_tets, const std::vector<char>& new_fixed = {});
+    const std::vector<int>& operational_tets, const std::vector<char>& new_fixed = {},
+    const OperationalSystem* before = nullptr, fem::ReassemblyReport* report = nullptr);
 
 // One line: storage mode, why, memory estimate and per-item times.
 std::string describe(const Model& model);

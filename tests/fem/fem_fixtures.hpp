@@ -43,6 +43,28 @@ inline std::vector<int> random_subset(int ntet, double keep, unsigned seed) {
   return s;
 }
 
+// Splits tet t at its centroid as a cut splits tets: t keeps its id with one
+// child, three children (ids num_tets(), +1, +2) and the centroid node are
+// appended. Replacing one corner by an inner point keeps the orientation.
+inline void split_at_centroid(mesh::TetMesh& m, int t) {
+  const int e = m.num_nodes(), nt = m.num_tets();
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();
+  for (int k = 0; k < 4; ++k) c += m.node(m.tets(t, k)) / 4;
+  m.nodes.conservativeResize(e + 1, 3);
+  m.nodes.row(e) = c.transpose();
+  const Eigen::RowVector4i v = m.tets.row(t);
+  m.tets.conservativeResize(nt + 3, 4);
+  for (int k = 0; k < 4; ++k) {
+    Eigen::RowVector4i child = v;
+    child(k) = e;
+    m.tets.row(k == 0 ? t : nt + k - 1) = child;
+  }
+  if (m.labels.size() == nt) {
+    m.labels.conservativeResize(nt + 3);
+    m.labels.tail(3).setConstant(m.labels(t));
+  }
+}
+
 // Six rigid motions (3 nnode x 6) of nodes at `x` (nnode x 3): three
 // translations and three infinitesimal rotations about the centroid.
 inline Eigen::MatrixXd rigid_motions(const Eigen::MatrixX3d& x) {

@@ -224,7 +224,7 @@ TEST_SUITE("hybrid/factor_correction") {
     other.K_prime = std::make_shared<const Eigen::MatrixXd>(*next->K_prime);  // equal values, another K'
     CHECK(!fc.prepare(base, F, other, 1 << 20, 1e18, ws));
     OperationalSystem hand = *next;
-    hand.block_row_start.clear();  // a hand-made system without node blocks
+    hand.block.row_start.clear();  // a hand-made system without node blocks
     CHECK(!fc.prepare(base, F, hand, 1 << 20, 1e18, ws));
     REQUIRE(fc.prepare(base, F, *next, 1 << 20, 1e18, ws, &flops));
     CHECK(flops > 0);

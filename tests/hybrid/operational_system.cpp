@@ -6,6 +6,7 @@
 #include <random>
 
 #include "fem/assembly.hpp"
+#include "fem/fem_fixtures.hpp"
 #include "fixtures.hpp"
 #include "hybrid/precompute.hpp"
 
@@ -64,19 +65,57 @@ TEST_SUITE("hybrid/operational_system") {
       const Model M = precompute(c.mesh, c.material, c.partition, {});
       const OperationalSystem& sys = *M.operational;
       if (sys.size() == 0) continue;
-      CHECK(sys.block_row_start.size() == sys.nodes.size() + 1);
+      CHECK(sys.block.row_start.size() == sys.nodes.size() + 1);
       const Eigen::VectorXd x = Eigen::VectorXd::Random(sys.size());
       Eigen::VectorXd y, y_plain;
       sys.apply(x, y);
       const Eigen::VectorXd ref = sys.assembled() * x;
       CHECK((y - ref).norm() <= 1e-13 * ref.norm());
       OperationalSystem plain = sys;  // no blocks: the scalar sparse product
-      plain.block_row_start.clear();
+      plain.block.row_start.clear();
       plain.apply(x, y_plain);
       CHECK((y_plain - ref).norm() <= 1e-13 * ref.norm());
       ++checked;
     }
     CHECK(checked >= 10);
+  }
+
+  TEST_CASE("a system rebuilt from the one before a cut has K of a rebuild from scratch, bit for bit") {
+    // Operational tets split at their centroids, one step after another;
+    // each rebuild reuses the last system's rows.
+    std::mt19937 rng(29);
+    int reused = 0;
+    for (int trial = 0; trial < 12; ++trial) {
+      test::HybridCase c = test::random_case(rng, trial % 4, 3);
+      if (c.partition.operational_tets.size() < 3) continue;
+      const Model M = precompute(c.mesh, c.material, c.partition, {});
+      std::shared_ptr<const OperationalSystem> sys = M.operational;
+      std::vector<int> op = c.partition.operational_tets;
+      for (int step = 0; step < 3; ++step) {
+        CAPTURE(trial);
+        CAPTURE(step);
+        const int t = op[std::uniform_int_distribution<size_t>(0, op.size() - 1)(rng)], nt = c.mesh.num_tets();
+        test::split_at_centroid(c.mesh, t);
+        c.material.resize(size_t(nt + 3), c.material[size_t(t)]);
+        for (int k = 0; k < 3; ++k) op.push_back(nt + k);
+        fem::ReassemblyReport rep;
+        const auto next = rebuild_operational_system(M, c.mesh, c.material, op, {}, sys.get(), &rep);
+        const auto fresh = rebuild_operational_system(M, c.mesh, c.material, op);
+        REQUIRE(next->nodes == fresh->nodes);
+        CHECK(next->block.row_start == fresh->block.row_start);
+        CHECK(next->block.col == fresh->block.col);
+        CHECK(std::equal(next->block.blocks.begin(), next->block.blocks.end(), fresh->block.blocks.begin(),
+                         fresh->block.blocks.end()));
+        const SparseMatrix d = next->K - fresh->K;
+        CHECK(next->K.nonZeros() == fresh->K.nonZeros());
+        CHECK(d.norm() == 0);
+        CHECK(rep.reused);
+        CHECK(rep.rows_assembled < rep.rows);
+        reused += rep.rows - rep.rows_assembled;
+        sys = next;
+      }
+    }
+    CHECK(reused > 0);
   }
 
   TEST_CASE("an operational tet reaching a nonoperational node is refused") {
