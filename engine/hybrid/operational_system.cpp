@@ -33,15 +33,47 @@ void OperationalSystem::apply(const Eigen::VectorXd& x, Eigen::VectorXd& y) cons
 }
 
 SparseMatrix OperationalSystem::assembled() const {
-  std::vector<Eigen::Triplet<double>> trip;
-  trip.reserve(size_t(K.nonZeros()) + (num_interface > 0 ? size_t(K_prime->size()) : 0));
-  for (int col = 0; col < K.outerSize(); ++col)
-    for (SparseMatrix::InnerIterator it(K, col); it; ++it) trip.emplace_back(int(it.row()), col, it.value());
-  const int off = interface_offset();
-  for (Eigen::Index j = 0; num_interface > 0 && j < K_prime->cols(); ++j)
-    for (Eigen::Index i = 0; i < K_prime->rows(); ++i) trip.emplace_back(off + int(i), off + int(j), (*K_prime)(i, j));
-  SparseMatrix A(size(), size());
-  A.setFromTriplets(trip.begin(), trip.end());
+  // Written column by column (K's columns are sorted): K' is dense, and
+  // setFromTriplets over its entries took a third of a refactor at 8k
+  // operational tets (~200 of ~600 ms). Each entry is K's, K''s or their
+  // sum, as the triplets summed them: the same bits.
+  const int n = size(), off = interface_offset();
+  if (num_interface == 0 || n == 0) return K;
+  const Eigen::Index ni = K_prime->rows();
+  SparseMatrix Kc = K;
+  Kc.makeCompressed();
+  const int* kp = Kc.outerIndexPtr();
+  const int* ki = Kc.innerIndexPtr();
+  const double* kx = Kc.valuePtr();
+  Eigen::Index nnz = 0;
+  for (int j = 0; j < n; ++j) {
+    if (j < off) {
+      nnz += kp[j + 1] - kp[j];
+      continue;
+    }
+    for (int q = kp[j]; q < kp[j + 1] && ki[q] < off; ++q) ++nnz;
+    nnz += ni;
+  }
+  SparseMatrix A(n, n);
+  A.resizeNonZeros(nnz);
+  int* ap = A.outerIndexPtr();
+  int* ai = A.innerIndexPtr();
+  double* ax = A.valuePtr();
+  Eigen::Index w = 0;
+  for (int j = 0; j < n; ++j) {
+    ap[j] = int(w);
+    int q = kp[j];
+    for (; q < kp[j + 1] && (j < off || ki[q] < off); ++q) ai[w] = ki[q], ax[w++] = kx[q];
+    if (j < off) continue;
+    const double* kpj = K_prime->data() + (j - off) * ni;  // column j - off of K'
+    for (Eigen::Index r = 0; r < ni; ++r) {
+      const int row = off + int(r);
+      double v = kpj[r];
+      if (q < kp[j + 1] && ki[q] == row) v = kx[q++] + v;
+      ai[w] = row, ax[w++] = v;
+    }
+  }
+  ap[n] = int(w);
   return A;
 }
 

@@ -80,6 +80,34 @@ TEST_SUITE("hybrid/operational_system") {
     CHECK(checked >= 10);
   }
 
+  TEST_CASE("the assembled matrix is K with K' summed into its interface corner, entry for entry and bit for bit") {
+    std::mt19937 rng(37);
+    int checked = 0;
+    for (int trial = 0; trial < 16; ++trial) {
+      const test::HybridCase c = test::random_case(rng, trial % 4, 3);
+      const Model M = precompute(c.mesh, c.material, c.partition, {});
+      const OperationalSystem& sys = *M.operational;
+      if (sys.num_interface == 0) continue;
+      // Reference: the same sums through triplets.
+      std::vector<Eigen::Triplet<double>> trip;
+      for (int col = 0; col < sys.K.outerSize(); ++col)
+        for (SparseMatrix::InnerIterator it(sys.K, col); it; ++it) trip.emplace_back(int(it.row()), col, it.value());
+      const int off = sys.interface_offset();
+      for (Eigen::Index j = 0; j < sys.K_prime->cols(); ++j)
+        for (Eigen::Index i = 0; i < sys.K_prime->rows(); ++i)
+          trip.emplace_back(off + int(i), off + int(j), (*sys.K_prime)(i, j));
+      SparseMatrix ref(sys.size(), sys.size());
+      ref.setFromTriplets(trip.begin(), trip.end());
+      const SparseMatrix A = sys.assembled();
+      REQUIRE(A.nonZeros() == ref.nonZeros());
+      CHECK(std::equal(A.outerIndexPtr(), A.outerIndexPtr() + A.cols() + 1, ref.outerIndexPtr()));
+      CHECK(std::equal(A.innerIndexPtr(), A.innerIndexPtr() + A.nonZeros(), ref.innerIndexPtr()));
+      CHECK(std::equal(A.valuePtr(), A.valuePtr() + A.nonZeros(), ref.valuePtr()));
+      ++checked;
+    }
+    CHECK(checked >= 8);
+  }
+
   TEST_CASE("a system rebuilt from the one before a cut has K of a rebuild from scratch, bit for bit") {
     // Operational tets split at their centroids, one step after another;
     // each rebuild reuses the last system's rows.
