@@ -55,25 +55,80 @@ layout(location = 0) in vec3 a_pos;
 layout(location = 2) in vec4 a_color;
 uniform mat4 u_view;
 uniform mat4 u_proj;
-uniform float u_point_size;
 out vec4 v_color;
 void main() {
   gl_Position = u_proj * (u_view * vec4(a_pos, 1.0));
-  gl_PointSize = u_point_size;
   v_color = a_color;
+}
+)";
+
+// Lines and points become triangles here, so that every driver draws them
+// alike: wide lines and point sprites are rasterised differently by Mesa
+// and by hardware drivers (an NVIDIA H200 drew outlines and markers wider
+// than llvmpipe: 1.7 % of a golden image's pixels), triangles by one rule.
+// u_size: the line width or point diameter, pixels; u_viewport: pixels.
+constexpr const char* kLineGs = R"(#version 450 core
+layout(lines) in;
+layout(triangle_strip, max_vertices = 4) out;
+in vec4 v_color[];
+out vec4 g_color;
+out vec2 g_corner;
+uniform vec2 u_viewport;
+uniform float u_size;
+void main() {
+  vec4 a = gl_in[0].gl_Position, b = gl_in[1].gl_Position;
+  vec4 ca = v_color[0], cb = v_color[1];
+  // Cut at the near side of the eye before dividing by w.
+  const float eps = 1e-6;
+  if (a.w < eps && b.w < eps) return;
+  if (a.w < eps) { float t = (eps - a.w) / (b.w - a.w); a = mix(a, b, t); ca = mix(ca, cb, t); }
+  if (b.w < eps) { float t = (eps - b.w) / (a.w - b.w); b = mix(b, a, t); cb = mix(cb, ca, t); }
+  vec2 d = (b.xy / b.w - a.xy / a.w) * u_viewport;
+  float len = length(d);
+  vec2 n = len > 0.0 ? vec2(-d.y, d.x) / len : vec2(0.0, 1.0);
+  vec2 off = n * u_size / u_viewport;  // half the width, in NDC
+  g_corner = vec2(0.0);
+  g_color = ca; gl_Position = vec4(a.xy + off * a.w, a.zw); EmitVertex();
+  g_color = ca; gl_Position = vec4(a.xy - off * a.w, a.zw); EmitVertex();
+  g_color = cb; gl_Position = vec4(b.xy + off * b.w, b.zw); EmitVertex();
+  g_color = cb; gl_Position = vec4(b.xy - off * b.w, b.zw); EmitVertex();
+  EndPrimitive();
+}
+)";
+
+constexpr const char* kPointGs = R"(#version 450 core
+layout(points) in;
+layout(triangle_strip, max_vertices = 4) out;
+in vec4 v_color[];
+out vec4 g_color;
+out vec2 g_corner;
+uniform vec2 u_viewport;
+uniform float u_size;
+void main() {
+  vec4 p = gl_in[0].gl_Position;
+  if (p.w <= 0.0) return;
+  vec2 h = vec2(u_size) / u_viewport;  // half the diameter, in NDC
+  for (int k = 0; k < 4; ++k) {
+    vec2 c = vec2((k & 1) == 0 ? -1.0 : 1.0, k < 2 ? -1.0 : 1.0);
+    g_color = v_color[0];
+    g_corner = c;
+    gl_Position = vec4(p.xy + c * h * p.w, p.zw);
+    EmitVertex();
+  }
+  EndPrimitive();
 }
 )";
 
 // Points are round with a dark rim; lines use the colour as is.
 constexpr const char* kFlatFs = R"(#version 450 core
-in vec4 v_color;
+in vec4 g_color;
+in vec2 g_corner;
 uniform int u_round;
 out vec4 o_color;
 void main() {
-  vec4 c = v_color;
+  vec4 c = g_color;
   if (u_round != 0) {
-    vec2 d = 2.0 * gl_PointCoord - 1.0;
-    float r2 = dot(d, d);
+    float r2 = dot(g_corner, g_corner);
     if (r2 > 1.0) discard;
     if (r2 > 0.55) c.rgb *= 0.35;
   }
@@ -96,13 +151,17 @@ GLuint compile(GLenum type, const char* src) {
   return sh;
 }
 
-GLuint link(const char* vs, const char* fs) {
+// A program of a vertex, an optional geometry and a fragment shader.
+GLuint link(const char* vs, const char* fs, const char* gs = nullptr) {
   const GLuint v = compile(GL_VERTEX_SHADER, vs), f = compile(GL_FRAGMENT_SHADER, fs);
+  const GLuint g = gs ? compile(GL_GEOMETRY_SHADER, gs) : 0;
   GLuint p = glCreateProgram();
   glAttachShader(p, v);
+  if (g) glAttachShader(p, g);
   glAttachShader(p, f);
   glLinkProgram(p);
   glDeleteShader(v);
+  if (g) glDeleteShader(g);
   glDeleteShader(f);
   GLint ok = 0;
   glGetProgramiv(p, GL_LINK_STATUS, &ok);
@@ -170,13 +229,12 @@ FrameTimings& FrameTimings::operator+=(const FrameTimings& o) {
 
 struct Renderer::Impl {
   gpu::EglContext& ctx;
-  GLuint surface_prog = 0, flat_prog = 0;
+  GLuint surface_prog = 0, line_prog = 0, point_prog = 0;
   Batch tissue, inclusions, tools, wire, outline, lines, arrows, ipoints, mpoints;
   // Framebuffers: `ms` multisampled (when samples > 1), `single` the resolve
   // target and readback source (and draw target without MSAA).
   GLuint ms_fbo = 0, ms_color = 0, ms_depth = 0, fbo = 0, color = 0, depth = 0;
   int width = 0, height = 0, samples = -1;
-  float line_range[2] = {1, 1};
   std::vector<std::uint8_t> readback;
   Diagnostics warnings;
   long frame = 0;
@@ -184,9 +242,9 @@ struct Renderer::Impl {
   explicit Impl(gpu::EglContext& c) : ctx(c) {
     ctx.make_current();
     surface_prog = link(kSurfaceVs, kSurfaceFs);
-    flat_prog = link(kFlatVs, kFlatFs);
+    line_prog = link(kFlatVs, kFlatFs, kLineGs);
+    point_prog = link(kFlatVs, kFlatFs, kPointGs);
     for (Batch* b : {&tissue, &inclusions, &tools, &wire, &outline, &lines, &arrows, &ipoints, &mpoints}) b->create();
-    glGetFloatv(GL_ALIASED_LINE_WIDTH_RANGE, line_range);
     check("renderer setup");
   }
 
@@ -200,7 +258,8 @@ struct Renderer::Impl {
     }
     for (Batch* b : {&tissue, &inclusions, &tools, &wire, &outline, &lines, &arrows, &ipoints, &mpoints}) b->destroy();
     glDeleteProgram(surface_prog);
-    glDeleteProgram(flat_prog);
+    glDeleteProgram(line_prog);
+    glDeleteProgram(point_prog);
     free_targets();
     ctx.take_messages();
   }
@@ -262,9 +321,11 @@ struct Renderer::Impl {
     if (!b.count) return;
     if (on_top) glDisable(GL_DEPTH_TEST);
     else glEnable(GL_DEPTH_TEST);
-    glProgramUniform1f(flat_prog, glGetUniformLocation(flat_prog, "u_point_size"), size);
-    glProgramUniform1i(flat_prog, glGetUniformLocation(flat_prog, "u_round"), mode == GL_POINTS);
-    if (mode == GL_LINES) glLineWidth(std::clamp(size, line_range[0], line_range[1]));
+    const GLuint prog = mode == GL_POINTS ? point_prog : line_prog;
+    glUseProgram(prog);
+    glProgramUniform1f(prog, glGetUniformLocation(prog, "u_size"), size);
+    glProgramUniform2f(prog, glGetUniformLocation(prog, "u_viewport"), float(width), float(height));
+    glProgramUniform1i(prog, glGetUniformLocation(prog, "u_round"), mode == GL_POINTS);
     glBindVertexArray(b.vao);
     glDrawArrays(mode, 0, b.count);
   }
@@ -302,11 +363,11 @@ struct Renderer::Impl {
     glDisable(GL_STENCIL_TEST);
     glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
-    glEnable(GL_PROGRAM_POINT_SIZE);
     if (samples > 1) glEnable(GL_MULTISAMPLE);
 
     set_camera(surface_prog, scene.camera);
-    set_camera(flat_prog, scene.camera);
+    set_camera(line_prog, scene.camera);
+    set_camera(point_prog, scene.camera);
     // Tissue and tools are closed, outward-wound surfaces (a tet mesh's
     // boundary stays closed through cuts: each side of a cut is a face), so
     // only back faces are culled, nothing visible: llvmpipe shades about half
@@ -341,7 +402,6 @@ struct Renderer::Impl {
     };
     draw_surface(tissue, false);
     draw_surface(inclusions, true);
-    glUseProgram(flat_prog);
     draw_flat(wire, GL_LINES, scene.wire.size_px, scene.wire.on_top);
     draw_flat(outline, GL_LINES, scene.outline.size_px, scene.outline.on_top);
     draw_flat(ipoints, GL_POINTS, scene.interface_points.size_px, scene.interface_points.on_top);
