@@ -66,9 +66,10 @@ BlockStiffness reassemble_node_blocks(const BlockStiffness& before, const Assemb
     std::iota(tets.begin(), tets.end(), 0);
   }
   const size_t nold = in.tets.size();
-  if (int(position.size()) != nn || int(tet_material.size()) != m.num_tets() || !increasing(tets) || !increasing(in.tets) || in.corners.size() != nold ||
-      in.coords.size() != nold || in.material.size() != nold || before.nodes() != int(in.node.size()))
-    return whole();  // (which also names a bad position array)
+  if (int(position.size()) != nn || int(tet_material.size()) != m.num_tets() || !increasing(tets) ||
+      !increasing(in.tets) || in.corners.size() != nold || in.coords.size() != nold || in.material.size() != nold ||
+      before.nodes() != int(in.node.size()))
+    return whole();  // (which names a bad position or material array)
   for (int p : position)
     if (p < -1 || p >= num_positions) return whole();
   for (int t : tets)  // before any node of a tet is read

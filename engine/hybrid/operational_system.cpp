@@ -40,8 +40,12 @@ SparseMatrix OperationalSystem::assembled() const {
   const int n = size(), off = interface_offset();
   if (num_interface == 0 || n == 0) return K;
   const Eigen::Index ni = K_prime->rows();
-  SparseMatrix Kc = K;
-  Kc.makeCompressed();
+  SparseMatrix copy;  // only for a hand-made K in uncompressed form
+  if (!K.isCompressed()) {
+    copy = K;
+    copy.makeCompressed();
+  }
+  const SparseMatrix& Kc = K.isCompressed() ? K : copy;
   const int* kp = Kc.outerIndexPtr();
   const int* ki = Kc.innerIndexPtr();
   const double* kx = Kc.valuePtr();

@@ -17,7 +17,8 @@ namespace {
 // The same node rows, columns and blocks, bit for bit.
 bool same_bits(const fem::BlockStiffness& a, const fem::BlockStiffness& b) {
   return a.row_start == b.row_start && a.col == b.col && a.blocks.size() == b.blocks.size() &&
-         (a.blocks.empty() || std::memcmp(a.blocks.data(), b.blocks.data(), a.blocks.size() * sizeof(a.blocks[0])) == 0);
+         (a.blocks.empty() ||
+          std::memcmp(a.blocks.data(), b.blocks.data(), a.blocks.size() * sizeof(a.blocks[0])) == 0);
 }
 
 // A body being cut: a mesh, its materials, the assembled tets and the node
@@ -43,6 +44,10 @@ struct Body {
   }
   fem::BlockStiffness assemble() const { return fem::assemble_node_blocks(m, mats, tets, position, positions); }
   fem::AssemblyInputs inputs() const { return fem::assembly_inputs(m, mats, tets, position, positions); }
+  fem::BlockStiffness reassemble(const fem::BlockStiffness& K, const fem::AssemblyInputs& in,
+                                 fem::ReassemblyReport* rep = nullptr, fem::AssemblyInputs* next = nullptr) const {
+    return fem::reassemble_node_blocks(K, in, m, mats, tets, position, positions, rep, next);
+  }
 
   // Splits tet t at its centroid (test::split_at_centroid): its children
   // carry its material and join the assembled tets.
@@ -123,8 +128,7 @@ TEST_SUITE("fem/reassembly") {
           b.number();
           fem::ReassemblyReport rep;
           fem::AssemblyInputs next;
-          const fem::BlockStiffness R =
-              fem::reassemble_node_blocks(K, in, b.m, b.mats, b.tets, b.position, b.positions, &rep, &next);
+          const fem::BlockStiffness R = b.reassemble(K, in, &rep, &next);
           const fem::BlockStiffness whole = b.assemble();
           REQUIRE(same_bits(R, whole));
           CHECK(rep.reused);
@@ -137,7 +141,8 @@ TEST_SUITE("fem/reassembly") {
           CHECK(next.corners == fresh.corners);
           CHECK(next.coords == fresh.coords);
           CHECK(next.node == fresh.node);
-          CHECK(std::memcmp(next.material.data(), fresh.material.data(), fresh.material.size() * sizeof(fem::Material)) == 0);
+          CHECK(std::memcmp(next.material.data(), fresh.material.data(),
+                            fresh.material.size() * sizeof(fem::Material)) == 0);
           K = R;
           in = std::move(next);
         }
@@ -152,7 +157,7 @@ TEST_SUITE("fem/reassembly") {
     while (b.position[size_t(v)] < 0) ++v;
     b.m.nodes(v, 1) += 1e-3;
     fem::ReassemblyReport rep;
-    const fem::BlockStiffness R = fem::reassemble_node_blocks(K, in, b.m, b.mats, b.tets, b.position, b.positions, &rep);
+    const fem::BlockStiffness R = b.reassemble(K, in, &rep);
     CHECK(same_bits(R, b.assemble()));
     // Exactly the rows of the positioned corners of v's tets.
     std::vector<char> expect(size_t(b.positions), 0);
@@ -169,17 +174,17 @@ TEST_SUITE("fem/reassembly") {
     Body b = random_body(5);
     const fem::BlockStiffness K = b.assemble();
     const fem::AssemblyInputs in = b.inputs();
-    std::vector<int> shuffled = b.tets;
-    std::reverse(shuffled.begin(), shuffled.end());
+    Body shuffled = b;
+    std::reverse(shuffled.tets.begin(), shuffled.tets.end());
     fem::ReassemblyReport rep;
-    const fem::BlockStiffness R = fem::reassemble_node_blocks(K, in, b.m, b.mats, shuffled, b.position, b.positions, &rep);
+    const fem::BlockStiffness R = shuffled.reassemble(K, in, &rep);
     CHECK_FALSE(rep.reused);
     CHECK(rep.rows_assembled == b.positions);
-    CHECK(same_bits(R, fem::assemble_node_blocks(b.m, b.mats, shuffled, b.position, b.positions)));
+    CHECK(same_bits(R, shuffled.assemble()));
     // Inputs of a shuffled assembly hold no tets: the next reassembly assembles every row.
-    const fem::AssemblyInputs none = fem::assembly_inputs(b.m, b.mats, shuffled, b.position, b.positions);
+    const fem::AssemblyInputs none = shuffled.inputs();
     CHECK(none.tets.empty());
-    const fem::BlockStiffness R2 = fem::reassemble_node_blocks(R, none, b.m, b.mats, b.tets, b.position, b.positions, &rep);
+    const fem::BlockStiffness R2 = b.reassemble(R, none, &rep);
     CHECK(rep.reused);
     CHECK(rep.rows_assembled == b.positions);
     CHECK(same_bits(R2, b.assemble()));
@@ -194,13 +199,11 @@ TEST_SUITE("fem/reassembly") {
     const int a = inverted.m.tets(t, 0);
     inverted.m.tets(t, 0) = inverted.m.tets(t, 1);
     inverted.m.tets(t, 1) = a;
-    CHECK_THROWS_WITH_AS(
-        fem::reassemble_node_blocks(K, in, inverted.m, inverted.mats, inverted.tets, inverted.position, inverted.positions),
-        doctest::Contains(("assemble_node_blocks: tetrahedron " + std::to_string(t)).c_str()), Error);
+    const std::string named = "assemble_node_blocks: tetrahedron " + std::to_string(t);
+    CHECK_THROWS_WITH_AS(inverted.reassemble(K, in), doctest::Contains(named.c_str()), Error);
     Body soft = b;
     soft.mats[size_t(soft.tets[1])].poisson = 0.5;
-    CHECK_THROWS_WITH_AS(fem::reassemble_node_blocks(K, in, soft.m, soft.mats, soft.tets, soft.position, soft.positions),
-                         doctest::Contains("material of tetrahedron"), Error);
+    CHECK_THROWS_WITH_AS(soft.reassemble(K, in), doctest::Contains("material of tetrahedron"), Error);
     CHECK_THROWS_WITH_AS(fem::reassemble_node_blocks(K, in, b.m, b.mats, b.tets, std::vector<int>(3, 0), b.positions),
                          doctest::Contains("3 node positions for a mesh of"), Error);
     CHECK_THROWS_WITH_AS(fem::reassemble_node_blocks(K, in, b.m, b.mats, {b.m.num_tets()}, b.position, b.positions),

@@ -103,6 +103,9 @@ TEST_SUITE("hybrid/operational_system") {
       CHECK(std::equal(A.outerIndexPtr(), A.outerIndexPtr() + A.cols() + 1, ref.outerIndexPtr()));
       CHECK(std::equal(A.innerIndexPtr(), A.innerIndexPtr() + A.nonZeros(), ref.innerIndexPtr()));
       CHECK(std::equal(A.valuePtr(), A.valuePtr() + A.nonZeros(), ref.valuePtr()));
+      OperationalSystem loose = sys;  // a hand-made K, not compressed: the same matrix
+      loose.K.uncompress();
+      CHECK((Eigen::MatrixXd(loose.assembled()).array() == Eigen::MatrixXd(A).array()).all());
       ++checked;
     }
     CHECK(checked >= 8);
