@@ -24,6 +24,23 @@ std::array<double, 12> corner_coords(const mesh::TetMesh& m, int t) {
   return x;
 }
 
+// `in` sized for the tets (increasing) of an assembly, their entries to record.
+void size_for(AssemblyInputs& in, const std::vector<int>& tets) {
+  in.tets = tets;
+  in.corners.resize(tets.size());
+  in.coords.resize(tets.size());
+  in.material.resize(tets.size());
+}
+
+// Entry i of `in`: tet t's corners, their coordinates and its material (its
+// nodes in range). One function for both, so that what a reassembly compares
+// is what an assembly recorded.
+void record(AssemblyInputs& in, size_t i, const mesh::TetMesh& m, const std::vector<Material>& tet_material, int t) {
+  for (int k = 0; k < 4; ++k) in.corners[i][size_t(k)] = m.tets(t, k);
+  in.coords[i] = corner_coords(m, t);
+  in.material[i] = tet_material[size_t(t)];
+}
+
 }  // namespace
 
 AssemblyInputs assembly_inputs(const mesh::TetMesh& m, const std::vector<Material>& tet_material,
@@ -33,16 +50,8 @@ AssemblyInputs assembly_inputs(const mesh::TetMesh& m, const std::vector<Materia
   for (int v = 0; v < int(position.size()); ++v)
     if (position[size_t(v)] >= 0 && position[size_t(v)] < num_positions) in.node[size_t(position[size_t(v)])] = v;
   if (!increasing(tets)) return in;
-  in.tets = tets;
-  in.corners.resize(tets.size());
-  in.coords.resize(tets.size());
-  in.material.resize(tets.size());
-  for (size_t i = 0; i < tets.size(); ++i) {
-    const int t = tets[i];
-    for (int k = 0; k < 4; ++k) in.corners[i][size_t(k)] = m.tets(t, k);
-    in.coords[i] = corner_coords(m, t);
-    in.material[i] = tet_material[size_t(t)];
-  }
+  size_for(in, tets);
+  for (size_t i = 0; i < tets.size(); ++i) record(in, i, m, tet_material, tets[i]);
   return in;
 }
 
@@ -105,20 +114,14 @@ BlockStiffness reassemble_node_blocks(const BlockStiffness& before, const Assemb
   // and the tets that are not the same are checked as assemble_node_blocks
   // checks them (the others were when `inputs` were assembled).
   AssemblyInputs out;
-  out.tets = tets;
-  out.corners.resize(tets.size());
-  out.coords.resize(tets.size());
-  out.material.resize(tets.size());
+  size_for(out, tets);
   std::vector<int> changed;
   size_t k = 0;
   for (size_t i = 0; i < tets.size(); ++i) {
     const int t = tets[i];
-    for (int c = 0; c < 4; ++c) out.corners[i][size_t(c)] = m.tets(t, c);
-    if (*std::min_element(out.corners[i].begin(), out.corners[i].end()) < 0 ||
-        *std::max_element(out.corners[i].begin(), out.corners[i].end()) >= nn)
-      return whole();  // (which names the tet)
-    out.coords[i] = corner_coords(m, t);
-    out.material[i] = tet_material[size_t(t)];
+    for (int c = 0; c < 4; ++c)
+      if (m.tets(t, c) < 0 || m.tets(t, c) >= nn) return whole();  // (which names the tet)
+    record(out, i, m, tet_material, t);
     while (k < nold && in.tets[k] < t) mark_old(k++);  // gone
     bool same = k < nold && in.tets[k] == t;
     if (same) {

@@ -77,6 +77,13 @@ struct Supernodes {
   int parent(int s) const { return rows(s) > cols(s) ? of(Ls[pi[s] + cols(s)]) : -1; }
 };
 
+// The one-vector solves take the last supernode in blocks of kSplitTop when
+// it is a dense top (no rows below its columns) of that many columns or more.
+bool splits_top(const Supernodes& sn) {
+  const int top = sn.count - 1;
+  return sn.rows(top) == sn.cols(top) && sn.cols(top) >= Cholesky::kSplitTop;
+}
+
 using RowMajorMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
 // sum[k] = a[from..to) . v_k[from..to) for K (1 or 3) vectors v_k, reading
@@ -464,7 +471,7 @@ void Cholesky::forward_vector(const Eigen::VectorXd& b, Eigen::VectorXd& y, Solv
   y.resize(rows_);
   for (int k = 0; k < rows_; ++k) y[k] = b[perm ? perm[k] : k];
   const int top = sn.count - 1;
-  const bool split = sn.rows(top) == sn.cols(top) && sn.cols(top) >= kSplitTop;
+  const bool split = splits_top(sn);
   Eigen::VectorXd v;
   for (int s = 0; s < sn.count - (split ? 1 : 0); ++s) {
     const int nsrow = sn.rows(s), nscol = sn.cols(s);
@@ -502,7 +509,7 @@ void Cholesky::backward_vector(const Eigen::VectorXd& y, Eigen::VectorXd& x, Sol
   const Supernodes sn(*L);
   Eigen::VectorXd t = y;  // L'^-1 y in L's order, finished from the top down
   const int top = sn.count - 1;
-  const bool split = sn.rows(top) == sn.cols(top) && sn.cols(top) >= kSplitTop;
+  const bool split = splits_top(sn);
   if (split) {
     // Each block: its rows of t less the block's rows below it times their
     // finished values (two partial sums over fixed row halves, added in
