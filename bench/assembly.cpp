@@ -10,7 +10,7 @@
 #include <thread>
 
 #include "bench/bench.hpp"
-#include "cli/options.hpp"
+#include "app/options.hpp"
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "core/timer.hpp"
@@ -102,7 +102,7 @@ std::string num(double v, const char* fmt = "%.1f") {
 }  // namespace
 
 int bench_assembly(const Args& args) {
-  cli::Options o("softcut bench assembly", "Stiffness assembly of Kuhn boxes against Eigen's setFromTriplets in "
+  app::Options o("softcut bench assembly", "Stiffness assembly of Kuhn boxes against Eigen's setFromTriplets in "
                  "the same run; CHOLMOD and CG solve times by tet count.");
   std::vector<std::string> tets;
   std::string repeat_text, threads_text, direct_text, json;

@@ -52,7 +52,7 @@ const std::vector<Benchmark>& benchmarks() {
 
 }  // namespace softcut::bench
 
-namespace softcut::cli {
+namespace softcut::app {
 
 int cmd_bench(const Args& args) {
   if (args.empty() || args[0] == "--help" || args[0] == "-h") {
@@ -65,4 +65,4 @@ int cmd_bench(const Args& args) {
   usage_fail("bench: unknown benchmark '", args[0], "' (softcut bench --help lists them)");
 }
 
-}  // namespace softcut::cli
+}  // namespace softcut::app

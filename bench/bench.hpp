@@ -2,21 +2,21 @@
 // softcut bench NAME: the benchmarks, one file each (bench/<name>.cpp, listed
 // in bench.cpp). Each reports ratios against a baseline measured in the same
 // run, never absolute wall-clock claims (bench/README.md). They sit above the
-// application (engine/cli: option parsing, scenario runs), which they use;
-// the program's `bench` command (cli::cmd_bench) is defined here.
+// application (app/: option parsing, scenario runs), which they use;
+// the program's `bench` command (app::cmd_bench) is defined here.
 #include <algorithm>
 #include <optional>
 #include <string>
 #include <type_traits>
 #include <vector>
 
-#include "cli/commands.hpp"
+#include "app/commands.hpp"
 #include "core/json_text.hpp"
 #include "core/timer.hpp"
 
 namespace softcut::bench {
 
-using cli::Args;
+using app::Args;
 
 struct Benchmark {
   const char* name;

@@ -17,7 +17,7 @@
 #include <optional>
 
 #include "bench/bench.hpp"
-#include "cli/options.hpp"
+#include "app/options.hpp"
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "core/threads.hpp"
@@ -297,7 +297,7 @@ Json json_of(const SizeResult& r) {
 }  // namespace
 
 int bench_cut(const Args& args) {
-  cli::Options o("softcut bench cut", "Sweeps a blade through operational regions of growing size in a jittered "
+  app::Options o("softcut bench cut", "Sweeps a blade through operational regions of growing size in a jittered "
                  "Kuhn box (15^3 cells, 20250 tets; --quick: 8^3 cells, two small regions) and times cut, rebuild "
                  "and the frame after each step against a monolithic CHOLMOD solve of the cut mesh.");
   bool quick = false;

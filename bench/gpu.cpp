@@ -7,7 +7,7 @@
 #include <sstream>
 
 #include "bench/bench.hpp"
-#include "cli/options.hpp"
+#include "app/options.hpp"
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "core/timer.hpp"
@@ -31,7 +31,7 @@ struct Row {
 }  // namespace
 
 int bench_gpu(const Args& args) {
-  cli::Options o("softcut bench gpu", "Compute-shader SpMV bandwidth and CG iteration time against the CPU, by "
+  app::Options o("softcut bench gpu", "Compute-shader SpMV bandwidth and CG iteration time against the CPU, by "
                  "system size.");
   std::vector<std::string> cells_text;
   std::string iterations_text, peak_text, json;

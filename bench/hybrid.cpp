@@ -14,7 +14,7 @@
 #include <sstream>
 
 #include "bench/bench.hpp"
-#include "cli/options.hpp"
+#include "app/options.hpp"
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "core/threads.hpp"
@@ -412,7 +412,7 @@ const char* kPaper = R"(## The paper's numbers (Wu & Heng 2005; Pentium 4 1.5 GH
 }  // namespace
 
 int bench_hybrid(const Args& args) {
-  cli::Options o("softcut bench hybrid", "The hybrid condensed model against monolithic solves of the same mesh in "
+  app::Options o("softcut bench hybrid", "The hybrid condensed model against monolithic solves of the same mesh in "
                  "the same run (the paper's Tables 2-5), at paper and organ sizes.");
   bool quick = false;
   std::string json_path, md_path, only, storage_text;

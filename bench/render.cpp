@@ -12,15 +12,15 @@
 #include <vector>
 
 #include "bench/bench.hpp"
-#include "cli/options.hpp"
-#include "cli/run_support.hpp"
+#include "app/options.hpp"
+#include "app/run_support.hpp"
 #include "core/error.hpp"
 #include "app/scenario_run.hpp"
 
 namespace softcut::bench {
 
 int bench_render(const Args& args) {
-  cli::Options o("softcut bench render", "Runs each scenario (default: scenarios/knee_ligament.lua and "
+  app::Options o("softcut bench render", "Runs each scenario (default: scenarios/knee_ligament.lua and "
                  "scenarios/upper_leg.lua, the paper's models; run from the repository root) without frames, "
                  "rendering every frame inline and rendering every frame on the worker thread, and compares the "
                  "time per frame.");
@@ -32,9 +32,9 @@ int bench_render(const Args& args) {
   o.app().add_option("--frames", frames_text, "frames per run (default: the scenario's)")->type_name("N");
   if (!o.parse(args)) return 0;
   int width = 640, height = 480;
-  if (o.app().count("--size")) std::tie(width, height) = cli::parse_size(size_text, "--size");
-  const int samples = o.app().count("--msaa") ? cli::parse_count(msaa_text, "--msaa") : 4;
-  const int frames = o.app().count("--frames") ? cli::parse_count(frames_text, "--frames") : -1;
+  if (o.app().count("--size")) std::tie(width, height) = app::parse_size(size_text, "--size");
+  const int samples = o.app().count("--msaa") ? app::parse_count(msaa_text, "--msaa") : 4;
+  const int frames = o.app().count("--frames") ? app::parse_count(frames_text, "--frames") : -1;
   if (scenarios.empty()) scenarios = {"scenarios/knee_ligament.lua", "scenarios/upper_leg.lua"};
   for (const auto& s : scenarios)
     if (!std::filesystem::is_regular_file(s))

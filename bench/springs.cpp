@@ -6,8 +6,8 @@
 #include <string>
 
 #include "bench/bench.hpp"
-#include "cli/options.hpp"
-#include "cli/run_support.hpp"
+#include "app/options.hpp"
+#include "app/run_support.hpp"
 #include "core/error.hpp"
 #include "core/timer.hpp"
 #include "sim/model.hpp"
@@ -80,14 +80,14 @@ Row measure(const sim::Model& m, bool implicit, bool cache) {
 }  // namespace
 
 int bench_springs(const Args& args) {
-  cli::Options o("softcut bench springs", "Steps a grasped box with an explicit spring, an implicit spring with the "
+  app::Options o("softcut bench springs", "Steps a grasped box with an explicit spring, an implicit spring with the "
                  "compliance cache, and without it.");
   std::string frames_text, radius_text;
   o.app().add_option("--frames", frames_text, "frames (default 31)")->type_name("N");
   o.app().add_option("--radius", radius_text, "grasper radius in m (default 0.009: a grip on 17 nodes)")
       ->type_name("R");
   if (!o.parse(args)) return 0;
-  const int frames = o.app().count("--frames") ? std::max(2, cli::parse_count(frames_text, "bench springs: --frames"))
+  const int frames = o.app().count("--frames") ? std::max(2, app::parse_count(frames_text, "bench springs: --frames"))
                                                : 31;
   double radius = 0.009;
   if (o.app().count("--radius")) {

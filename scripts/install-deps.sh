@@ -7,7 +7,7 @@
 set -euo pipefail
 test_pkgs=()
 case "${1:-}" in
-  --test) test_pkgs=(slurmctld slurmd slurm-client) ;;  # pulls in munge; tests/cli/sweep_slurm.sh
+  --test) test_pkgs=(slurmctld slurmd slurm-client) ;;  # pulls in munge; tests/app/sweep_slurm.sh
   "") ;;
   *) echo "install-deps: unknown option $1 (--test or nothing)" >&2; exit 2 ;;
 esac

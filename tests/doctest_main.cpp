@@ -1,5 +1,5 @@
 // The test executables' main: doctest's, after the thread policy the CLI
-// applies at start (engine/cli/main.cpp). Without it OpenBLAS and OpenMP
+// applies at start (app/main.cpp). Without it OpenBLAS and OpenMP
 // start one thread per core in every test process, and with ctest --parallel
 // their idle threads spin against the other processes' work.
 #define DOCTEST_CONFIG_IMPLEMENT

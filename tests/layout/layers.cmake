@@ -1,18 +1,33 @@
 # The stage order of engine/ (docs/architecture.md): a folder may include
 # headers of its own folder and of earlier ones only. Run by ctest:
 #   cmake -DROOT=<source dir> [-DMIN_FILES=n] -P tests/layout/layers.cmake
-# Fails naming the file, the include and both stages. lua/ (bindings) sits
-# after sim/ and before app/ (a scenario run) and cli/ (the commands); bench/
-# (the benchmarks) last.
-set(order core solve mesh fem hybrid gpu backend tools cut render sim lua app cli bench)
+# Fails naming the file, the include and both stages. The tree reads
+# engine/ (the library: no Lua, no command line) -> lua/ (bindings, sandbox)
+# -> app/ (the program: scenario runs and the commands) -> bench/ (the
+# benchmarks). So engine/ also may not include Lua's or CLI11's headers.
+set(order core solve mesh fem hybrid gpu backend tools cut render sim lua app bench)
 if(NOT ROOT)
   message(FATAL_ERROR "layers.cmake: pass -DROOT=<source dir>")
 endif()
+list(FIND order lua lua_rank)
 set(bad 0)
+# Every folder of engine/ is a stage of the library: the program (app/) and
+# the bindings (lua/) live beside engine/, not in it.
+file(GLOB engine_dirs LIST_DIRECTORIES true "${ROOT}/engine/*")
+foreach(d IN LISTS engine_dirs)
+  if(IS_DIRECTORY "${d}")
+    get_filename_component(name "${d}" NAME)
+    list(FIND order ${name} r)
+    if(r LESS 0 OR NOT r LESS lua_rank)
+      message(STATUS "layer violation: engine/${name}/ is not a stage of the library (stages: core .. sim)")
+      math(EXPR bad "${bad} + 1")
+    endif()
+  endif()
+endforeach()
 set(checked 0)
 foreach(stage IN LISTS order)
   list(FIND order ${stage} rank)
-  if(stage STREQUAL "lua" OR stage STREQUAL "bench")
+  if(stage STREQUAL "lua" OR stage STREQUAL "app" OR stage STREQUAL "bench")
     set(dir "${ROOT}/${stage}")
   else()
     set(dir "${ROOT}/engine/${stage}")
@@ -20,6 +35,14 @@ foreach(stage IN LISTS order)
   file(GLOB_RECURSE files "${dir}/*.cpp" "${dir}/*.hpp")
   foreach(f IN LISTS files)
     math(EXPR checked "${checked} + 1")
+    if(rank LESS lua_rank)
+      file(STRINGS "${f}" foreign REGEX "^#include [<\"](lua\\.h|lauxlib\\.h|lualib\\.h|lua\\.hpp|CLI/)")
+      foreach(line IN LISTS foreign)
+        file(RELATIVE_PATH rel "${ROOT}" "${f}")
+        message(STATUS "layer violation: ${rel}: ${line}: the engine ('${stage}') must not use Lua or the command line")
+        math(EXPR bad "${bad} + 1")
+      endforeach()
+    endif()
     file(STRINGS "${f}" includes REGEX "^#include \"[a-z_]+/")
     foreach(line IN LISTS includes)
       string(REGEX REPLACE "^#include \"([a-z_]+)/.*" "\\1" used "${line}")

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-namespace softcut::cli {
+namespace softcut::app {
 
 using Args = std::vector<std::string>;
 
@@ -15,4 +15,4 @@ int cmd_run(const Args& args);    // softcut run SCENARIO.lua ...
 int cmd_check(const Args& args);  // softcut check PATH...
 int cmd_sweep(const Args& args);  // softcut sweep SCENARIO.lua --grid ... | merge DIR
 
-}  // namespace softcut::cli
+}  // namespace softcut::app

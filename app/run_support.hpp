@@ -10,7 +10,7 @@
 
 #include "sim/scenario_spec.hpp"
 
-namespace softcut::cli {
+namespace softcut::app {
 
 // Every parse failure below is a softcut::UsageError (exit status 2).
 // "key=value" -> overrides[key] = value; throws on a malformed pair.
@@ -55,4 +55,4 @@ class SignalGuard {
   static std::atomic<bool>& flag();
 };
 
-}  // namespace softcut::cli
+}  // namespace softcut::app

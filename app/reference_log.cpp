@@ -1,4 +1,4 @@
-#include "cli/reference_log.hpp"
+#include "app/reference_log.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -10,7 +10,7 @@
 
 namespace fs = std::filesystem;
 
-namespace softcut::cli {
+namespace softcut::app {
 
 namespace {
 
@@ -77,4 +77,4 @@ LogComparison compare_logs(const fs::path& produced, const fs::path& reference, 
   return c;
 }
 
-}  // namespace softcut::cli
+}  // namespace softcut::app

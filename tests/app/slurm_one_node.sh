@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # slurm_one_node.sh -- bring up / tear down a private one-node Slurm cluster for
-# the sweep test (tests/cli/sweep_slurm.sh)
+# the sweep test (tests/app/sweep_slurm.sh)
 # (munged + slurmctld + slurmd) without systemd, everything under DIR.
 #
 # Usage:

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-namespace softcut::cli {
+namespace softcut::app {
 
 struct CheckedExpectation {
   std::string name, where;  // "scenario.lua:40"
@@ -35,4 +35,4 @@ void write_junit(const std::filesystem::path& file, const std::vector<CheckedSce
 void write_check_json(const std::filesystem::path& file, const std::vector<CheckedScenario>& results,
                       double total_s);
 
-}  // namespace softcut::cli
+}  // namespace softcut::app

@@ -3,7 +3,7 @@
 #include <fstream>
 #include <string>
 
-#include "cli/commands.hpp"
+#include "app/commands.hpp"
 #include "core/error.hpp"
 #include "mesh/generate/presets.hpp"
 #include "mesh/generate/band.hpp"
@@ -17,9 +17,9 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string error_of(const cli::Args& args) {
+std::string error_of(const app::Args& args) {
   try {
-    cli::cmd_mesh(args);
+    app::cmd_mesh(args);
   } catch (const Error& e) {
     return e.what();
   }
@@ -28,13 +28,13 @@ std::string error_of(const cli::Args& args) {
 
 }  // namespace
 
-TEST_SUITE("cli/cmd_mesh") {
+TEST_SUITE("app/cmd_mesh") {
   TEST_CASE("generate the paper presets, with hole nodes - info and convert read them back") {
     const fs::path dir = test::scratch_dir("cmd_mesh");
     const std::string lig = (dir / "lig.vtu").string(), leg = (dir / "leg.msh").string();
     const std::string hole = (dir / "hole.txt").string();
-    REQUIRE(cli::cmd_mesh({"generate", "ligament", lig}) == 0);
-    REQUIRE(cli::cmd_mesh({"generate", "upper_leg", "--hole-nodes", hole, leg}) == 0);
+    REQUIRE(app::cmd_mesh({"generate", "ligament", lig}) == 0);
+    REQUIRE(app::cmd_mesh({"generate", "upper_leg", "--hole-nodes", hole, leg}) == 0);
     Diagnostics d;
     const mesh::TetMesh a = mesh::read_mesh(lig, d), b = mesh::read_mesh(leg, d);
     CHECK(a.num_tets() == mesh::generate_band(mesh::ligament_preset()).num_tets());
@@ -46,36 +46,36 @@ TEST_SUITE("cli/cmd_mesh") {
     std::vector<int> ids;
     for (int id; in >> id;) ids.push_back(id);
     CHECK(ids == mesh::tube_hole_nodes(b, mesh::upper_leg_preset()));
-    CHECK(cli::cmd_mesh({"info", leg, "--json"}) == 0);
-    CHECK(cli::cmd_mesh({"info", lig}) == 0);
-    CHECK(cli::cmd_mesh({"convert", leg, (dir / "leg.vtu").string()}) == 0);
+    CHECK(app::cmd_mesh({"info", leg, "--json"}) == 0);
+    CHECK(app::cmd_mesh({"info", lig}) == 0);
+    CHECK(app::cmd_mesh({"convert", leg, (dir / "leg.vtu").string()}) == 0);
     CHECK(mesh::read_mesh(dir / "leg.vtu", d).tets == b.tets);
   }
 
   TEST_CASE("generate options and the label volume path") {
     const fs::path dir = test::scratch_dir("cmd_mesh_opts");
     Diagnostics d;
-    REQUIRE(cli::cmd_mesh({"generate", "box", "--size", "0.1,0.2,0.3", "--cells=2,3,4", (dir / "b.vtu").string()}) == 0);
+    REQUIRE(app::cmd_mesh({"generate", "box", "--size", "0.1,0.2,0.3", "--cells=2,3,4", (dir / "b.vtu").string()}) == 0);
     const mesh::TetMesh box = mesh::read_mesh(dir / "b.vtu", d);
     CHECK(box.num_tets() == 6 * 24);
     CHECK(mesh::total_volume(box) == doctest::Approx(0.006));
-    REQUIRE(cli::cmd_mesh({"generate", "tube", "--cells", "2,10,3", "--label", "4", (dir / "t.vtu").string()}) == 0);
+    REQUIRE(app::cmd_mesh({"generate", "tube", "--cells", "2,10,3", "--label", "4", (dir / "t.vtu").string()}) == 0);
     CHECK(mesh::read_mesh(dir / "t.vtu", d).labels.maxCoeff() == 4);
     const std::string organ = (test::data_dir() / "volume" / "organ.nhdr").string();
-    REQUIRE(cli::cmd_mesh({"generate", "volume", organ, "--labels", "2", (dir / "v.vtu").string()}) == 0);
+    REQUIRE(app::cmd_mesh({"generate", "volume", organ, "--labels", "2", (dir / "v.vtu").string()}) == 0);
     CHECK(mesh::read_mesh(dir / "v.vtu", d).num_tets() == 6 * 36);
   }
 
   TEST_CASE("generate an organ and mesh a label volume with CGAL, options spelled as on the command line") {
     const fs::path dir = test::scratch_dir("cmd_mesh_cgal");
     Diagnostics d;
-    REQUIRE(cli::cmd_mesh({"generate", "kidney", "--target-tets", "2000", "--fine-center", "0,0,0.02", "--fine-radius",
+    REQUIRE(app::cmd_mesh({"generate", "kidney", "--target-tets", "2000", "--fine-center", "0,0,0.02", "--fine-radius",
                            "0.02", (dir / "k.vtu").string()}) == 0);
     const mesh::TetMesh k = mesh::read_mesh(dir / "k.vtu", d);
     CHECK(std::abs(k.num_tets() - 2000) <= 400);
     CHECK(k.labels.maxCoeff() == 2);
     const std::string organ = (test::data_dir() / "volume" / "organ.nhdr").string();
-    REQUIRE(cli::cmd_mesh({"generate", "volume", organ, "--mesher", "cgal", (dir / "v.vtu").string()}) == 0);
+    REQUIRE(app::cmd_mesh({"generate", "volume", organ, "--mesher", "cgal", (dir / "v.vtu").string()}) == 0);
     CHECK(mesh::read_mesh(dir / "v.vtu", d).num_tets() > 0);
     CHECK(error_of({"generate", "liver", "--fine-center", "1,2", "x.vtu"}).find("expected 3 comma-separated") != std::string::npos);
     CHECK(error_of({"generate", "liver", "--lobes", "3", "x.vtu"}).find("unknown option --lobes") != std::string::npos);
@@ -87,9 +87,9 @@ TEST_SUITE("cli/cmd_mesh") {
     const fs::path dir = test::scratch_dir("cmd_mesh_names");
     Diagnostics d;
     // The same box three ways: shorthands, the scenario's names, and s:mesh{} through the scenario's path.
-    REQUIRE(cli::cmd_mesh({"generate", "box", "--size", "0.1,0.2,0.3", "--cells", "2,3,4", "--jitter", "0.1",
+    REQUIRE(app::cmd_mesh({"generate", "box", "--size", "0.1,0.2,0.3", "--cells", "2,3,4", "--jitter", "0.1",
                            (dir / "a.vtu").string()}) == 0);
-    REQUIRE(cli::cmd_mesh({"generate", "box", "--max", "0.1,0.2,0.3", "--nx", "2", "--ny=3", "--nz", "4", "--jitter",
+    REQUIRE(app::cmd_mesh({"generate", "box", "--max", "0.1,0.2,0.3", "--nx", "2", "--ny=3", "--nz", "4", "--jitter",
                            "0.1", (dir / "b.vtu").string()}) == 0);
     sim::MeshSource src;
     src.generator = "box";
@@ -101,7 +101,7 @@ TEST_SUITE("cli/cmd_mesh") {
     CHECK((a.nodes - c.nodes).cwiseAbs().maxCoeff() <= 1e-12);  // (through the file's text)
     CHECK((b.nodes - c.nodes).cwiseAbs().maxCoeff() <= 1e-12);
     // A preset's resolution yields to the cell counts asked for, on the command line and in a scenario alike.
-    REQUIRE(cli::cmd_mesh({"generate", "ligament", "--cells", "10,3,2", (dir / "l.vtu").string()}) == 0);
+    REQUIRE(app::cmd_mesh({"generate", "ligament", "--cells", "10,3,2", (dir / "l.vtu").string()}) == 0);
     mesh::BandOptions lig = mesh::ligament_preset();
     lig.target_tets = lig.target_nodes = 0;
     lig.along = 10, lig.across = 3, lig.through = 2;
@@ -139,7 +139,7 @@ TEST_SUITE("cli/cmd_mesh") {
   TEST_CASE("mesh info --json is valid JSON that describes the mesh, whatever bytes the file name holds") {
     const fs::path dir = test::scratch_dir("cmd_mesh_info_json");
     const fs::path file = dir / "b\"ox\xE9.vtu";  // a quote and a byte that is not UTF-8
-    REQUIRE(cli::cmd_mesh({"generate", "box", "--size", "0.1,0.2,0.3", "--cells=2,3,4", file.string()}) == 0);
+    REQUIRE(app::cmd_mesh({"generate", "box", "--size", "0.1,0.2,0.3", "--cells=2,3,4", file.string()}) == 0);
     const auto r = test::run_cli_raw("('" SOFTCUT_BIN "' mesh info '" + file.string() + "' --json 2>/dev/null)");
     REQUIRE(r.status == 0);
     const nlohmann::ordered_json j = test::parse_json(r.output);

@@ -3,7 +3,7 @@
 #include <exception>
 #include <string>
 
-#include "cli/commands.hpp"
+#include "app/commands.hpp"
 #include "core/error.hpp"
 #include "core/threads.hpp"
 #include "core/printable.hpp"
@@ -38,7 +38,7 @@ const char* kUsage =
 }  // namespace
 
 int main(int argc, char** argv) {
-  using namespace softcut::cli;
+  using namespace softcut::app;
   if (argc < 2) {
     std::fputs(kUsage, stderr);
     return 2;

@@ -1,4 +1,4 @@
-#include "cli/sweep_plan.hpp"
+#include "app/sweep_plan.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -13,7 +13,7 @@
 
 namespace fs = std::filesystem;
 
-namespace softcut::cli {
+namespace softcut::app {
 
 namespace {
 
@@ -258,4 +258,4 @@ std::vector<std::size_t> shard_runs(std::size_t num_runs, const Shard& shard) {
   return out;
 }
 
-}  // namespace softcut::cli
+}  // namespace softcut::app

@@ -18,9 +18,9 @@
 #include <string>
 #include <vector>
 
-#include "cli/commands.hpp"
+#include "app/commands.hpp"
 
-namespace softcut::cli {
+namespace softcut::app {
 
 class Options {
  public:
@@ -46,4 +46,4 @@ class Options {
   std::map<std::string, std::string> needs_;
 };
 
-}  // namespace softcut::cli
+}  // namespace softcut::app

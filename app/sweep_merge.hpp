@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-namespace softcut::cli {
+namespace softcut::app {
 
 struct SweepMerge {
   int runs = 0, passed = 0, failed = 0;
@@ -20,4 +20,4 @@ struct SweepMerge {
 // differ from the plan's); a missing summary is listed, not thrown.
 SweepMerge merge_sweep(const std::filesystem::path& dir);
 
-}  // namespace softcut::cli
+}  // namespace softcut::app

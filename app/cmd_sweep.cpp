@@ -26,11 +26,11 @@
 #include <optional>
 #include <thread>
 
-#include "cli/commands.hpp"
-#include "cli/options.hpp"
-#include "cli/run_support.hpp"
-#include "cli/sweep_merge.hpp"
-#include "cli/sweep_plan.hpp"
+#include "app/commands.hpp"
+#include "app/options.hpp"
+#include "app/run_support.hpp"
+#include "app/sweep_merge.hpp"
+#include "app/sweep_plan.hpp"
 #include "core/atomic_file.hpp"
 #include "core/checked_file.hpp"
 #include "core/error.hpp"
@@ -44,7 +44,7 @@ extern char** environ;
 
 namespace fs = std::filesystem;
 
-namespace softcut::cli {
+namespace softcut::app {
 
 namespace {
 
@@ -371,4 +371,4 @@ int cmd_sweep(const Args& args) {
   return failed ? 1 : 0;
 }
 
-}  // namespace softcut::cli
+}  // namespace softcut::app

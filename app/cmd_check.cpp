@@ -17,11 +17,11 @@
 #include <sstream>
 #include <thread>
 
-#include "cli/check_report.hpp"
-#include "cli/commands.hpp"
-#include "cli/options.hpp"
-#include "cli/reference_log.hpp"
-#include "cli/run_support.hpp"
+#include "app/check_report.hpp"
+#include "app/commands.hpp"
+#include "app/options.hpp"
+#include "app/reference_log.hpp"
+#include "app/run_support.hpp"
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "core/threads.hpp"
@@ -30,7 +30,7 @@
 
 namespace fs = std::filesystem;
 
-namespace softcut::cli {
+namespace softcut::app {
 
 namespace {
 
@@ -294,4 +294,4 @@ int cmd_check(const Args& args) {
   return failed ? 1 : 0;
 }
 
-}  // namespace softcut::cli
+}  // namespace softcut::app

@@ -7,14 +7,14 @@
 #include <filesystem>
 #include <tuple>
 
-#include "cli/commands.hpp"
-#include "cli/options.hpp"
-#include "cli/run_support.hpp"
+#include "app/commands.hpp"
+#include "app/options.hpp"
+#include "app/run_support.hpp"
 #include "core/error.hpp"
 #include "hybrid/precompute_cache.hpp"
 #include "app/scenario_run.hpp"
 
-namespace softcut::cli {
+namespace softcut::app {
 
 namespace {
 
@@ -126,4 +126,4 @@ int cmd_run(const Args& args) {
   return failed ? 1 : 0;  // outputs are written either way; CI sees the failed expectation
 }
 
-}  // namespace softcut::cli
+}  // namespace softcut::app

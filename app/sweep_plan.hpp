@@ -12,7 +12,7 @@
 #include <utility>
 #include <vector>
 
-namespace softcut::cli {
+namespace softcut::app {
 
 struct SweepRun {
   std::string id;                                          // "run_0003"
@@ -61,4 +61,4 @@ Shard choose_shard(const std::optional<std::string>& shard_arg, std::optional<in
 // Indices of the runs this shard runs, in order.
 std::vector<std::size_t> shard_runs(std::size_t num_runs, const Shard& shard);
 
-}  // namespace softcut::cli
+}  // namespace softcut::app

@@ -1,10 +1,10 @@
-#include "cli/options.hpp"
+#include "app/options.hpp"
 
 #include <cstdio>
 
 #include "core/error.hpp"
 
-namespace softcut::cli {
+namespace softcut::app {
 
 Options::Options(std::string command, const std::string& description, const std::string& footer)
     : command_(std::move(command)), app_(description, command_) {
@@ -49,4 +49,4 @@ bool Options::parse(const Args& args) {
   return true;
 }
 
-}  // namespace softcut::cli
+}  // namespace softcut::app

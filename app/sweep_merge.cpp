@@ -1,9 +1,9 @@
-#include "cli/sweep_merge.hpp"
+#include "app/sweep_merge.hpp"
 
 #include <algorithm>
 #include <nlohmann/json.hpp>
 
-#include "cli/sweep_plan.hpp"
+#include "app/sweep_plan.hpp"
 #include "core/checked_file.hpp"
 #include "core/error.hpp"
 #include "core/printable.hpp"
@@ -11,7 +11,7 @@
 namespace fs = std::filesystem;
 using json = nlohmann::ordered_json;
 
-namespace softcut::cli {
+namespace softcut::app {
 
 namespace {
 
@@ -141,4 +141,4 @@ SweepMerge merge_sweep(const fs::path& dir) {
   return m;
 }
 
-}  // namespace softcut::cli
+}  // namespace softcut::app

@@ -1,14 +1,14 @@
-// engine/cli/options.cpp: options declared once through CLI11; its errors
+// app/options.cpp: options declared once through CLI11; its errors
 // become UsageErrors in softcut's words, naming the command and the option.
-#include "cli/options.hpp"
+#include "app/options.hpp"
 
 #include <doctest/doctest.h>
 
 #include "core/error.hpp"
 
 using softcut::UsageError;
-using softcut::cli::Args;
-using softcut::cli::Options;
+using softcut::app::Args;
+using softcut::app::Options;
 
 namespace {
 
@@ -42,7 +42,7 @@ std::string error_of(const Args& args) {
 
 }  // namespace
 
-TEST_SUITE("cli/options") {
+TEST_SUITE("app/options") {
   TEST_CASE("values in any order, --opt=value, repeated lists in order, the last single value wins, -jN") {
     Parsed p;
     REQUIRE(parse({"--set", "a=1", "x.lua", "--out=o1", "-q", "--set=b=2", "--out", "o2", "-j3", "--set", "c=-1"}, p));

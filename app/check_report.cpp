@@ -1,4 +1,4 @@
-#include "cli/check_report.hpp"
+#include "app/check_report.hpp"
 
 
 #include <cstdio>
@@ -8,7 +8,7 @@
 #include "core/error.hpp"
 #include "core/json_text.hpp"
 
-namespace softcut::cli {
+namespace softcut::app {
 
 namespace {
 
@@ -109,4 +109,4 @@ void write_check_json(const std::filesystem::path& file, const std::vector<Check
   write_file_atomic(file, json_text(j));
 }
 
-}  // namespace softcut::cli
+}  // namespace softcut::app

@@ -1,4 +1,4 @@
-// engine/cli/cmd_run.cpp through the real executable (SOFTCUT_BIN).
+// app/cmd_run.cpp through the real executable (SOFTCUT_BIN).
 #include <doctest/doctest.h>
 #include <signal.h>
 #include <sys/wait.h>
@@ -18,7 +18,7 @@ using softcut::test::contains;
 using softcut::test::run_cli;
 using softcut::test::slurp;
 
-TEST_SUITE("cli/cmd_run") {
+TEST_SUITE("app/cmd_run") {
   TEST_CASE("runs the flagship scenario into --out, quietly") {
     const fs::path out = softcut::test::scratch_dir("cli_run") / "leg";
     const auto r = run_cli("run " + softcut::test::source("scenarios/upper_leg.lua") + " --out " + out.string() + " --quiet");

@@ -38,7 +38,7 @@ const char* kGrid = "--grid f=0.001,0.01,0.1,1 --grid young=5e3,1e4";  // 8 runs
 
 }  // namespace
 
-TEST_SUITE("cli/cmd_sweep") {
+TEST_SUITE("app/cmd_sweep") {
   TEST_CASE("8 runs in 3 shards merge to the same table as one local run - a missing shard fails the merge") {
     const fs::path dir = softcut::test::scratch_dir("sweep_shards");
     const fs::path scen = write_scenario(dir);

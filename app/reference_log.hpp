@@ -6,7 +6,7 @@
 #include <filesystem>
 #include <string>
 
-namespace softcut::cli {
+namespace softcut::app {
 
 struct LogComparison {
   bool ok = false;
@@ -27,4 +27,4 @@ std::filesystem::path reference_path(const std::filesystem::path& scenario);
 LogComparison compare_logs(const std::filesystem::path& produced, const std::filesystem::path& reference,
                            double tolerance);
 
-}  // namespace softcut::cli
+}  // namespace softcut::app

@@ -5,7 +5,7 @@
 #include <map>
 #include <sstream>
 
-#include "cli/commands.hpp"
+#include "app/commands.hpp"
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "core/json_text.hpp"
@@ -20,7 +20,7 @@
 #include "mesh/volume/label_volume.hpp"
 #include "sim/mesh_source.hpp"
 
-namespace softcut::cli {
+namespace softcut::app {
 namespace {
 
 using namespace softcut::mesh;
@@ -434,4 +434,4 @@ int cmd_mesh(const Args& args) {
   fail("mesh: unknown subcommand '", sub, "' (use info, convert or generate; see softcut mesh --help)");
 }
 
-}  // namespace softcut::cli
+}  // namespace softcut::app

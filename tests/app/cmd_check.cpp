@@ -1,10 +1,10 @@
-// engine/cli/cmd_check.cpp (+ reference_log.cpp) through the real executable.
+// app/cmd_check.cpp (+ reference_log.cpp) through the real executable.
 #include <doctest/doctest.h>
 
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "cli/reference_log.hpp"
+#include "app/reference_log.hpp"
 #include "cli_test_support.hpp"
 
 namespace fs = std::filesystem;
@@ -56,7 +56,7 @@ int count_lines(const std::string& s, const std::string& prefix) {
 
 }  // namespace
 
-TEST_SUITE("cli/cmd_check") {
+TEST_SUITE("app/cmd_check") {
   TEST_CASE("the shipped scenarios pass against their references: one line each, then the tally") {
     int shipped = 0;  // every scenarios/*.lua
     for (const auto& e : fs::directory_iterator(fs::path(SOFTCUT_SOURCE_DIR) / "scenarios"))
@@ -80,15 +80,15 @@ TEST_SUITE("cli/cmd_check") {
     CHECK(contains(miss.output, "0 passed, 1 failed"));
     const auto rec = run_cli("check --backend cpu --record " + s.string());
     CHECK(rec.status == 0);
-    CHECK(fs::exists(softcut::cli::reference_path(s)));
+    CHECK(fs::exists(softcut::app::reference_path(s)));
     // Recorded by this build: within the scenario's tolerance of the shipped reference.
-    CHECK(softcut::cli::compare_logs(softcut::cli::reference_path(s), softcut::test::source("scenarios/upper_leg.ref.csv"), 1e-6).ok);
+    CHECK(softcut::app::compare_logs(softcut::app::reference_path(s), softcut::test::source("scenarios/upper_leg.ref.csv"), 1e-6).ok);
     CHECK(run_cli("check --backend cpu " + s.string()).status == 0);
   }
 
   TEST_CASE("a changed scenario or a stale reference fails naming the difference") {
     const fs::path s = copy_scenario("check_stale", "knee_ligament");
-    fs::copy_file(softcut::test::source("scenarios/knee_ligament.ref.csv"), softcut::cli::reference_path(s));
+    fs::copy_file(softcut::test::source("scenarios/knee_ligament.ref.csv"), softcut::app::reference_path(s));
     const auto changed = run_cli("check --backend cpu " + s.string() + " --trust");
     CHECK(changed.status == 0);
     // A different force: same rows, different values.
@@ -102,17 +102,17 @@ TEST_SUITE("cli/cmd_check") {
     CHECK(contains(diff.output, ", node "));
     CHECK(contains(diff.output, "if the change is intended, re-record one with `softcut check --record"));
     // A reference with other rows is stale.
-    std::string ref = slurp(softcut::cli::reference_path(s));
+    std::string ref = slurp(softcut::app::reference_path(s));
     ref.resize(ref.size() / 2);
     ref.resize(ref.rfind('\n') + 1);
-    std::ofstream(softcut::cli::reference_path(s)) << ref;
+    std::ofstream(softcut::app::reference_path(s)) << ref;
     const auto stale = run_cli("check --backend cpu " + s.string());
     CHECK(contains(stale.output, "stale reference"));
   }
 
   TEST_CASE("expectation failures and script errors are reported at the scenario's line") {
     const fs::path s = copy_scenario("check_expect", "liver_retraction");
-    fs::copy_file(softcut::test::source("scenarios/liver_retraction.ref.csv"), softcut::cli::reference_path(s));
+    fs::copy_file(softcut::test::source("scenarios/liver_retraction.ref.csv"), softcut::app::reference_path(s));
     std::string text = slurp(s);
     std::ofstream(s) << text.replace(text.find("max = 1.02 * P.lift"), 19, "max = 0.9 * P.lift");
     const auto r = run_cli("check --backend cpu " + s.string());

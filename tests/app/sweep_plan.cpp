@@ -1,4 +1,4 @@
-#include "cli/sweep_plan.hpp"
+#include "app/sweep_plan.hpp"
 
 #include <doctest/doctest.h>
 
@@ -10,7 +10,7 @@
 #include "test_support.hpp"
 
 namespace fs = std::filesystem;
-using namespace softcut::cli;
+using namespace softcut::app;
 
 namespace {
 
@@ -40,7 +40,7 @@ std::function<const char*(const char*)> env(std::map<std::string, std::string> v
 
 }  // namespace
 
-TEST_SUITE("cli/sweep_plan") {
+TEST_SUITE("app/sweep_plan") {
   TEST_CASE("a grid expands to its Cartesian product, the last key fastest, with stable zero-padded ids") {
     std::vector<std::string> keys;
     std::vector<SweepRun> runs = expand_grid({"a=1,2", "b=x,y,z"}, keys);

@@ -1,4 +1,4 @@
-#include "cli/run_support.hpp"
+#include "app/run_support.hpp"
 
 #include <time.h>
 
@@ -7,7 +7,7 @@
 
 #include "core/error.hpp"
 
-namespace softcut::cli {
+namespace softcut::app {
 
 void add_override(std::map<std::string, std::string>& overrides, const std::string& pair) {
   const auto eq = pair.find('=');
@@ -162,4 +162,4 @@ SignalGuard::~SignalGuard() {
   sigaction(SIGTERM, &g_old_term, nullptr);
 }
 
-}  // namespace softcut::cli
+}  // namespace softcut::app
