@@ -250,7 +250,10 @@ SizeResult run_size(int cells, int target, int steps, gpu::EglContext* context) 
     r.mono_factor_ms = std::min(r.mono_factor_ms, mono.factor_ms());
     const Eigen::VectorXd rhs = mono.system().load(f);
     timer.reset();
-    u_mono = mono.system().field(mono.factor().solve(rhs));
+    solve::SolveWorkspace ws;
+    Eigen::VectorXd x;
+    mono.factor().solve_into(rhs, x, ws);
+    u_mono = mono.system().field(x);
     r.mono_solve_ms = std::min(r.mono_solve_ms, timer.ms());
   }
 

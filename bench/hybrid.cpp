@@ -294,7 +294,13 @@ Result run_model(const ModelEntry& e, bool quick, Storage storage, gpu::EglConte
   {
     const fem::WholeMeshSolver mono(m, mat, fixed_mask, "monolithic");
     const Eigen::VectorXd rhs = mono.system().load(f);
-    mono_solve_ms = median_ms(big ? 3 : 21, [&] { volatile double s = mono.factor().solve(rhs).sum(); (void)s; });
+    solve::SolveWorkspace ws;
+    Eigen::VectorXd x;
+    mono_solve_ms = median_ms(big ? 3 : 21, [&] {
+      mono.factor().solve_into(rhs, x, ws);
+      volatile double s = x.sum();
+      (void)s;
+    });
   }
   int mono_cg_it = 0;
   solve::CgOptions cgo;  // same tolerance as the operational CG
@@ -318,7 +324,8 @@ Result run_model(const ModelEntry& e, bool quick, Storage storage, gpu::EglConte
   const Eigen::VectorXd AI = state.x_operational.tail(3 * Eigen::Index(model.ni()));
   double cond_ms = NAN, uncond_ms = NAN;
   if (model.has_Kstar_inv_Pstar() && model.ni() > 0) {
-    const Eigen::MatrixXd Y = model.K22.solve(Eigen::MatrixXd(model.K2I));  // (3|2| x 3|I|)
+    solve::SolveWorkspace ws;
+    const Eigen::MatrixXd Y = model.K22.solve(Eigen::MatrixXd(model.K2I), ws);  // (3|2| x 3|I|)
     const Eigen::VectorXd z0 = Eigen::VectorXd::Zero(Y.rows());
     Eigen::VectorXd out;
     cond_ms = median_ms(201, [&] { out = state.As_loads; out.noalias() += model.Kstar_inv_Pstar * AI; });

@@ -176,7 +176,7 @@ class HybridSolver final : public Solver {
         out.middleRows<3>(3 * Eigen::Index(surface[p])) = As.middleRows<3>(3 * Eigen::Index(p));
     }
     if (product && !need_interior_) return;
-    const Eigen::MatrixXd W = model_.K22.solve(Eigen::MatrixXd(-(model_.K2I * AI)));
+    const Eigen::MatrixXd W = model_.K22.solve(Eigen::MatrixXd(-(model_.K2I * AI)), *rs.state.ws);
     if (!product)
       for (size_t p = 0; p < surface.size(); ++p)
         out.middleRows<3>(3 * Eigen::Index(surface[p])) = W.middleRows<3>(3 * Eigen::Index(p));

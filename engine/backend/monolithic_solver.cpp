@@ -22,6 +22,7 @@ struct MonolithicSystem {
 
 struct MonolithicRunState final : SolverRunState {
   std::shared_ptr<const MonolithicSystem> cut;  // system of the cut mesh, null before the first cut
+  solve::SolveWorkspace ws;                     // this run's solves with the (shared) factor
 };
 
 class MonolithicSolver final : public Solver {
@@ -56,19 +57,23 @@ class MonolithicSolver final : public Solver {
   }
 
   void unit_responses(const std::vector<int>& nodes, SolverRun& warm, Eigen::MatrixXd& out) const override {
-    out = system(warm).solver.unit_responses(nodes);
+    out = system(warm).solver.unit_responses(nodes, run_state(warm).ws);
   }
 
   void solve(const Eigen::MatrixX3d& forces, Eigen::MatrixX3d& u, SolverRun& warm,
              SolveStats& stats) const override {
     Timer t;
     stats = SolveStats{};
-    u = system(warm).solver.solve(forces, &stats.relative_residual);
+    u = system(warm).solver.solve(forces, run_state(warm).ws, {}, &stats.relative_residual);
     check_solve_residual(stats.relative_residual, "whole-mesh solve");
     stats.operational_ms = t.ms();
   }
 
  private:
+  MonolithicRunState& run_state(SolverRun& warm) const {
+    if (!dynamic_cast<MonolithicRunState*>(warm.backend.get())) start_run(warm, nullptr);
+    return static_cast<MonolithicRunState&>(*warm.backend);
+  }
   const MonolithicSystem& system(const SolverRun& warm) const {
     const auto* rs = dynamic_cast<const MonolithicRunState*>(warm.backend.get());
     return rs && rs->cut ? *rs->cut : *rest_;

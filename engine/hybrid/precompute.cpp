@@ -244,7 +244,8 @@ Model precompute(const mesh::TetMesh& m, const std::vector<fem::Material>& tet_m
     if (n23 > 0 && (M.Ps0.squaredNorm() > 0 || M.Pi0.squaredNorm() > 0)) {
       Eigen::VectorXd P2(n23);
       P2 << M.Ps0, M.Pi0;
-      z = M.K22.solve(P2);
+      solve::SolveWorkspace ws;
+      z = M.K22.solve(P2, ws).col(0);
     }
     M.Kstar_inv_Ps0 = z.head(ns3);
     M.P_prime0 = M.KI2 * z;

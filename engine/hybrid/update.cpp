@@ -229,7 +229,7 @@ const FrameReport& update(const Model& M, State& S, std::span<const Load> loads,
     scatter_nodes(As, M.partition.surface, S.u);
     if (opt.recover_interior) recover_interior(M, S);
   } else if (!M.nonop_nodes.empty()) {
-    const Eigen::VectorXd w = M.K22.solve(nonoperational_rhs(M, S, &AI));
+    const Eigen::VectorXd w = M.K22.solve(nonoperational_rhs(M, S, &AI), *S.ws).col(0);
     scatter_nodes(w.head(3 * Eigen::Index(M.ns())), M.partition.surface, S.u);
     if (opt.recover_interior) scatter_interior(M, w, S);
   }
@@ -246,7 +246,7 @@ const FrameReport& update(const Model& M, State& S, std::span<const Load> loads,
 void recover_interior(const Model& M, State& S) {
   if (M.nonop_nodes.empty()) return;
   const Eigen::VectorXd AI = gather_nodes(S.u, M.partition.interface);
-  scatter_interior(M, M.K22.solve(nonoperational_rhs(M, S, &AI)), S);
+  scatter_interior(M, M.K22.solve(nonoperational_rhs(M, S, &AI), *S.ws).col(0), S);
 }
 
 }  // namespace softcut::hybrid

@@ -86,6 +86,10 @@ struct State {
   // Dense storage only: computes (K*^-1 P*) AI in stage 5 instead of the CPU
   // product (e.g. gpu::DeviceDenseProduct for large blocks). Null: CPU.
   std::shared_ptr<NonoperationalProduct> nonoperational_product;
+  // CHOLMOD's workspace for this run's solves with the Model's K22 factor
+  // (factor storage's stage 5, interior recovery): the factor is shared,
+  // the workspace is not.
+  std::unique_ptr<solve::SolveWorkspace> ws = std::make_unique<solve::SolveWorkspace>();
 
   // Scratch (no allocation per frame).
   Eigen::MatrixX3d forces;           // (nnode x 3) N, operational forces of this frame

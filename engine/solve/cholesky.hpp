@@ -51,11 +51,10 @@ class Cholesky {
   void factor(const Eigen::SparseMatrix<double>& A, const std::string& what = "matrix",
               double max_bytes = std::numeric_limits<double>::infinity());
 
-  Eigen::VectorXd solve(const Eigen::VectorXd& b) const;
-  Eigen::MatrixXd solve(const Eigen::MatrixXd& B) const;  // one column per right-hand side
-  Eigen::MatrixXd solve(const Eigen::SparseMatrix<double>& B) const;
-  // The same solve with the caller's workspace (thread-safe against solves
-  // that use other workspaces).
+  // Every solve takes the caller's workspace: CHOLMOD's solve reads the
+  // factor only and keeps its scratch and status in the workspace's common,
+  // so a factor (a Model's K22) serves solves on several threads at once,
+  // each with its own workspace. One column per right-hand side.
   Eigen::MatrixXd solve(const Eigen::MatrixXd& B, SolveWorkspace& ws) const;
   // x = A^-1 b with the workspace's kept buffers: no allocation once sized
   // (the per-frame solve of small systems, where allocation is a large share).

@@ -10,7 +10,7 @@
 #include "core/error.hpp"
 #include "fem/dof_map.hpp"
 #include "fem/element_stiffness.hpp"
-#include "fem/static_solve.hpp"
+#include "fem/strain.hpp"
 #include "fem_fixtures.hpp"
 
 using namespace softcut;

@@ -15,6 +15,13 @@
 
 namespace {
 
+// A CHOLMOD solve of A x = b (the reference).
+Eigen::VectorXd direct_solve(const Eigen::SparseMatrix<double>& A, const Eigen::VectorXd& b) {
+  softcut::solve::SolveWorkspace ws;
+  return softcut::solve::Cholesky(A).solve(b, ws);
+}
+
+
 softcut::gpu::EglContext& context() {
   static softcut::gpu::EglContext ctx;  // one context for the suite (llvmpipe here)
   return ctx;
@@ -66,7 +73,7 @@ TEST_SUITE("gpu/compute_cg") {
         for (int j = 0; j < 6; ++j)
           if (D(i, j) != 0) A.coeffRef(K.rows() - 6 + i, K.rows() - 6 + j) += D(i, j);
       const Eigen::VectorXd b = Eigen::VectorXd::Random(K.rows());
-      const Eigen::VectorXd direct = softcut::solve::Cholesky(A).solve(b);
+      const Eigen::VectorXd direct = direct_solve(A, b);
 
       softcut::gpu::ComputeCg cg(context(), {});
       cg.set_system(bs);
@@ -92,7 +99,7 @@ TEST_SUITE("gpu/compute_cg") {
     const auto rep = cg.solve([&](const Eigen::VectorXd& v, Eigen::VectorXd& y) { bs.apply(v, y); }, b, x);
     CHECK(rep.converged);
     CHECK(rep.refinements == 1);
-    const Eigen::VectorXd direct = softcut::solve::Cholesky(K).solve(b);
+    const Eigen::VectorXd direct = direct_solve(K, b);
     CHECK((x - direct).norm() <= 1e-8 * direct.norm());
   }
 
@@ -102,7 +109,7 @@ TEST_SUITE("gpu/compute_cg") {
     softcut::gpu::ComputeCg cg(context(), {});
     cg.set_system(bs);
     const Eigen::VectorXd b = Eigen::VectorXd::Random(K.rows());
-    Eigen::VectorXd x = softcut::solve::Cholesky(K).solve(b);
+    Eigen::VectorXd x = direct_solve(K, b);
     const auto rep = cg.solve([&](const Eigen::VectorXd& v, Eigen::VectorXd& y) { bs.apply(v, y); }, b, x);
     CHECK(rep.converged);
     CHECK(rep.iterations == 0);
@@ -136,7 +143,7 @@ TEST_SUITE("gpu/compute_cg") {
     const auto K = box_stiffness(4, 2, 2, 0.1, 5);
     const auto bs = softcut::gpu::make_block_system(K);
     const Eigen::VectorXd b = Eigen::VectorXd::Random(K.rows());
-    const Eigen::VectorXd direct = softcut::solve::Cholesky(K).solve(b);
+    const Eigen::VectorXd direct = direct_solve(K, b);
     softcut::gpu::ComputeCg cg(context(), {});
     cg.set_system(bs);
     for (double scale : {1e-14, 1e20}) {
@@ -270,7 +277,7 @@ TEST_SUITE("gpu/compute_cg") {
     }
     const hybrid::OperationalSystem* sys1 = sys.get();
     const Eigen::VectorXd b = Eigen::VectorXd::Random(sys1->size());
-    const Eigen::VectorXd direct = solve::Cholesky(sys1->assembled()).solve(b);
+    const Eigen::VectorXd direct = direct_solve(sys1->assembled(), b);
     Eigen::VectorXd x;
     const auto rep = cg.solve([&](const Eigen::VectorXd& v, Eigen::VectorXd& y) { sys1->apply(v, y); }, b, x);
     CHECK(rep.converged);

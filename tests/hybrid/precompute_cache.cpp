@@ -101,7 +101,8 @@ TEST_SUITE("hybrid/precompute_cache") {
     const Model warm = precompute_cached(m, mat, p, {}, {dir.path}, &r2);
     REQUIRE(r2.hit);
     Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(cold.K22.rows(), -1.0, 2.0);
-    CHECK(warm.K22.solve(b) == cold.K22.solve(b));
+    solve::SolveWorkspace ws;
+    CHECK(warm.K22.solve(b, ws) == cold.K22.solve(b, ws));
     // Supernodal: the saved factor's values are padded past its nonzeros.
     CHECK(cold.memory.factor_nonzeros > 1e5);
     State s1 = make_state(cold, std::make_unique<CholmodSolver>()), s2 = make_state(warm, std::make_unique<CholmodSolver>());

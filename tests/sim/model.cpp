@@ -2,6 +2,8 @@
 
 #include <doctest/doctest.h>
 
+#include <thread>
+
 #include "core/error.hpp"
 #include "fem/assembly.hpp"
 #include "fem/dof_map.hpp"
@@ -51,8 +53,9 @@ TEST_SUITE("sim/model") {
       Eigen::MatrixX3d f = Eigen::MatrixX3d::Zero(m.mesh.num_nodes(), 3);
       for (int n : tip) f(n, 2) = -0.01 * t / 9.0;
       CHECK((s.forces - f).norm() <= 1e-15);
-      const Eigen::MatrixX3d u =
-          fem::unflatten(fem::expand_vector(chol.solve(fem::restrict_vector(fem::flatten(f), map)), map, m.mesh.num_nodes()));
+      softcut::solve::SolveWorkspace ws;
+      const Eigen::VectorXd x = chol.solve(fem::restrict_vector(fem::flatten(f), map), ws);
+      const Eigen::MatrixX3d u = fem::unflatten(fem::expand_vector(x, map, m.mesh.num_nodes()));
       // Interior nonoperational nodes are condensed away (not computed per frame).
       Eigen::MatrixX3d diff = s.displacement - u;
       for (int n : m.partition.interior) diff.row(n).setZero();
@@ -164,6 +167,38 @@ TEST_SUITE("sim/model") {
       spec.loads[0].nodes = sim::NodeSelector::list({27});  // (0.06, 0.01, 0.01): interface, inside the body
       spec.loads[0].direction_kind = sim::LoadSpec::Direction::normal;
       CHECK_THROWS_WITH_AS(sim::compile(spec), doctest::Contains("node 27 is not on the surface"), Error);
+    }
+  }
+
+  // The Model is fixed data: two runs may step it at once on two threads
+  // (its K22 factor, its operational system, its whole-mesh factor shared;
+  // every workspace, factor of a cut system and cache in each run's State)
+  // and each gets exactly the frames it gets alone.
+  TEST_CASE("one Model, two runs stepping it at once on two threads: each equals the run made alone") {
+    auto spec = softcut::test::cantilever_spec(softcut::test::scratch_dir("sim_model_two_runs"), 1.0);
+    spec.tools.push_back(softcut::test::spring_grasper(
+        50.0, 0.006, softcut::tools::Path::polyline({0.0, 1.0}, {V(0.05, 0.01, 0.02), V(0.05, 0.01, 0.03)})));
+    for (const char* backend : {"direct", "cpu", "monolithic"}) {
+      CAPTURE(backend);
+      spec.solver.backend = softcut::backend::parse_backend(backend);
+      spec.solver.storage = softcut::hybrid::Storage::factor;  // stage 5 through the shared K22 factor
+      const sim::Model m = sim::compile(spec);
+      auto run = [&m](std::vector<Eigen::MatrixX3d>& frames) {
+        sim::State s = sim::make_state(m);
+        for (int f = 0; f < m.num_frames; ++f) {
+          sim::step(m, s);
+          frames.push_back(s.displacement);
+        }
+      };
+      std::vector<Eigen::MatrixX3d> alone, a, b;
+      run(alone);
+      std::thread ta([&] { run(a); }), tb([&] { run(b); });
+      ta.join();
+      tb.join();
+      REQUIRE(alone.size() == size_t(m.num_frames));
+      CHECK(alone.back().col(2).maxCoeff() > 0);  // the grasper lifted the bar
+      CHECK(a == alone);
+      CHECK(b == alone);
     }
   }
 }
