@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "core/error.hpp"
+#include "core/suggest.hpp"
 
 namespace softcut::fem {
 
@@ -21,6 +22,32 @@ void check_material(const Material& mat, const std::string& where) {
       fail(where, ": initial strain component eps_", kNames[k], " must be a finite number within +-", kMaxInitialStrain,
            " (a small-strain model), got ", e);
   }
+  for (int k = 0; k < 3; ++k)
+    if (!(std::isfinite(mat.body_force[size_t(k)]) && std::abs(mat.body_force[size_t(k)]) <= kMaxBodyForce))
+      fail(where, ": body force component ", "xyz"[k], " must be a finite number within +-", kMaxBodyForce,
+           " N/m^3 (1000 g on water), got ", mat.body_force[size_t(k)]);
+  if (mat.model != MaterialModel::linear && mat.model != MaterialModel::corotational &&
+      mat.model != MaterialModel::neohookean)
+    fail(where, ": unknown material model ", std::int64_t(mat.model));
+}
+
+const char* to_string(MaterialModel m) {
+  switch (m) {
+    case MaterialModel::linear: return "linear";
+    case MaterialModel::corotational: return "corotational";
+    case MaterialModel::neohookean: return "neohookean";
+  }
+  return "?";
+}
+
+MaterialModel parse_material_model(std::string_view text) {
+  for (MaterialModel m : {MaterialModel::linear, MaterialModel::corotational, MaterialModel::neohookean})
+    if (text == to_string(m)) return m;
+  fail("unknown material model '", text, "'", suggest(text, {"linear", "corotational", "neohookean"}));
+}
+
+bool has_body_force(const Material& mat) {
+  return mat.body_force[0] != 0 || mat.body_force[1] != 0 || mat.body_force[2] != 0;
 }
 
 bool has_initial_strain(const Material& mat) {

@@ -9,7 +9,7 @@ namespace softcut::fem {
 namespace {
 
 // Bitwise comparison below needs Material without padding.
-static_assert(sizeof(Material) == 8 * sizeof(double));
+static_assert(sizeof(Material) == 12 * sizeof(double));
 
 bool increasing(const std::vector<int>& v) {
   for (size_t k = 1; k < v.size(); ++k)

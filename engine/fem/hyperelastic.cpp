@@ -1,0 +1,232 @@
+#include "fem/hyperelastic.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/LU>
+#include <Eigen/SVD>
+#include <algorithm>
+#include <cmath>
+
+namespace softcut::fem {
+
+namespace {
+
+using Mat9 = Eigen::Matrix<double, 9, 9>;
+
+// Row-major index of F_ab in a 9-vector: 3a + b.
+constexpr int idx(int a, int b) { return 3 * a + b; }
+
+Eigen::Vector3d axial(const Eigen::Matrix3d& B) {  // of B - B^T
+  return {B(2, 1) - B(1, 2), B(0, 2) - B(2, 0), B(1, 0) - B(0, 1)};
+}
+
+Eigen::Matrix3d skew(const Eigen::Vector3d& w) {
+  Eigen::Matrix3d W;
+  W << 0, -w.z(), w.y(), w.z(), 0, -w.x(), -w.y(), w.x(), 0;
+  return W;
+}
+
+Eigen::Matrix3d cofactor(const Eigen::Matrix3d& F) {  // det(F) F^-T, for every F
+  Eigen::Matrix3d C;
+  C.col(0) = F.col(1).cross(F.col(2));
+  C.col(1) = F.col(2).cross(F.col(0));
+  C.col(2) = F.col(0).cross(F.col(1));
+  return C;
+}
+
+Eigen::Matrix3d cofactor_derivative(const Eigen::Matrix3d& F, const Eigen::Matrix3d& dF) {
+  Eigen::Matrix3d dC;
+  dC.col(0) = dF.col(1).cross(F.col(2)) + F.col(1).cross(dF.col(2));
+  dC.col(1) = dF.col(2).cross(F.col(0)) + F.col(2).cross(dF.col(0));
+  dC.col(2) = dF.col(0).cross(F.col(1)) + F.col(0).cross(dF.col(1));
+  return dC;
+}
+
+// The stress measure and its derivative of one law at one F, as the kernel
+// needs them: P (first Piola-Kirchhoff, Pa) and, when asked, dP for a given
+// dF through `dP(dF)`.
+struct Linear {
+  const TetRest& r;
+  Eigen::Matrix3d P;
+  Linear(const TetRest& rest, const Eigen::Matrix3d& F) : r(rest) {
+    const Eigen::Matrix3d e = 0.5 * (F + F.transpose()) - Eigen::Matrix3d::Identity() - r.eps0;
+    P = 2 * r.mu * e + r.lambda * e.trace() * Eigen::Matrix3d::Identity();
+  }
+  Eigen::Matrix3d dP(const Eigen::Matrix3d& dF) const {
+    return r.mu * (dF + dF.transpose()) + r.lambda * dF.trace() * Eigen::Matrix3d::Identity();
+  }
+};
+
+struct Corotational {
+  const TetRest& r;
+  Eigen::Matrix3d R, S, Minv, sig, P;
+  Corotational(const TetRest& rest, const Eigen::Matrix3d& F) : r(rest) {
+    Eigen::Matrix3d U, V;
+    Eigen::Vector3d s;
+    polar(F, R, U, s, V);
+    S = V * s.asDiagonal() * V.transpose();
+    const Eigen::Matrix3d e = S - Eigen::Matrix3d::Identity() - r.eps0;
+    sig = 2 * r.mu * e + r.lambda * e.trace() * Eigen::Matrix3d::Identity();
+    P = R * sig;
+    // (tr S I - S)^-1: eigenvalues 1 / (sigma_j + sigma_k), which vanish only
+    // for a tet flattened or inverted across two axes; bounded there so that
+    // the tangent stays finite (the force does not use it).
+    const double floor = 1e-6 * std::max(1.0, s.cwiseAbs().maxCoeff());
+    Eigen::Vector3d d(s(1) + s(2), s(0) + s(2), s(0) + s(1));
+    for (int k = 0; k < 3; ++k) d(k) = 1.0 / std::max(d(k), floor);
+    Minv = V * d.asDiagonal() * V.transpose();
+  }
+  Eigen::Matrix3d dP(const Eigen::Matrix3d& dF) const {
+    const Eigen::Matrix3d B = R.transpose() * dF;
+    const Eigen::Matrix3d W = skew(Minv * axial(B));  // R^T dR
+    const Eigen::Matrix3d dS = B - W * S;
+    const Eigen::Matrix3d dsig = 2 * r.mu * dS + r.lambda * dS.trace() * Eigen::Matrix3d::Identity();
+    return R * (W * sig + dsig);
+  }
+};
+
+// J below kJ0 enters the isochoric term as J0 exp((J - J0) / J0): positive,
+// C1 at J0, so an inverted tet has a finite energy, force and tangent.
+constexpr double kJ0 = 0.2;
+
+struct NeoHookean {
+  const TetRest& r;
+  Eigen::Matrix3d G, F, C, P;  // F here is F F0^-1
+  double c10, k2, J, I1, a1, a2;  // a1 = da/dJ, a2 = d2a/dJ2 of a(J) = Jhat(J)^-2/3
+  double a;
+  NeoHookean(const TetRest& rest, const Eigen::Matrix3d& F_total) : r(rest) {
+    G = (Eigen::Matrix3d::Identity() + r.eps0).inverse();
+    F = F_total * G;
+    c10 = 0.5 * r.mu;
+    k2 = r.lambda + 2.0 / 3.0 * r.mu;  // 2 / D1 = K
+    C = cofactor(F);
+    J = F.determinant();
+    I1 = F.squaredNorm();
+    double jh = J, d1 = 1, d2 = 0;
+    if (J < kJ0) {
+      jh = kJ0 * std::exp((J - kJ0) / kJ0);
+      d1 = jh / kJ0;
+      d2 = jh / (kJ0 * kJ0);
+    }
+    a = std::pow(jh, -2.0 / 3.0);
+    a1 = -2.0 / 3.0 * a / jh * d1;
+    a2 = 10.0 / 9.0 * a / (jh * jh) * d1 * d1 - 2.0 / 3.0 * a / jh * d2;
+    P = (c10 * (2 * a * F + I1 * a1 * C) + k2 * (J - 1) * C) * G.transpose();
+  }
+  Eigen::Matrix3d dP(const Eigen::Matrix3d& dF_total) const {
+    const Eigen::Matrix3d dF = dF_total * G;
+    const double dJ = (C.array() * dF.array()).sum();
+    const double dI1 = 2 * (F.array() * dF.array()).sum();
+    const Eigen::Matrix3d dC = cofactor_derivative(F, dF);
+    const Eigen::Matrix3d dPe = c10 * (2 * a1 * dJ * F + 2 * a * dF + (dI1 * a1 + I1 * a2 * dJ) * C + I1 * a1 * dC) +
+                                k2 * (dJ * C + (J - 1) * dC);
+    return dPe * G.transpose();
+  }
+};
+
+// f and K from P and dP: f_k = V P g_k; K(3k + a, 3l + b) = V sum_cd H(ac, bd) g_k[c] g_l[d].
+template <class Law>
+void assemble(const TetRest& r, const Law& law, Vec12& f, Mat12* K, Tangent tangent) {
+  for (int k = 0; k < 4; ++k) f.segment<3>(3 * k) = r.volume * (law.P * r.grad.row(k).transpose());
+  if (!K || tangent == Tangent::none) return;
+  Mat9 H;  // H(idx(a, c), idx(b, d)) = dP_ac / dF_bd
+  for (int b = 0; b < 3; ++b)
+    for (int d = 0; d < 3; ++d) {
+      Eigen::Matrix3d dF = Eigen::Matrix3d::Zero();
+      dF(b, d) = 1;
+      const Eigen::Matrix3d dP = law.dP(dF);
+      for (int a = 0; a < 3; ++a)
+        for (int c = 0; c < 3; ++c) H(idx(a, c), idx(b, d)) = dP(a, c);
+    }
+  H = (0.5 * (H + H.transpose())).eval();
+  if (tangent == Tangent::projected) {
+    const Eigen::SelfAdjointEigenSolver<Mat9> eig(H);
+    const Eigen::Matrix<double, 9, 1> lam = eig.eigenvalues().cwiseMax(0.0);
+    H = eig.eigenvectors() * lam.asDiagonal() * eig.eigenvectors().transpose();
+  }
+  const Eigen::Matrix<double, 4, 3>& g = r.grad;
+  for (int a = 0; a < 3; ++a)
+    for (int b = 0; b < 3; ++b) {
+      Eigen::Matrix3d Hab;
+      for (int c = 0; c < 3; ++c)
+        for (int d = 0; d < 3; ++d) Hab(c, d) = H(idx(a, c), idx(b, d));
+      const Eigen::Matrix4d Kab = r.volume * (g * Hab * g.transpose());
+      for (int k = 0; k < 4; ++k)
+        for (int l = 0; l < 4; ++l) (*K)(3 * k + a, 3 * l + b) = Kab(k, l);
+    }
+  *K = (0.5 * (*K + K->transpose())).eval();
+}
+
+}  // namespace
+
+void polar(const Eigen::Matrix3d& F, Eigen::Matrix3d& R, Eigen::Matrix3d& U, Eigen::Vector3d& sigma,
+           Eigen::Matrix3d& V) {
+  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(F, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  U = svd.matrixU();
+  V = svd.matrixV();
+  sigma = svd.singularValues();
+  // Both reflections, if any, go onto the smallest singular value: R stays a
+  // rotation and S = V Sigma V^T takes the sign (an inverted tet).
+  if (U.determinant() < 0) U.col(2) *= -1, sigma(2) *= -1;
+  if (V.determinant() < 0) V.col(2) *= -1, sigma(2) *= -1;
+  R = U * V.transpose();
+}
+
+TetRest tet_rest(const TetCorners& X, const Material& mat) {
+  Eigen::Matrix3d Dm;
+  for (int k = 0; k < 3; ++k) Dm.col(k) = (X.row(k + 1) - X.row(0)).transpose();
+  TetRest r;
+  r.volume = Dm.determinant() / 6.0;
+  r.Dm_inv = Dm.inverse();
+  r.grad.bottomRows<3>() = r.Dm_inv;
+  r.grad.row(0) = -r.Dm_inv.colwise().sum();
+  const double E = mat.young, nu = mat.poisson;
+  r.lambda = E * nu / ((1 + nu) * (1 - 2 * nu));
+  r.mu = E / (2 * (1 + nu));
+  const auto& e = mat.initial_strain;  // Voigt, engineering shears
+  r.eps0 << e[0], 0.5 * e[5], 0.5 * e[4], 0.5 * e[5], e[1], 0.5 * e[3], 0.5 * e[4], 0.5 * e[3], e[2];
+  r.model = mat.model;
+  return r;
+}
+
+Eigen::Matrix3d deformation_gradient(const TetRest& r, const TetCorners& x) {
+  return x.transpose() * r.grad;  // sum_k x_k g_k^T
+}
+
+void element_force(const TetRest& r, const TetCorners& x, Vec12& f, Mat12* K, Tangent tangent) {
+  const Eigen::Matrix3d F = deformation_gradient(r, x);
+  switch (r.model) {
+    case MaterialModel::linear: assemble(r, Linear(r, F), f, K, tangent); break;
+    case MaterialModel::corotational: assemble(r, Corotational(r, F), f, K, tangent); break;
+    case MaterialModel::neohookean: assemble(r, NeoHookean(r, F), f, K, tangent); break;
+  }
+}
+
+double element_energy(const TetRest& r, const TetCorners& x) {
+  const Eigen::Matrix3d F = deformation_gradient(r, x);
+  const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
+  auto linear_energy = [&](const Eigen::Matrix3d& e) { return r.mu * e.squaredNorm() + 0.5 * r.lambda * e.trace() * e.trace(); };
+  switch (r.model) {
+    case MaterialModel::linear: return r.volume * linear_energy(0.5 * (F + F.transpose()) - I - r.eps0);
+    case MaterialModel::corotational: {
+      const Corotational law(r, F);
+      return r.volume * linear_energy(law.S - I - r.eps0);
+    }
+    case MaterialModel::neohookean: {
+      const NeoHookean law(r, F);
+      return r.volume * (law.c10 * (law.a * law.I1 - 3) + 0.5 * law.k2 * (law.J - 1) * (law.J - 1));
+    }
+  }
+  return 0;
+}
+
+Deformation deformation(const Eigen::Matrix3d& F) {
+  Eigen::Matrix3d R, U, V;
+  Eigen::Vector3d s;
+  polar(F, R, U, s, V);
+  Deformation d;
+  d.rotation = std::acos(std::clamp(0.5 * (R.trace() - 1), -1.0, 1.0));
+  d.strain = (s.array() - 1).abs().maxCoeff();
+  return d;
+}
+
+}  // namespace softcut::fem
