@@ -96,6 +96,7 @@ function softcut.params(args) end
 ---@field fps? number frame rate (Hz)
 ---@field tolerance? number `softcut check`: max |u - u_ref| allowed, relative to max |u_ref| of the reference log
 ---@field description? string one line, recorded in summary.json (`scenario.description`)
+---@field gravity? number[] acceleration of gravity: a body force density x gravity on every tet (a dead load; the condensed region takes it through its precomputed constant term) (m/s^2)
 ---Starts a scenario: its name, timeline and reference tolerance. The script returns the Scenario (or the last one created is used).
 ---@param args softcut_scenario_args
 ---@return Scenario
@@ -120,6 +121,8 @@ function Scenario:mesh(args) end
 ---@field tissue? string preset name from softcut.tissues
 ---@field young? number Young's modulus E (Pa)
 ---@field poisson? number Poisson's ratio nu
+---@field model? string the law: linear (the paper's small-strain elasticity), corotational (linear elasticity in each tet's rotated frame: exact under large rotations, moderate strains), neohookean (compressible neo-Hooke as CalculiX's NEO HOOKE, for large stretch). Nonlinear laws act in the operational region (the condensed region is linear) or, with s:solver{ whole_body = true }, everywhere; docs/fidelity.md
+---@field density? number mass density, for gravity (default: the preset's, else 1000) (kg/m^3)
 ---Assigns a material to a set of tets (all tets when no region field is given); later calls override earlier ones. Give a tissue preset, E and nu, or both (explicit values override the preset's).
 ---@param args Scenario_material_args
 function Scenario:material(args) end
@@ -149,7 +152,10 @@ function Scenario:operational(args) end
 
 ---@class Scenario_fix_args
 ---@field nodes Selection nodes to fix
----Fixes nodes (zero displacement). Several calls add up.
+---@field displacement? number[] a constant prescribed displacement (m)
+---@field path? Path|number[] the prescribed displacement over time (e.g. softcut.path.polyline from {0, 0, 0}) (m)
+---@field name? string for messages (default: motion1, motion2, ...)
+---Fixes nodes: at rest (zero displacement), or moved by a prescribed displacement, constant or along a path over time (a patch lifted by 20 mm, a retractor's edge). Several calls add up; a node follows one motion. With the hybrid model a moved node must lie in the operational region (the condensed region is precomputed with its fixed nodes at rest).
 ---@param args Scenario_fix_args
 function Scenario:fix(args) end
 
@@ -234,6 +240,9 @@ function Scenario:output(args) end
 ---@field backend? string operational solver: auto (direct: the fastest exact solver measured), cpu (the paper's CG), gpu (CG in compute shaders, also on llvmpipe), direct (CHOLMOD, factor kept between frames), monolithic (whole mesh, no condensation: a reference)
 ---@field gpu_fp64? boolean gpu: fp64 kernels instead of fp32 with fp64 refinement
 ---@field mode? string nonoperational data: auto (product or factor, by memory and cost), dense (the paper's blocks, O(surface^2) memory), product (K*^-1 P* dense, columns of loaded nodes on demand), factor (a K22 solve per full-surface frame)
+---@field newton_tolerance? number nonlinear frames: Newton's relative residual
+---@field newton_max_iterations? integer nonlinear frames: Newton steps before the frame is an error
+---@field whole_body? boolean every tet by its material's law and nothing condensed: the fully nonlinear answer for bodies small enough to solve whole (backend auto or monolithic)
 ---Solver knobs (rarely needed).
 ---@param args Scenario_solver_args
 function Scenario:solver(args) end

@@ -90,8 +90,10 @@ api.functions = {
       F("fps", "number", "frame rate", { unit = "Hz", gt = 0, le = 10000, default = 30 }),
       F("tolerance", "number", "`softcut check`: max |u - u_ref| allowed, relative to max |u_ref| of the reference log",
         { gt = 0, lt = 1, default = 1e-6 }),
-      F("description", "string", "one line, recorded in summary.json (`scenario.description`)") },
-    example = 'local s = softcut.scenario{ name = "liver_retraction", duration = 2.0, fps = 30 }' },
+      F("description", "string", "one line, recorded in summary.json (`scenario.description`)"),
+      F("gravity", "vec3", "acceleration of gravity: a body force density x gravity on every tet (a dead "
+        .. "load; the condensed region takes it through its precomputed constant term)", { unit = "m/s^2", default = { 0, 0, 0 } }) },
+    example = 'local s = softcut.scenario{ name = "liver_retraction", duration = 2.0, fps = 30, gravity = {0, 0, -9.81} }' },
 
   { name = "Scenario:mesh", summary = "Loads or generates the rest mesh (call first). Returns a Mesh "
       .. "table: num_nodes, num_tets, labels (sorted list), min, max, center, size (m), sets (names of the "
@@ -113,8 +115,15 @@ api.functions = {
       F("tissue", "string", "preset name from softcut.tissues"),
       F("young", "number", "Young's modulus E", { unit = "Pa", gt = 0, why = "E must be positive" }),
       F("poisson", "number", "Poisson's ratio nu", { gt = -1, lt = 0.5,
-        why = "nu -> 0.5 is incompressible, which linear tets cannot represent" })),
-    example = 's:material{ label = 2, tissue = "liver" }\ns:material{ sphere = { center = {0, 0, 0}, radius = 0.01 }, young = 2e4, poisson = 0.45 }' },
+        why = "nu -> 0.5 is incompressible, which linear tets cannot represent" }),
+      F("model", "string", "the law: linear (the paper's small-strain elasticity), corotational (linear "
+        .. "elasticity in each tet's rotated frame: exact under large rotations, moderate strains), neohookean "
+        .. "(compressible neo-Hooke as CalculiX's NEO HOOKE, for large stretch). Nonlinear laws act in the "
+        .. "operational region (the condensed region is linear) or, with s:solver{ whole_body = true }, everywhere; "
+        .. "docs/fidelity.md", { values = { "linear", "corotational", "neohookean" }, default = "linear" }),
+      F("density", "number", "mass density, for gravity (default: the preset's, else 1000)",
+        { unit = "kg/m^3", gt = 0, le = 1e5 })),
+    example = 's:material{ label = 2, tissue = "liver" }\ns:material{ sphere = { center = {0, 0, 0}, radius = 0.01 }, young = 2e4, poisson = 0.45 }\ns:material{ tissue = "liver", model = "corotational" }' },
   { name = "Scenario:prestress", summary = "Gives a set of tets an initial strain eps0 (paper Sec. 5; all tets "
       .. "when no region field is given); later calls override earlier ones on shared tets. The stress is "
       .. "D (eps - eps0): tissue held in place with eps0 < 0 is under tension, as skin and capsules are, so an "
@@ -130,9 +139,17 @@ api.functions = {
       .. "is solved every frame by CG; the rest is condensed). Default: none (everything condensed).",
     one_of = { { "label", "sphere", "box", "halfspace", "tets" } }, fields = region_fields,
     example = 's:operational{ sphere = { center = {0.05, 0.02, 0.04}, radius = 0.015 } }' },
-  { name = "Scenario:fix", summary = "Fixes nodes (zero displacement). Several calls add up.",
-    fields = { F("nodes", "Selection", "nodes to fix", { required = true }) },
-    example = 's:fix{ nodes = softcut.select.halfspace{ point = {0, 0, 0}, normal = {-1, 0, 0} } }' },
+  { name = "Scenario:fix", summary = "Fixes nodes: at rest (zero displacement), or moved by a prescribed "
+      .. "displacement, constant or along a path over time (a patch lifted by 20 mm, a retractor's edge). "
+      .. "Several calls add up; a node follows one motion. With the hybrid model a moved node must lie in "
+      .. "the operational region (the condensed region is precomputed with its fixed nodes at rest).",
+    at_most_one_of = { { "displacement", "path" } },
+    fields = { F("nodes", "Selection", "nodes to fix", { required = true }),
+      F("displacement", "vec3", "a constant prescribed displacement", { unit = "m" }),
+      F("path", "Path", "the prescribed displacement over time (e.g. softcut.path.polyline from {0, 0, 0})", { unit = "m" }),
+      F("name", "string", "for messages (default: motion1, motion2, ...)") },
+    example = 's:fix{ nodes = softcut.select.halfspace{ point = {0, 0, 0}, normal = {-1, 0, 0} } }\n'
+      .. 's:fix{ nodes = patch, path = softcut.path.polyline{ times = {0, 1}, points = {{0, 0, 0}, {0, 0, 0.02}} } }' },
   { name = "Scenario:load", summary = "A nodal force: `force` is a world vector (its length is the "
       .. "magnitude), or `normal` a magnitude along each node's outward surface normal (negative pushes in); "
       .. "both multiplied by `ramp(t)`. The total is split evenly over the nodes unless per_node is true.",
@@ -225,8 +242,13 @@ api.functions = {
       F("gpu_fp64", "boolean", "gpu: fp64 kernels instead of fp32 with fp64 refinement", { default = false }),
       F("mode", "string", "nonoperational data: auto (product or factor, by memory and cost), dense (the paper's "
         .. "blocks, O(surface^2) memory), product (K*^-1 P* dense, columns of loaded nodes on demand), factor "
-        .. "(a K22 solve per full-surface frame)", { values = { "auto", "dense", "product", "factor" }, default = "auto" }) },
-    example = 's:solver{ backend = "cpu" }' },
+        .. "(a K22 solve per full-surface frame)", { values = { "auto", "dense", "product", "factor" }, default = "auto" }),
+      F("newton_tolerance", "number", "nonlinear frames: Newton's relative residual", { gt = 0, lt = 1e-2, default = 1e-10 }),
+      F("newton_max_iterations", "integer", "nonlinear frames: Newton steps before the frame is an error",
+        { ge = 1, le = 1000, default = 40 }),
+      F("whole_body", "boolean", "every tet by its material's law and nothing condensed: the fully nonlinear answer "
+        .. "for bodies small enough to solve whole (backend auto or monolithic)", { default = false }) },
+    example = 's:solver{ backend = "cpu" }\ns:solver{ whole_body = true }' },
   { name = "Scenario:expect", summary = "A check for `softcut check` (also reported by `softcut run`): "
       .. "bounds on the displacement of a node set at time `at` (the first frame at or after it), or a "
       .. "function(frame) returning true, or false and a message. Failures point at this line.",

@@ -15,7 +15,7 @@ function M.new(args)
   local a = check.args("softcut.scenario", args)
   local s = setmetatable({
     name = a.name or internal.scenario_stem or "scenario",
-    duration = a.duration, fps = a.fps, tolerance = a.tolerance, description = a.description,
+    duration = a.duration, fps = a.fps, tolerance = a.tolerance, description = a.description, gravity = a.gravity,
     where = check.where(),
     _materials = {}, _prestress = {}, _fixed = {}, _loads = {}, _tools = {}, _expect = {}, _on_frame = {},
     _output = { csv = true, vtu = false, vtu_every = 1 },
@@ -105,7 +105,7 @@ function Scenario:material(args)
   end
   local r = region(self, "material", a)
   self._materials[#self._materials + 1] = { name = a.name or ("material" .. (#self._materials + 1)), where = r.where,
-    region = r, tissue = a.tissue, young = a.young, poisson = a.poisson }
+    region = r, tissue = a.tissue, young = a.young, poisson = a.poisson, model = a.model, density = a.density }
 end
 
 function Scenario:prestress(args)
@@ -129,7 +129,12 @@ function Scenario:fix(args)
   editable(self, "fix")
   local a = check.args("Scenario:fix", args)
   resolve(self, "fix", a.nodes)
-  self._fixed[#self._fixed + 1] = { sel = a.nodes, where = check.where() }
+  local path = a.path
+  if a.displacement then path = M.as_path(a.displacement) end
+  local moves = 0
+  for _, f in ipairs(self._fixed) do if f.path then moves = moves + 1 end end
+  self._fixed[#self._fixed + 1] = { sel = a.nodes, where = check.where(), path = path,
+    name = path and (a.name or ("motion" .. (moves + 1))) or nil }
 end
 
 function Scenario:load(args)

@@ -63,6 +63,7 @@ sim::ScenarioSpec spec_from_table(lua_State* L, int s, const fs::path& source) {
   spec.versions["lua"] = LUA_RELEASE;
   spec.timeline.duration = get_number(L, s, "duration", 1.0);
   spec.timeline.fps = get_number(L, s, "fps", 30.0);
+  spec.gravity = get_vec3(L, s, "gravity", Eigen::Vector3d::Zero());
 
   if (push_field(L, s, "_mesh") != LUA_TTABLE) fail(where, ": scenario: no mesh (add s:mesh{ file = ... } or s:mesh{ generate = ... })");
   push_field(L, -1, "handle");
@@ -81,6 +82,8 @@ sim::ScenarioSpec spec_from_table(lua_State* L, int s, const fs::path& source) {
     a.preset = get_string(L, m, "tissue");
     a.young = get_number(L, m, "young", 0.0);
     a.poisson = get_number(L, m, "poisson", -2.0);
+    if (has_field(L, m, "model")) a.model = fem::parse_material_model(get_string(L, m, "model"));
+    a.density = get_number(L, m, "density", 0.0);
     spec.materials.push_back(a);
   });
 
@@ -99,13 +102,27 @@ sim::ScenarioSpec spec_from_table(lua_State* L, int s, const fs::path& source) {
   std::vector<sim::NodeSelector> fixed;
   each(L, s, "_fixed", [&](int f) {
     push_field(L, f, "sel");
-    fixed.push_back(to_node_selector(L, -1));
+    sim::NodeSelector sel = to_node_selector(L, -1);
+    lua_pop(L, 1);
+    if (push_field(L, f, "path") == LUA_TTABLE) {  // a prescribed motion
+      sim::MotionSpec mo;
+      mo.path = to_path(L, -1);
+      mo.name = get_string(L, f, "name");
+      mo.where = get_string(L, f, "where");
+      mo.nodes = std::move(sel);
+      spec.motions.push_back(std::move(mo));
+    } else {
+      fixed.push_back(std::move(sel));
+    }
     lua_pop(L, 1);
   });
-  if (fixed.empty())
+  if (fixed.empty() && !spec.motions.empty()) {  // held by its motions alone
+    spec.fixed = sim::NodeSelector::list({});
+    spec.fixed.where = spec.motions[0].where;
+  } else if (fixed.empty()) {
     fail(where, ": scenario: no fixed nodes, so the body can float away (the stiffness matrix is singular); "
                 "add s:fix{ nodes = softcut.select... }");
-  if (fixed.size() == 1) {
+  } else if (fixed.size() == 1) {
     spec.fixed = fixed[0];
   } else {
     spec.fixed.kind = sim::NodeSelector::Kind::union_of;
@@ -231,6 +248,9 @@ sim::ScenarioSpec spec_from_table(lua_State* L, int s, const fs::path& source) {
     spec.solver.backend = backend::parse_backend(get_string(L, v, "backend", "auto"));
     spec.solver.storage = hybrid::parse_storage(get_string(L, v, "mode", "auto"));
     spec.solver.gpu_fp64 = get_bool(L, v, "gpu_fp64", spec.solver.gpu_fp64);
+    spec.solver.newton.tolerance = get_number(L, v, "newton_tolerance", spec.solver.newton.tolerance);
+    spec.solver.newton.max_iterations = get_int(L, v, "newton_max_iterations", spec.solver.newton.max_iterations);
+    spec.solver.whole_body = get_bool(L, v, "whole_body", spec.solver.whole_body);
   }
   lua_pop(L, 1);
   if (push_field(L, s, "_cutting") == LUA_TTABLE) {

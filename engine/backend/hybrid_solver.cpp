@@ -188,8 +188,10 @@ class HybridSolver final : public Solver {
     }
   }
 
-  void solve(const Eigen::MatrixX3d& forces, Eigen::MatrixX3d& u, SolverRun& warm,
-             SolveStats& stats) const override {
+  bool nonlinear() const override { return model_.operational->nonlinear_law; }
+
+  void solve(const Eigen::MatrixX3d& forces, Eigen::MatrixX3d& u, SolverRun& warm, SolveStats& stats,
+             const FrameInput& in) const override {
     HybridRunState* rs = &run_state(warm);
     rs->loads.clear();
     for (int n = 0; n < forces.rows(); ++n)
@@ -198,15 +200,33 @@ class HybridSolver final : public Solver {
         rs->loads.push_back({n, forces.row(n).transpose()});
     hybrid::UpdateOptions opt;
     opt.recover_interior = need_interior_;
+    const bool moving = in.prescribed && in.prescribed->size() > 0 && in.prescribed->squaredNorm() > 0;
+    hybrid::NonlinearFrame frame;
+    if (moving || in.springs || nonlinear()) {
+      if (moving) frame.prescribed = *in.prescribed;
+      frame.springs = in.springs;
+      frame.newton = spec_.newton;
+      opt.nonlinear = &frame;
+    }
     const hybrid::FrameReport& rep = hybrid::update(model_, rs->state, rs->loads, *rs->state.solver, opt);
     check_solve_residual(rep.solve.relative_residual, "operational solve");
     u = rs->state.u;
+    if (moving)
+      for (int n : model_.partition.fixed) u.row(n) = in.prescribed->row(n);
     stats = SolveStats{};
     stats.cg_iterations = rep.solve.iterations;
     stats.relative_residual = rep.solve.relative_residual;
     stats.loads_ms = rep.loads_ms;
     stats.operational_ms = rep.operational_ms;
     stats.nonoperational_ms = rep.selective_ms + rep.nonoperational_ms;
+    stats.newton = rep.newton;
+    if (rep.newton) {
+      stats.newton_iterations = rep.nonlinear.newton.iterations;
+      stats.projected_steps = rep.nonlinear.newton.projected_steps;
+      stats.max_rotation = rep.nonlinear.max_rotation;
+      stats.max_strain = rep.nonlinear.max_strain;
+      stats.inverted = rep.nonlinear.inverted;
+    }
   }
 
  private:

@@ -16,6 +16,14 @@ BackendChoice choose_backend(const SolverSpec& spec, const gpu::ContextInfo* inf
   BackendChoice c;
   c.requested = spec.backend;
   if (info) c.device = info->renderer + (info->software ? ", software" : "");
+  if (spec.whole_body) {
+    if (spec.backend != Backend::automatic && spec.backend != Backend::monolithic)
+      fail("solver: whole_body solves every tet by its law with no condensation, on the whole-mesh factor: backend ",
+           "'", to_string(spec.backend), "' cannot; use backend \"auto\" or \"monolithic\"");
+    c.backend = Backend::monolithic;
+    c.reason = "whole_body: every tet by its law, nothing condensed (Newton on the whole-mesh factor)";
+    return c;
+  }
   switch (spec.backend) {
     case Backend::cpu:
     case Backend::direct:
@@ -64,8 +72,14 @@ std::unique_ptr<Solver> make_solver(const mesh::TetMesh& m, const std::vector<fe
   if (spec.gpu_fp64 && choice.backend != Backend::gpu)
     diag.warn("solver: gpu_fp64 ignored: the operational backend is ", to_string(choice.backend), " (", choice.reason,
               ")");
+  if (choice.backend == Backend::cpu || choice.backend == Backend::gpu)
+    for (int t : partition.operational_tets)
+      if (tet_material[size_t(t)].model != fem::MaterialModel::linear)
+        fail("solver: operational tet ", t, " has the ", fem::to_string(tet_material[size_t(t)].model),
+             " law, whose Newton iteration is preconditioned by the kept factor of the direct solver; backend '",
+             to_string(choice.backend), "' keeps none: use backend \"auto\" (or \"direct\", \"monolithic\")");
   if (choice.backend == Backend::monolithic)
-    return make_monolithic_solver(m, tet_material, partition, std::move(choice), spec.max_bytes);
+    return make_monolithic_solver(m, tet_material, partition, std::move(choice), spec);
   return make_hybrid_solver(m, tet_material, partition, spec, need_interior, std::move(choice), resources.context);
 }
 

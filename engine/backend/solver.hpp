@@ -15,6 +15,7 @@
 
 #include "backend/spec.hpp"
 #include "core/error.hpp"
+#include "fem/grip_springs.hpp"
 #include "fem/material.hpp"
 #include "gpu/dense_product.hpp"
 #include "hybrid/columns.hpp"
@@ -74,11 +75,28 @@ struct SolverRun {
 };
 
 struct SolveStats {
-  int cg_iterations = 0;          // 0 for direct solves
+  int cg_iterations = 0;          // 0 for direct solves; a nonlinear frame's PCG iterations, all Newton steps
   double relative_residual = 0;   // of the operational system
   double loads_ms = 0;            // stage 2: checking and sorting the loads
   double operational_ms = 0;      // stage 4
   double nonoperational_ms = 0;   // stages 3 + 5
+  // A nonlinear frame (a nonlinear law, or a prescribed motion): Newton's steps.
+  bool newton = false;
+  int newton_iterations = 0;
+  int projected_steps = 0;        // steps that needed projected element tangents
+  double max_rotation = 0;        // rad, largest rotation of a nonlinear tet
+  double max_strain = 0;          // largest |principal stretch - 1| of a nonlinear tet
+  int inverted = 0;               // nonlinear tets inverted at the solution
+};
+
+// What a frame asks of the solve besides its nodal forces.
+struct FrameInput {
+  // (nnode x 3) m: the displacement of the fixed nodes (rows of other nodes
+  // ignored); null: all zero.
+  const Eigen::MatrixX3d* prescribed = nullptr;
+  // A nonlinear model's grasper springs, solved inside the Newton iteration
+  // (Solver::nonlinear()); null: none.
+  const fem::GripSprings* springs = nullptr;
 };
 
 // The body a cut left, as a solver rebuilds its system from it: the fields of
@@ -98,10 +116,15 @@ class Solver {
  public:
   virtual ~Solver() = default;
   virtual std::string name() const = 0;  // e.g. "hybrid (dense storage, operational cg)"
-  // forces (nnode x 3), N -> u (nnode x 3), m. Fixed nodes get zero. Rows of
+  // forces (nnode x 3), N -> u (nnode x 3), m. Fixed nodes get their
+  // prescribed displacement (zero unless `in` gives one). Rows of
   // nonoperational interior nodes are valid only when interior_valid().
-  virtual void solve(const Eigen::MatrixX3d& forces, Eigen::MatrixX3d& u, SolverRun& warm,
-                     SolveStats& stats) const = 0;
+  virtual void solve(const Eigen::MatrixX3d& forces, Eigen::MatrixX3d& u, SolverRun& warm, SolveStats& stats,
+                     const FrameInput& in = {}) const = 0;
+  // Some solved tet has a nonlinear law: every frame is a Newton solve, and
+  // implicit graspers go inside it (FrameInput::springs) instead of being
+  // superposed on the unit responses afterwards.
+  virtual bool nonlinear() const = 0;
   virtual bool interior_valid() const = 0;
   // Precompute timings, ms, by stage name (Table 3), in a stable order.
   virtual std::vector<std::pair<std::string, double>> precompute_ms() const = 0;

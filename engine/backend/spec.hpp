@@ -7,6 +7,7 @@
 #include <string_view>
 
 #include "hybrid/precompute.hpp"
+#include "solve/newton.hpp"
 
 namespace softcut::backend {
 
@@ -35,6 +36,11 @@ struct SolverSpec {
   // Precompute cache folder (hybrid/precompute_cache.hpp; the CLI's default
   // is hybrid::default_cache_dir(), --no-cache clears it); empty: no cache.
   std::filesystem::path cache_dir;
+  // Nonlinear frames (DESIGN.md §1b): Newton's tolerance and limits.
+  solve::NewtonOptions newton;
+  // Every tet takes its material's law and nothing is condensed: the whole
+  // body solved by Newton (backend monolithic; for bodies small enough).
+  bool whole_body = false;
 };
 
 }  // namespace softcut::backend

@@ -300,26 +300,33 @@ SparseMatrix assemble_stiffness_triplets(const mesh::TetMesh& m, const std::vect
   return K;
 }
 
-Eigen::MatrixX3d initial_strain_forces(const mesh::TetMesh& m, const std::vector<Material>& tet_material,
-                                       const std::vector<int>& tets_in) {
+Eigen::MatrixX3d element_loads(const mesh::TetMesh& m, const std::vector<Material>& tet_material,
+                               const std::vector<int>& tets_in) {
   const std::vector<int> tets = tet_set(m, tets_in);
-  check_tets(m, tet_material, tets, "initial_strain_forces");
+  check_tets(m, tet_material, tets, "element_loads");
   Eigen::MatrixX3d f = Eigen::MatrixX3d::Zero(m.num_nodes(), 3);
   for (int t : tets) {
     const Material& mat = tet_material[size_t(t)];
-    if (!has_initial_strain(mat)) continue;
+    const bool strained = has_initial_strain(mat), weighed = has_body_force(mat);
+    if (!strained && !weighed) continue;
     double V = 0;
     const Mat6x12 B = strain_displacement(tet_corners(m, t), &V);
-    const Eigen::Matrix<double, 6, 1> eps0 = Eigen::Map<const Eigen::Matrix<double, 6, 1>>(mat.initial_strain.data());
-    const Eigen::Matrix<double, 12, 1> fe = V * (B.transpose() * (elasticity_matrix(mat) * eps0));
-    for (int k = 0; k < 4; ++k) f.row(m.tets(t, k)) += fe.segment<3>(3 * k).transpose();
+    if (strained) {
+      const Eigen::Matrix<double, 6, 1> eps0 = Eigen::Map<const Eigen::Matrix<double, 6, 1>>(mat.initial_strain.data());
+      const Eigen::Matrix<double, 12, 1> fe = V * (B.transpose() * (elasticity_matrix(mat) * eps0));
+      for (int k = 0; k < 4; ++k) f.row(m.tets(t, k)) += fe.segment<3>(3 * k).transpose();
+    }
+    if (weighed) {  // a dead load: a quarter of V b on each corner
+      const Eigen::RowVector3d share = V / 4 * Eigen::RowVector3d(mat.body_force[0], mat.body_force[1], mat.body_force[2]);
+      for (int k = 0; k < 4; ++k) f.row(m.tets(t, k)) += share;
+    }
   }
   return f;
 }
 
-bool any_initial_strain(const std::vector<Material>& tet_material) {
+bool any_element_load(const std::vector<Material>& tet_material) {
   for (const Material& mat : tet_material)
-    if (has_initial_strain(mat)) return true;
+    if (has_initial_strain(mat) || has_body_force(mat)) return true;
   return false;
 }
 

@@ -71,16 +71,17 @@ BlockStiffness assemble_node_blocks(const mesh::TetMesh& m, const std::vector<Ma
 SparseMatrix assemble_stiffness_triplets(const mesh::TetMesh& m, const std::vector<Material>& tet_material,
                                          const std::vector<int>& tets = {});
 
-// Equivalent nodal forces of the tets' initial strains (Material::
-// initial_strain), (nnode x 3) N: f0 = V B^T D eps0 per tet, summed over the
-// tets listed in `tets` (all when empty); nodes outside the set get zero.
-// They enter K u = f + f0, so the stress D (B u - eps0) of a free body with a
-// uniform eps0 vanishes at u = the matching uniform strain. Same checks as
-// assemble_stiffness.
-Eigen::MatrixX3d initial_strain_forces(const mesh::TetMesh& m, const std::vector<Material>& tet_material,
-                                       const std::vector<int>& tets = {});
-// True when some tet's material has an initial strain.
-bool any_initial_strain(const std::vector<Material>& tet_material);
+// The tets' constant loads, (nnode x 3) N: the equivalent nodal forces of
+// their initial strains (Material::initial_strain), f0 = V B^T D eps0 per
+// tet, and their body forces (Material::body_force), V b / 4 on each
+// corner; summed over the tets listed in `tets` (all when empty); nodes
+// outside the set get zero. They enter K u = f + f0, so the stress
+// D (B u - eps0) of a free body with a uniform eps0 vanishes at u = the
+// matching uniform strain. Same checks as assemble_stiffness.
+Eigen::MatrixX3d element_loads(const mesh::TetMesh& m, const std::vector<Material>& tet_material,
+                               const std::vector<int>& tets = {});
+// True when some tet's material has an initial strain or a body force.
+bool any_element_load(const std::vector<Material>& tet_material);
 
 // Elastic strain energy 1/2 u^T K u of a displacement field (nnode x 3), J,
 // summed element by element (independent of the assembler; used in tests).

@@ -60,20 +60,10 @@ struct Corotational {
   const TetRest& r;
   Eigen::Matrix3d R, S, Minv, sig, P;
   Corotational(const TetRest& rest, const Eigen::Matrix3d& F) : r(rest) {
-    Eigen::Matrix3d U, V;
-    Eigen::Vector3d s;
-    polar(F, R, U, s, V);
-    S = V * s.asDiagonal() * V.transpose();
+    polar(F, R, S, &Minv);
     const Eigen::Matrix3d e = S - Eigen::Matrix3d::Identity() - r.eps0;
     sig = 2 * r.mu * e + r.lambda * e.trace() * Eigen::Matrix3d::Identity();
     P = R * sig;
-    // (tr S I - S)^-1: eigenvalues 1 / (sigma_j + sigma_k), which vanish only
-    // for a tet flattened or inverted across two axes; bounded there so that
-    // the tangent stays finite (the force does not use it).
-    const double floor = 1e-6 * std::max(1.0, s.cwiseAbs().maxCoeff());
-    Eigen::Vector3d d(s(1) + s(2), s(0) + s(2), s(0) + s(1));
-    for (int k = 0; k < 3; ++k) d(k) = 1.0 / std::max(d(k), floor);
-    Minv = V * d.asDiagonal() * V.transpose();
   }
   Eigen::Matrix3d dP(const Eigen::Matrix3d& dF) const {
     const Eigen::Matrix3d B = R.transpose() * dF;
@@ -110,7 +100,11 @@ struct NeoHookean {
     a = std::pow(jh, -2.0 / 3.0);
     a1 = -2.0 / 3.0 * a / jh * d1;
     a2 = 10.0 / 9.0 * a / (jh * jh) * d1 * d1 - 2.0 / 3.0 * a / jh * d2;
-    P = (c10 * (2 * a * F + I1 * a1 * C) + k2 * (J - 1) * C) * G.transpose();
+    // Isochoric part 2 c10 a (F - I1/3 F^-T) where Jhat = J: exactly zero at
+    // F = I (the general form c10 (2 a F + I1 a1 C) leaves a rounding residue).
+    const Eigen::Matrix3d iso = J >= kJ0 ? Eigen::Matrix3d(2 * c10 * a * (F - I1 / 3 * C / J))
+                                         : Eigen::Matrix3d(c10 * (2 * a * F + I1 * a1 * C));
+    P = (iso + k2 * (J - 1) * C) * G.transpose();
   }
   Eigen::Matrix3d dP(const Eigen::Matrix3d& dF_total) const {
     const Eigen::Matrix3d dF = dF_total * G;
@@ -158,17 +152,45 @@ void assemble(const TetRest& r, const Law& law, Vec12& f, Mat12* K, Tangent tang
 
 }  // namespace
 
-void polar(const Eigen::Matrix3d& F, Eigen::Matrix3d& R, Eigen::Matrix3d& U, Eigen::Vector3d& sigma,
-           Eigen::Matrix3d& V) {
+void polar(const Eigen::Matrix3d& F, Eigen::Matrix3d& R, Eigen::Matrix3d& S, Eigen::Matrix3d* Minv) {
+  // A tet well away from flat (det F > 0 and not small against |F|^3):
+  // Higham's scaled Newton iteration R <- (g R + (g R)^-T) / 2, which keeps
+  // S - I to about 3e-16 absolute (10x closer than through the SVD, whose
+  // singular vectors blur where the stretches are equal: the strain of a
+  // nearly rigid tet, which a converged Newton frame's residual is made of).
+  const double f3 = std::pow(F.norm() / std::sqrt(3.0), 3);
+  const double det = F.determinant();
+  if (std::isfinite(det) && det > 1e-2 * f3) {
+    R = F;
+    for (int k = 0; k < 30; ++k) {
+      const double g = std::pow(std::abs(R.determinant()), -1.0 / 3.0);
+      const Eigen::Matrix3d next = 0.5 * (g * R + (g * R).inverse().transpose());
+      const double change = (next - R).lpNorm<Eigen::Infinity>();
+      R = next;
+      if (change <= 1e-15) break;
+    }
+    S = 0.5 * (R.transpose() * F + F.transpose() * R);
+    if (Minv) *Minv = (S.trace() * Eigen::Matrix3d::Identity() - S).inverse();
+    return;
+  }
+  // Flat or inverted: through the SVD F = U Sigma V^T, both reflections (if
+  // any) on the smallest singular value, so that R = U V^T stays a rotation
+  // and S = V Sigma V^T takes the sign.
   const Eigen::JacobiSVD<Eigen::Matrix3d> svd(F, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  U = svd.matrixU();
-  V = svd.matrixV();
-  sigma = svd.singularValues();
-  // Both reflections, if any, go onto the smallest singular value: R stays a
-  // rotation and S = V Sigma V^T takes the sign (an inverted tet).
-  if (U.determinant() < 0) U.col(2) *= -1, sigma(2) *= -1;
-  if (V.determinant() < 0) V.col(2) *= -1, sigma(2) *= -1;
+  Eigen::Matrix3d U = svd.matrixU(), V = svd.matrixV();
+  Eigen::Vector3d s = svd.singularValues();
+  if (U.determinant() < 0) U.col(2) *= -1, s(2) *= -1;
+  if (V.determinant() < 0) V.col(2) *= -1, s(2) *= -1;
   R = U * V.transpose();
+  S = V * s.asDiagonal() * V.transpose();
+  if (!Minv) return;
+  // (tr S I - S)^-1: eigenvalues 1 / (sigma_j + sigma_k), which vanish only
+  // for a tet flattened or inverted across two axes; bounded there so that
+  // the tangent stays finite (the force does not use it).
+  const double floor = 1e-6 * std::max(1.0, s.cwiseAbs().maxCoeff());
+  Eigen::Vector3d d(s(1) + s(2), s(0) + s(2), s(0) + s(1));
+  for (int k = 0; k < 3; ++k) d(k) = 1.0 / std::max(d(k), floor);
+  *Minv = V * d.asDiagonal() * V.transpose();
 }
 
 TetRest tet_rest(const TetCorners& X, const Material& mat) {
@@ -220,11 +242,11 @@ double element_energy(const TetRest& r, const TetCorners& x) {
 }
 
 Deformation deformation(const Eigen::Matrix3d& F) {
-  Eigen::Matrix3d R, U, V;
-  Eigen::Vector3d s;
-  polar(F, R, U, s, V);
+  Eigen::Matrix3d R, S;
+  polar(F, R, S);
   Deformation d;
   d.rotation = std::acos(std::clamp(0.5 * (R.trace() - 1), -1.0, 1.0));
+  const Eigen::Vector3d s = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(S, Eigen::EigenvaluesOnly).eigenvalues();
   d.strain = (s.array() - 1).abs().maxCoeff();
   return d;
 }

@@ -66,10 +66,12 @@ struct Deformation {
 };
 Deformation deformation(const Eigen::Matrix3d& F);
 
-// Polar decomposition F = R S through the SVD F = U Sigma V^T with the signs
-// fixed so that R = U V^T is a rotation (det +1); then S = V Sigma V^T may
-// have one negative eigenvalue (an inverted tet). sigma: Sigma's diagonal.
-void polar(const Eigen::Matrix3d& F, Eigen::Matrix3d& R, Eigen::Matrix3d& U, Eigen::Vector3d& sigma,
-           Eigen::Matrix3d& V);
+// Polar decomposition F = R S with R a rotation (det +1) for every F: a tet
+// well away from flat by Higham's scaled Newton iteration, a flat or
+// inverted one through the SVD with the reflection put on the smallest
+// singular value (S then has one negative eigenvalue). Minv (optional):
+// (tr S I - S)^-1, the rotation's derivative's kernel, bounded for a tet
+// flattened across two axes.
+void polar(const Eigen::Matrix3d& F, Eigen::Matrix3d& R, Eigen::Matrix3d& S, Eigen::Matrix3d* Minv = nullptr);
 
 }  // namespace softcut::fem

@@ -31,8 +31,8 @@ WholeMesh::WholeMesh(const mesh::TetMesh& m, const std::vector<Material>& tet_ma
   const SparseMatrix K = assemble_stiffness(m, tet_material);
   K_ = restrict_matrix(K, map_);
   if (fixed_.size() > 0) K_fp_ = restrict_matrix(K, map_, fixed_), K_pp_ = restrict_matrix(K, fixed_);
-  if (any_initial_strain(tet_material)) {
-    const Eigen::VectorXd f0 = flatten(initial_strain_forces(m, tet_material));
+  if (any_element_load(tet_material)) {
+    const Eigen::VectorXd f0 = flatten(element_loads(m, tet_material));
     f0_ = restrict_vector(f0, map_);
     f0_p_ = restrict_vector(f0, fixed_);
   }

@@ -15,10 +15,13 @@
 
 #include "fem/assembly.hpp"
 #include "fem/dof_map.hpp"
+#include "fem/grip_springs.hpp"
 #include "fem/material.hpp"
+#include "fem/nonlinear_tets.hpp"
 #include "mesh/tet_mesh.hpp"
 #include "solve/cg.hpp"
 #include "solve/cholesky.hpp"
+#include "solve/newton.hpp"
 
 namespace softcut::fem {
 
@@ -86,6 +89,25 @@ class WholeMeshSolver {
   double factor_ms_ = 0;
   solve::Cholesky factor_;  // of K; unfactored when no DOF is free
 };
+
+// The mixed model on the whole mesh (fem/whole_mesh_newton.cpp): the tets of
+// `set` by their laws (and every tet with a moving fixed corner in it), the
+// rest linear, grasper springs inside; Newton preconditioned by the kept
+// linear factor (solve/newton.hpp). x: the free DOFs' values, the warm start
+// in and the solution out (resized from zero when its size differs). The
+// unknown node of mesh node n is lin.system().dofs().reduced[3 n] / 3.
+// Throws softcut::Error starting with `what` when Newton does not converge.
+struct NonlinearSolve {
+  const WholeMeshSolver* linear = nullptr;
+  const NonlinearTets* set = nullptr;
+  const GripSprings* springs = nullptr;  // null: none
+  solve::NewtonOptions options;
+};
+solve::NewtonReport solve_nonlinear(const NonlinearSolve& sys, const Eigen::MatrixX3d& forces,
+                                    const Eigen::MatrixX3d& prescribed, Eigen::VectorXd& x, NonlinearWork& work,
+                                    solve::SolveWorkspace& ws, const std::string& what);
+// The unknown node of each mesh node of a whole-mesh system (-1: fixed or unused).
+std::vector<int> unknown_nodes(const WholeMesh& sys);
 
 // One direct solve of the whole mesh: (nnode x 3) m.
 Eigen::MatrixX3d solve_whole_mesh(const mesh::TetMesh& m, const std::vector<Material>& tet_material,

@@ -196,11 +196,25 @@ void CholmodSolver::dense_product(const Eigen::VectorXd& b, Eigen::VectorXd& x) 
   });
 }
 
-SolveReport CholmodSolver::solve(const OperationalSystem& sys, const Eigen::VectorXd& b, Eigen::VectorXd& x) {
+void OperationalSolver::precondition(const OperationalSystem& sys, const Eigen::VectorXd& r, Eigen::VectorXd& z) {
+  (void)sys, (void)r, (void)z;
+  fail("the operational solver '", name(), "' keeps no factor to precondition a nonlinear frame with; a nonlinear ",
+       "material model (corotational, neohookean) or a prescribed motion needs the direct solver: backend \"auto\" ",
+       "or \"direct\"");
+}
+
+void CholmodSolver::precondition(const OperationalSystem& sys, const Eigen::VectorXd& r, Eigen::VectorXd& z) {
   if (sys.size() == 0) {
-    x.resize(0);
-    return {};
+    z.resize(0);
+    return;
   }
+  prepare(sys);
+  if (corrected_) correction_->solve(factor_, r, z, ws_);
+  else if (dense_) dense_product(r, z);
+  else factor_.solve_into(r, z, ws_);
+}
+
+void CholmodSolver::prepare(const OperationalSystem& sys) {
   if (generation_ != sys.generation) {
     // A changed system (a cut): the kept factor with a low-rank correction
     // while that is cheaper than a refactor; then the factor made on the
@@ -222,6 +236,14 @@ SolveReport CholmodSolver::solve(const OperationalSystem& sys, const Eigen::Vect
     // made meanwhile would (counted in solves, never in time).
     take_pending(sys);
   }
+}
+
+SolveReport CholmodSolver::solve(const OperationalSystem& sys, const Eigen::VectorXd& b, Eigen::VectorXd& x) {
+  if (sys.size() == 0) {
+    x.resize(0);
+    return {};
+  }
+  prepare(sys);
   const double bn = b.norm();
   if (bn == 0) {  // no load: no displacement (and no residual to divide by)
     x.setZero(sys.size());

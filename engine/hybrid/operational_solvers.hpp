@@ -34,6 +34,11 @@ class OperationalSolver {
   virtual ~OperationalSolver() = default;
   virtual std::string name() const = 0;
   virtual SolveReport solve(const OperationalSystem& sys, const Eigen::VectorXd& b, Eigen::VectorXd& x) = 0;
+  // z = A^-1 r through what solve() keeps, without its residual check: the
+  // preconditioner of a nonlinear frame (nonlinear_solve.hpp), whose Newton
+  // iteration checks the true residual. Solvers that keep no factor (CG)
+  // throw, naming the backend to use.
+  virtual void precondition(const OperationalSystem& sys, const Eigen::VectorXd& r, Eigen::VectorXd& z);
   // The run's second thread for dense products (hybrid::State::helper);
   // solvers without such products ignore it.
   virtual void share_helper(std::shared_ptr<HelperThread> helper) { (void)helper; }
@@ -90,6 +95,7 @@ class CholmodSolver : public OperationalSolver {
   ~CholmodSolver() override;
   std::string name() const override { return "cholmod"; }
   SolveReport solve(const OperationalSystem& sys, const Eigen::VectorXd& b, Eigen::VectorXd& x) override;
+  void precondition(const OperationalSystem& sys, const Eigen::VectorXd& r, Eigen::VectorXd& z) override;
   bool uses_dense() const { return bool(dense_); }  // for the current system
   long refactors() const { return refactors_; }      // factors made (the first included)
   long adopted() const { return adopted_; }          // of those, made on the second thread
@@ -100,6 +106,8 @@ class CholmodSolver : public OperationalSolver {
  private:
   void dense_product(const Eigen::VectorXd& b, Eigen::VectorXd& x);
   static constexpr int kAdoptAfterSolves = 8;
+  // Makes the kept factor (or its correction) serve `sys`.
+  void prepare(const OperationalSystem& sys);
   struct Refactor;  // a factor being made on a second thread
   void refactor(const OperationalSystem& sys);
   bool correct(const OperationalSystem& sys);

@@ -144,11 +144,23 @@ OperationalSystem build_operational_system(const mesh::TetMesh& m, const std::ve
   }
   sys.assembly = std::make_shared<const fem::AssemblyInputs>(std::move(inputs));
   sys.K = sys.block.to_sparse();
-  // Initial strains of the operational tets (split tets carry their parent's).
-  bool strained = false;
-  for (int t : operational_tets) strained = strained || fem::has_initial_strain(tet_material[size_t(t)]);
-  if (strained)
-    sys.prestress = gather_nodes(fem::initial_strain_forces(m, tet_material, operational_tets), sys.nodes);
+  // Initial strains and body forces of the operational tets (split tets
+  // carry their parent's).
+  bool loaded = false;
+  for (int t : operational_tets)
+    loaded = loaded || fem::has_initial_strain(tet_material[size_t(t)]) || fem::has_body_force(tet_material[size_t(t)]);
+  if (loaded) sys.prestress = gather_nodes(fem::element_loads(m, tet_material, operational_tets), sys.nodes);
+  // The tets whose force a frame evaluates itself (fem/nonlinear_tets.hpp):
+  // a nonlinear law, or a fixed corner (whose prescribed motion, if any, they
+  // carry). Only when some tet has a nonlinear law or a fixed corner.
+  std::vector<int> own;
+  for (int t : operational_tets) {
+    bool take = tet_material[size_t(t)].model != fem::MaterialModel::linear;
+    sys.nonlinear_law = sys.nonlinear_law || take;
+    for (int k = 0; k < 4 && !take; ++k) take = flag(node_fixed, m.tets(t, k));
+    if (take) own.push_back(t);
+  }
+  if (!own.empty()) sys.nonlinear = std::make_shared<const fem::NonlinearTets>(m, tet_material, std::move(own), sys.node_index);
   sys.K_prime = std::move(K_prime);
   sys.generation = next_generation++;
   return sys;

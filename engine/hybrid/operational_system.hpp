@@ -32,6 +32,7 @@
 
 #include "fem/assembly.hpp"
 #include "fem/material.hpp"
+#include "fem/nonlinear_tets.hpp"
 #include "fem/reassembly.hpp"
 #include "hybrid/node_blocks.hpp"
 #include "mesh/tet_mesh.hpp"
@@ -56,6 +57,13 @@ struct OperationalSystem {
   // What `block` was assembled from, so that the system of a cut mesh
   // reassembles only the rows the cut changed (fem/reassembly.hpp).
   std::shared_ptr<const fem::AssemblyInputs> assembly;
+  // The operational tets a nonlinear frame (nonlinear_solve.hpp) evaluates
+  // itself: those of a nonlinear law and those with a fixed corner (a
+  // prescribed motion's load). Null when there are none.
+  std::shared_ptr<const fem::NonlinearTets> nonlinear;
+  // Some operational tet has a nonlinear law: every frame is a Newton solve
+  // (else only frames with a prescribed motion are).
+  bool nonlinear_law = false;
 
   int size() const { return int(3 * nodes.size()); }
   int interface_offset() const { return 3 * num_operational; }

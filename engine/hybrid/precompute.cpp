@@ -114,8 +114,8 @@ Model setup_model(const mesh::TetMesh& m, const std::vector<fem::Material>& tet_
   // (interior nodes too: condensed into the constant term below, DESIGN.md
   // "Initial strain"); the operational tets' share is the operational
   // system's (it changes when a cut splits them). Fixed rows go into the support.
-  if (!p.nonoperational_tets.empty() && fem::any_initial_strain(tet_material)) {
-    Eigen::MatrixX3d f0 = fem::initial_strain_forces(m, tet_material, p.nonoperational_tets);
+  if (!p.nonoperational_tets.empty() && fem::any_element_load(tet_material)) {
+    Eigen::MatrixX3d f0 = fem::element_loads(m, tet_material, p.nonoperational_tets);
     for (int v : p.fixed) f0.row(v).setZero();
     M.initial_loads += f0;
   }

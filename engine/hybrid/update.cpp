@@ -190,7 +190,16 @@ const FrameReport& update(const Model& M, State& S, std::span<const Load> loads,
   const Eigen::VectorXd b = op.rhs(S.forces, S.P_prime);
   for (int v : S.loaded_operational)  // back to the initial loads before anything can throw
     S.forces.row(v) = v < M.num_nodes ? Eigen::RowVector3d(M.initial_loads.row(v)) : Eigen::RowVector3d::Zero();
-  rep.solve = solver.solve(op, b, S.x_operational);
+  static const NonlinearFrame linear_frame;
+  const NonlinearFrame& nl = opt.nonlinear ? *opt.nonlinear : linear_frame;
+  if (needs_nonlinear_solve(op, nl)) {
+    rep.newton = true;
+    rep.nonlinear = solve_nonlinear(op, b, S.x_operational, solver, S.nonlinear, nl, "operational solve");
+    rep.solve.iterations = rep.nonlinear.newton.cg_iterations;
+    rep.solve.relative_residual = rep.nonlinear.newton.relative_residual;
+  } else {
+    rep.solve = solver.solve(op, b, S.x_operational);
+  }
   scatter_nodes(S.x_operational, op.nodes, S.u);
   rep.operational_ms = t.ms();
 

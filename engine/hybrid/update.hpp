@@ -21,6 +21,7 @@
 #include "core/helper_thread.hpp"
 #include "hybrid/columns.hpp"
 #include "hybrid/loads.hpp"
+#include "hybrid/nonlinear_solve.hpp"
 #include "hybrid/nonoperational_product.hpp"
 #include "hybrid/operational_solvers.hpp"
 #include "hybrid/precompute.hpp"
@@ -34,6 +35,8 @@ struct FrameReport {
   double nonoperational_ms = 0;   // stage 5 (+ interior recovery when asked)
   double total_ms = 0;
   SolveReport solve;
+  bool newton = false;            // stage 4 was a nonlinear solve (nonlinear_solve.hpp)
+  NonlinearReport nonlinear;      // its report
   int loaded_surface_nodes = 0;   // surface nodes whose load changed this frame
   int loaded_operational_nodes = 0;
   int surface_nodes_updated = 0;  // surface rows of u written in stage 5
@@ -48,6 +51,10 @@ struct UpdateOptions {
   // surface rows of u keep the values of the frame that last wrote them.
   bool full_surface = true;
   std::span<const int> surface_nodes;
+  // The frame's prescribed motions and grasper springs, for a nonlinear
+  // stage 4 (nonlinear_solve.hpp); null: none (a linear system then takes
+  // the linear solve).
+  const NonlinearFrame* nonlinear = nullptr;
 };
 
 struct StateOptions {
@@ -90,6 +97,7 @@ struct State {
   // (factor storage's stage 5, interior recovery): the factor is shared,
   // the workspace is not.
   std::unique_ptr<solve::SolveWorkspace> ws = std::make_unique<solve::SolveWorkspace>();
+  fem::NonlinearWork nonlinear;      // element tangents of a nonlinear stage 4
 
   // Scratch (no allocation per frame).
   Eigen::MatrixX3d forces;           // (nnode x 3) N, operational forces of this frame

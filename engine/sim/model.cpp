@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <optional>
 
 #include "core/timer.hpp"
@@ -19,19 +20,67 @@ std::string prefixed(const std::string& where, const std::string& item) {
 
 SelectContext context(const Model& m) { return SelectContext{m.mesh, m.surface, m.named_sets}; }
 
-fem::Material resolve_material(const MaterialAssignment& a) {
+// The material of an assignment and its density (kg/m^3).
+std::pair<fem::Material, double> resolve_material(const MaterialAssignment& a) {
   const std::string w = prefixed(a.where, "material '" + a.name + "'");
   fem::Material mat{a.young, a.poisson};
+  double density = a.density > 0 ? a.density : 1000.0;
   if (!a.preset.empty()) {
-    const fem::Material p = tissue_preset(a.preset, w).material;
-    if (!(a.young > 0)) mat.young = p.young;
-    if (!(a.poisson > -1 && a.poisson < 0.5)) mat.poisson = p.poisson;
+    const TissuePreset& p = tissue_preset(a.preset, w);
+    if (!(a.young > 0)) mat.young = p.material.young;
+    if (!(a.poisson > -1 && a.poisson < 0.5)) mat.poisson = p.material.poisson;
+    if (!(a.density > 0)) density = p.density;
   }
+  if (a.model) mat.model = *a.model;
   fem::check_material(mat, w);
-  return mat;
+  return {mat, density};
+}
+
+// The motions' nodes, added to `fixed` (sorted, unique); a node in two
+// motions is an error naming both.
+void resolve_motions(Model& m, const SelectContext& ctx, std::vector<int>& fixed) {
+  std::map<int, std::string> owner;
+  for (const auto& mo : m.spec.motions) {
+    const std::string w = prefixed(mo.where, "motion '" + mo.name + "'");
+    Motion r{mo.name, select_nodes(mo.nodes, ctx, w), mo.path};
+    if (r.nodes.empty()) fail(w, ": selects no node");
+    for (int n : r.nodes)
+      if (const auto [it, fresh] = owner.emplace(n, mo.name); !fresh)
+        fail(w, ": node ", n, " is moved by motion '", it->second, "' too; a node follows one motion");
+    fixed.insert(fixed.end(), r.nodes.begin(), r.nodes.end());
+    m.motions.push_back(std::move(r));
+  }
+  std::sort(fixed.begin(), fixed.end());
+  fixed.erase(std::unique(fixed.begin(), fixed.end()), fixed.end());
+}
+
+// The hybrid model condenses the nonoperational region once, with its fixed
+// nodes at rest: a node it touches may not move.
+void check_motions(const Model& m) {
+  if (m.motions.empty() || m.spec.solver.backend == backend::Backend::monolithic || m.spec.solver.whole_body) return;
+  std::vector<char> condensed(size_t(m.mesh.num_nodes()), 0);
+  for (int t : m.partition.nonoperational_tets)
+    for (int k = 0; k < 4; ++k) condensed[size_t(m.mesh.tets(t, k))] = 1;
+  for (size_t i = 0; i < m.motions.size(); ++i)
+    for (int n : m.motions[i].nodes)
+      if (condensed[size_t(n)])
+        fail(prefixed(m.spec.motions[i].where, "motion '" + m.motions[i].name + "'"), ": node ", n,
+             " belongs to the nonoperational (condensed) region, which the hybrid model precomputes with its ",
+             "fixed nodes at rest; take the moved nodes into s:operational{}, or solve the whole mesh ",
+             "(s:solver{ backend = \"monolithic\" })");
 }
 
 }  // namespace
+
+Eigen::MatrixX3d prescribed_displacements(const Model& m, double t, Eigen::Index nnode) {
+  if (m.motions.empty()) return {};
+  Eigen::MatrixX3d u = Eigen::MatrixX3d::Zero(nnode, 3);
+  for (const Motion& mo : m.motions) {
+    const Eigen::RowVector3d d = tools::evaluate(mo.path, t).transpose();
+    for (int n : mo.nodes) u.row(n) = d;
+  }
+  return u;
+}
 
 bool wants_gpu_context(const ScenarioSpec& spec) {
   return spec.outputs.render.enabled || spec.solver.backend == backend::Backend::gpu;
@@ -54,13 +103,17 @@ Model compile(const ScenarioSpec& spec, const backend::RunResources& resources) 
 
   const SelectContext ctx = context(m);
   m.tet_material.assign(m.mesh.num_tets(), fem::Material{});
+  std::vector<double> density(size_t(m.mesh.num_tets()), 1000.0);  // kg/m^3
   for (const auto& a : spec.materials) {
     const std::string w = prefixed(a.where, "material '" + a.name + "'");
-    const fem::Material mat = resolve_material(a);
+    const auto [mat, rho] = resolve_material(a);
     const std::vector<int> tets = select_tets(a.tets, ctx, w);
     if (tets.empty()) diag.warn(w, ": selects no tet");
-    for (int k : tets) m.tet_material[k] = mat;
+    for (int k : tets) m.tet_material[k] = mat, density[size_t(k)] = rho;
   }
+  if (spec.gravity.squaredNorm() > 0)  // a dead load on every tet (split tets inherit it)
+    for (int k = 0; k < m.mesh.num_tets(); ++k)
+      for (int d = 0; d < 3; ++d) m.tet_material[size_t(k)].body_force[size_t(d)] = density[size_t(k)] * spec.gravity(d);
   for (const auto& a : spec.prestress) {  // after the materials: they do not reset it
     const std::string w = prefixed(a.where, "prestress '" + a.name + "'");
     const std::vector<int> tets = select_tets(a.tets, ctx, w);
@@ -71,11 +124,13 @@ Model compile(const ScenarioSpec& spec, const backend::RunResources& resources) 
 
   std::vector<char> operational(m.mesh.num_tets(), 0);
   for (int k : select_tets(spec.operational, ctx, "operational")) operational[k] = 1;
-  const std::vector<int> fixed = select_nodes(spec.fixed, ctx, "fixed");
-  if (fixed.empty())
+  std::vector<int> fixed = select_nodes(spec.fixed, ctx, "fixed");
+  if (fixed.empty() && spec.motions.empty())
     fail(prefixed(spec.fixed.where, "fixed"), ": selects no node; the body needs fixed nodes (a ",
          to_string(spec.fixed.kind), " selector matched nothing)");
+  resolve_motions(m, ctx, fixed);
   m.partition = hybrid::make_partition(m.mesh, operational, fixed);
+  check_motions(m);
 
   if (spec.outputs.log_all_surface)
     m.log_nodes = m.surface.nodes;

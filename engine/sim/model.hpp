@@ -21,6 +21,13 @@
 
 namespace softcut::sim {
 
+// A prescribed motion resolved against the mesh (ScenarioSpec::motions).
+struct Motion {
+  std::string name;
+  std::vector<int> nodes;  // sorted ids (fixed in the partition)
+  tools::Path path;        // displacement, m, over time
+};
+
 struct Model {
   ScenarioSpec spec;                                     // as compiled
   mesh::TetMesh mesh;                                    // rest mesh
@@ -29,6 +36,7 @@ struct Model {
   Eigen::MatrixX3d rest_normals;                         // (nnode x 3) unit outward, zero off-surface
   std::vector<fem::Material> tet_material;               // (ntet)
   hybrid::Partition partition;                           // node sets (fixed, 1, I, s, i), Table 2 counts
+  std::vector<Motion> motions;                           // fixed nodes that move (prescribed displacement)
   std::vector<int> log_nodes;                            // sorted ids written to displacements.csv
   std::vector<std::vector<int>> expectation_nodes;       // (spec.expectations) node ids of bounds; empty for checks
   std::unique_ptr<const backend::Solver> solver;                  // solver->backend(): what runs and why
@@ -49,6 +57,12 @@ Model compile(const ScenarioSpec& spec, const backend::RunResources& resources =
 // rendering is on, or the backend is gpu (auto runs on the CPU: it needs
 // no context).
 bool wants_gpu_context(const ScenarioSpec& spec);
+
+// The prescribed displacement of every fixed node at time t (nnode x 3, m:
+// the motions' paths, zero for the other fixed nodes), or an empty matrix
+// when the scenario moves none. nnode: the current mesh's (cutting appends
+// nodes, never fixed ones that move).
+Eigen::MatrixX3d prescribed_displacements(const Model& m, double t, Eigen::Index nnode);
 
 // A load resolved against the Model: the nodes and their unit directions.
 struct ActiveLoad {
@@ -81,6 +95,19 @@ struct RunStatistics {
   long long cg_iterations_total = 0;
   int cg_iterations_max = 0;
   double max_relative_residual = 0;
+  // Nonlinear frames (a nonlinear law or a prescribed motion): Newton steps.
+  int newton_frames = 0;
+  long long newton_iterations_total = 0;
+  int newton_iterations_max = 0;
+  int projected_steps = 0;           // Newton steps that needed projected element tangents
+  double nonlinear_rotation_max = 0; // rad, nonlinear-law tets
+  double nonlinear_strain_max = 0;
+  int inverted_max = 0;              // nonlinear-law tets inverted at a solution
+  // What linear elasticity carried (sim/validity.hpp): the largest over the
+  // run, with the frame, and the condensed region's per frame.
+  double linear_rotation_max = 0, linear_strain_max = 0, condensed_rotation_max = 0;  // rad, -, rad
+  int linear_rotation_frame = -1, linear_strain_frame = -1, condensed_rotation_frame = -1;
+  std::vector<double> condensed_rotation;  // (frames) rad
 };
 
 // What a frame changes in the world: the tissue (displacements, the cut

@@ -49,7 +49,11 @@ void check_spec(const ScenarioSpec& s) {
     } else {
       if (m.young != 0 && !(m.young > 0 && std::isfinite(m.young))) fail(w, ": young must be > 0 Pa, got ", m.young);
     }
+    if (m.density != 0 && !(m.density > 0 && m.density <= 1e5))
+      fail(w, ": density must lie in (0, 100000] kg/m^3, got ", m.density);
   }
+  if (!s.gravity.allFinite() || s.gravity.norm() > 1e4)
+    fail("gravity: must be a finite vector of at most 10000 m/s^2 (about 1000 g), got (", s.gravity.transpose(), ")");
   for (const auto& a : s.prestress) {
     const std::string w = prefixed(a.where, "prestress '" + a.name + "'");
     if (!a.strain.allFinite() || a.strain != a.strain.transpose())
@@ -65,6 +69,11 @@ void check_spec(const ScenarioSpec& s) {
     tools::check_ramp(l.magnitude, w + " magnitude");
     if (l.direction_kind == LoadSpec::Direction::world && !(l.direction.norm() > 0 && l.direction.allFinite()))
       fail(w, ": direction must be a nonzero finite vector, got (", l.direction.transpose(), ")");
+  }
+  for (const auto& mo : s.motions) {
+    const std::string w = prefixed(mo.where, "motion '" + mo.name + "'");
+    if (!names.insert("motion " + mo.name).second) fail(w, ": another motion has the same name");
+    tools::check_path(mo.path, w);
   }
   for (const auto& e : s.expectations) {
     const std::string w = prefixed(e.where, "expectation '" + e.name + "'");

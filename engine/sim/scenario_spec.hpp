@@ -9,6 +9,7 @@
 #include <limits>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -53,6 +54,20 @@ struct MaterialAssignment {
   std::string preset;             // tissue_preset() name, or empty
   double young = 0.0;             // Pa; 0: from the preset
   double poisson = -2.0;          // outside (-1, 0.5): from the preset
+  // The law (fem::MaterialModel); unset: linear. In the condensed region
+  // only a whole-body solve applies it (SolverSpec::whole_body).
+  std::optional<fem::MaterialModel> model;
+  double density = 0;             // kg/m^3 (gravity); 0: the preset's, else 1000
+};
+
+// A prescribed motion (s:fix{ nodes, displacement | path }): the nodes are
+// fixed, displaced by `path`'s point at each frame's time (m; a constant
+// displacement is a one-point path).
+struct MotionSpec {
+  std::string name;
+  std::string where;   // "scenario.lua:12" (prefixes messages), may be empty
+  NodeSelector nodes;
+  tools::Path path;    // displacement, m, over time
 };
 
 // Initial strain of a set of tets (fem::Material::initial_strain); later
@@ -146,7 +161,9 @@ struct ScenarioSpec {
   std::vector<MaterialAssignment> materials;     // empty: fem::Material{} everywhere
   std::vector<PrestressAssignment> prestress;    // initial strains (none: a stress-free rest state)
   TetSelector operational;                       // operational tets (default none)
-  NodeSelector fixed;                            // required: at least one node
+  NodeSelector fixed;                            // required: at least one node (or a motion's)
+  std::vector<MotionSpec> motions;               // fixed nodes moved along paths (prescribed displacement)
+  Eigen::Vector3d gravity = Eigen::Vector3d::Zero();  // m/s^2: a body force density x gravity on every tet
   std::vector<LoadSpec> loads;
   std::vector<tools::ToolSpec> tools;
   Timeline timeline;

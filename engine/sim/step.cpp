@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "core/timer.hpp"
+#include "sim/validity.hpp"
 #include "tools/springs.hpp"
 
 namespace softcut::sim {
@@ -28,21 +29,21 @@ Eigen::MatrixX3d load_forces(const Model& m, const State& s, double t) {
 
 namespace {
 
-// The grasper springs on this frame's system (tools/springs.hpp).
-int solve_implicit_springs(const Model& m, State& s, int frame) {
+// The grasper springs' view of this frame's system (tools/springs.hpp).
+tools::SpringSystem spring_system(const Model& m, State& s) {
   tools::SpringSystem sys;
   sys.mesh = &current_mesh(m, s);
-  sys.fixed = [&](int n) { return is_fixed_node(m, s, n); };
+  sys.fixed = [&m, &s](int n) { return is_fixed_node(m, s, n); };
   if (s.cut)
-    sys.held = [&](int n) -> Eigen::Vector3d {
+    sys.held = [&s](int n) -> Eigen::Vector3d {
       if (!is_held_node(s, n)) return Eigen::Vector3d::Zero();
       return s.cut->held_displacement.row(n).transpose();
     };
   sys.generation = m.solver->system_generation(s.solver_run);
-  sys.unit_responses = [&](const std::vector<int>& nodes, Eigen::MatrixXd& out) {
+  sys.unit_responses = [&m, &s](const std::vector<int>& nodes, Eigen::MatrixXd& out) {
     m.solver->unit_responses(nodes, s.solver_run, out);
   };
-  return tools::solve_implicit_springs(sys, s.tool_specs, s.tools, s.springs, s.displacement, s.forces, frame);
+  return sys;
 }
 
 }  // namespace
@@ -88,11 +89,28 @@ void step(const Model& m, State& s) {
   drop_loads_on_held(s, frame, t);  // pieces cut free take no load
   double poke_drag_ms = timer.ms();
 
+  // A nonlinear model takes the graspers inside its Newton solve; a linear
+  // one superposes them on the solve exactly afterwards.
   backend::SolveStats st;
-  m.solver->solve(s.forces, s.displacement, s.solver_run, st);
+  backend::FrameInput in;
+  const Eigen::MatrixX3d prescribed = prescribed_displacements(m, t, s.forces.rows());
+  if (prescribed.size() > 0) in.prescribed = &prescribed;
+  const tools::SpringSystem springs_sys = spring_system(m, s);
+  fem::GripSprings grip;
+  const bool inside = m.solver->nonlinear();
   timer.reset();
-  const bool springs = solve_implicit_springs(m, s, frame) > 0;
-  const double springs_ms = timer.ms();
+  bool springs = inside && tools::grip_springs(springs_sys, s.tool_specs, s.tools, s.springs, grip, frame) > 0;
+  double springs_ms = timer.ms();
+  if (springs) in.springs = &grip;
+  m.solver->solve(s.forces, s.displacement, s.solver_run, st, in);
+  timer.reset();
+  if (inside) {
+    if (springs) tools::grasper_forces(springs_sys, s.tool_specs, s.tools, s.displacement, s.forces);
+  } else {
+    springs = tools::solve_implicit_springs(springs_sys, s.tool_specs, s.tools, s.springs, s.displacement, s.forces,
+                                            frame) > 0;
+  }
+  springs_ms += timer.ms();
   hold_detached(s);  // pieces cut free stay where they separated
   poke_drag_ms += springs_ms;
   if (!s.displacement.allFinite()) fail("frame ", frame, " (t = ", t, " s): the solve produced non-finite displacements");
@@ -116,6 +134,21 @@ void step(const Model& m, State& s) {
   r.cg_iterations_total += st.cg_iterations;
   r.cg_iterations_max = std::max(r.cg_iterations_max, st.cg_iterations);
   r.max_relative_residual = std::max(r.max_relative_residual, st.relative_residual);
+  if (st.newton) {
+    r.newton_frames++;
+    r.newton_iterations_total += st.newton_iterations;
+    r.newton_iterations_max = std::max(r.newton_iterations_max, st.newton_iterations);
+    r.projected_steps += st.projected_steps;
+    r.nonlinear_rotation_max = std::max(r.nonlinear_rotation_max, st.max_rotation);
+    r.nonlinear_strain_max = std::max(r.nonlinear_strain_max, st.max_strain);
+    r.inverted_max = std::max(r.inverted_max, st.inverted);
+  }
+  const Validity v = measure_validity(m, s);
+  if (v.linear_rotation > r.linear_rotation_max) r.linear_rotation_max = v.linear_rotation, r.linear_rotation_frame = frame;
+  if (v.linear_strain > r.linear_strain_max) r.linear_strain_max = v.linear_strain, r.linear_strain_frame = frame;
+  if (v.condensed_rotation > r.condensed_rotation_max)
+    r.condensed_rotation_max = v.condensed_rotation, r.condensed_rotation_frame = frame;
+  r.condensed_rotation.push_back(v.condensed_rotation);
 }
 
 }  // namespace softcut::sim

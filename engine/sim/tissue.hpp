@@ -13,6 +13,7 @@ struct TissuePreset {
   std::string name;       // "liver", "kidney", "fat", "muscle", "ligament"
   fem::Material material;
   std::string source;     // short literature reference
+  double density = 1000;  // kg/m^3 (gravity's body force), IT'IS tissue database v4.1 (Hasgall et al. 2022)
 };
 
 const std::vector<TissuePreset>& tissue_presets();

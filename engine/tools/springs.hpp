@@ -21,6 +21,7 @@
 #include <functional>
 #include <vector>
 
+#include "fem/grip_springs.hpp"
 #include "mesh/tet_mesh.hpp"
 #include "tools/tool.hpp"
 
@@ -60,6 +61,20 @@ struct SpringSystem {
 // solved) is for messages.
 int solve_implicit_springs(const SpringSystem& sys, const std::vector<ToolSpec>& specs, std::vector<ToolState>& states,
                            SpringCache& cache, Eigen::MatrixX3d& displacement, Eigen::MatrixX3d& forces, int frame);
+
+// A nonlinear model's implicit graspers (Solver::nonlinear()): their grip
+// points as springs for the solve to take inside its Newton iteration
+// (fem/grip_springs.hpp), with the preconditioner's data from `cache`
+// (built as for the linear solve: the unit responses of the linear system,
+// once per grasp). `out` points into `cache`. Returns the number of grasped
+// nodes (0: nothing to do, `out` empty).
+int grip_springs(const SpringSystem& sys, const std::vector<ToolSpec>& specs, std::vector<ToolState>& states,
+                 SpringCache& cache, fem::GripSprings& out, int frame);
+// After a solve with the graspers inside it: each implicit grasper's forces
+// on the final positions, into its ToolState and added to `forces`
+// (nnode x 3, N; fixed nodes take none).
+void grasper_forces(const SpringSystem& sys, const std::vector<ToolSpec>& specs, std::vector<ToolState>& states,
+                    const Eigen::MatrixX3d& displacement, Eigen::MatrixX3d& forces);
 
 // The most nodes the implicit graspers may hold together (grip points: twice
 // that): each costs 3 solves per grasp and the dense blocks grow with the

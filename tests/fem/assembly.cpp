@@ -170,7 +170,7 @@ TEST_SUITE("fem/assembly") {
           const Eigen::Matrix<double, 6, 1> e0 = Eigen::Map<const Eigen::Matrix<double, 6, 1>>(mat.initial_strain.data());
           work += mesh::signed_volume(m, t) * eps.row(t).dot(fem::elasticity_matrix(mat) * e0);
         }
-        const Eigen::MatrixX3d f0 = fem::initial_strain_forces(m, mats, tets);
+        const Eigen::MatrixX3d f0 = fem::element_loads(m, mats, tets);
         CAPTURE(seed);
         CHECK(std::abs(work) > 0);
         CHECK(fem::flatten(f0).dot(fem::flatten(u)) == doctest::Approx(work).epsilon(1e-12));
@@ -184,17 +184,17 @@ TEST_SUITE("fem/assembly") {
     const mesh::TetMesh m = test::jittered_box(1, 1, 1, 0, 1);
     auto mats = test::random_materials(m.num_tets(), 1);
     mats[2].initial_strain[4] = std::nan("");
-    CHECK_THROWS_WITH_AS(fem::initial_strain_forces(m, mats), doctest::Contains("tetrahedron 2"), Error);
+    CHECK_THROWS_WITH_AS(fem::element_loads(m, mats), doctest::Contains("tetrahedron 2"), Error);
     CHECK_THROWS_WITH_AS(fem::assemble_stiffness(m, mats), doctest::Contains("component eps_zx"), Error);
     mats[2].initial_strain[0] = 0.7;
     mats[2].initial_strain[4] = 0.0;
-    CHECK_THROWS_WITH_AS(fem::initial_strain_forces(m, mats), doctest::Contains("eps_xx must be a finite number within +-0.5"), Error);
+    CHECK_THROWS_WITH_AS(fem::element_loads(m, mats), doctest::Contains("eps_xx must be a finite number within +-0.5"), Error);
     mats[2].initial_strain[0] = 0.5;
     mats[2].initial_strain[4] = 1.2;  // engineering shear: eps_zx = 0.6, named as the tensor value
-    CHECK_THROWS_WITH_AS(fem::initial_strain_forces(m, mats), doctest::Contains("eps_zx must be a finite number within +-0.5 (a small-strain model), got 0.6"), Error);
+    CHECK_THROWS_WITH_AS(fem::element_loads(m, mats), doctest::Contains("eps_zx must be a finite number within +-0.5 (a small-strain model), got 0.6"), Error);
     mats[2].initial_strain[4] = 1.0;  // eps_zx = 0.5: the limit
-    CHECK(fem::flatten(fem::initial_strain_forces(m, mats)).norm() > 0);
-    CHECK(!fem::any_initial_strain(test::random_materials(m.num_tets(), 1)));
+    CHECK(fem::flatten(fem::element_loads(m, mats)).norm() > 0);
+    CHECK(!fem::any_element_load(test::random_materials(m.num_tets(), 1)));
   }
 
   TEST_CASE("bad input is refused with the tet named") {

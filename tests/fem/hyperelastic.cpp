@@ -121,7 +121,7 @@ TEST_SUITE("fem/hyperelastic") {
       one.tets.resize(1, 4);
       one.tets << 0, 1, 2, 3;
       one.labels = Eigen::VectorXi::Zero(1);
-      const Eigen::MatrixX3d f0 = fem::initial_strain_forces(one, {mat});
+      const Eigen::MatrixX3d f0 = fem::element_loads(one, {mat});
       fem::Vec12 f0v;
       for (int k = 0; k < 4; ++k) f0v.segment<3>(3 * k) = f0.row(k).transpose();
       CHECK((f - (Ke * u - f0v)).norm() <= 1e-10 * (Ke * u).norm());
@@ -129,7 +129,7 @@ TEST_SUITE("fem/hyperelastic") {
     }
   }
 
-  TEST_CASE("rigid motions give no force (corotational, neo-Hookean); rotating the tet rotates force and tangent") {
+  TEST_CASE("rigid motions give no force (corotational, neo-Hookean) and rotating the tet rotates force and tangent") {
     std::mt19937 rng(7);
     std::normal_distribution<double> g(0, 1);
     for (int trial = 0; trial < 20; ++trial) {
@@ -232,21 +232,42 @@ TEST_SUITE("fem/hyperelastic") {
     CHECK(indefinite > 0);  // compression past the twist modes' stability: the exact tangent is indefinite
   }
 
-  TEST_CASE("polar: R is a rotation and R S = F, also for an inverted F; deformation reports angle and stretch") {
+  TEST_CASE("polar: R is a rotation and R S = F, also for an inverted F, and deformation reports angle and stretch") {
     std::mt19937 rng(17);
     for (int trial = 0; trial < 20; ++trial) {
       const Eigen::Matrix3d Q = random_rotation(rng);
-      Eigen::Matrix3d F = Q * Eigen::Vector3d(1.3, 0.9, trial % 2 ? -0.5 : 0.7).asDiagonal();
-      Eigen::Matrix3d R, U, V;
-      Eigen::Vector3d s;
-      fem::polar(F, R, U, s, V);
+      const Eigen::Matrix3d F = Q * Eigen::Vector3d(1.3, 0.9, trial % 2 ? -0.5 : 0.7).asDiagonal();
+      Eigen::Matrix3d R, S;
+      fem::polar(F, R, S);
       CHECK(R.determinant() == doctest::Approx(1.0));
       CHECK((R * R.transpose() - Eigen::Matrix3d::Identity()).norm() <= 1e-12);
-      CHECK((R * V * s.asDiagonal() * V.transpose() - F).norm() <= 1e-12);
+      CHECK((R * S - F).norm() <= 1e-12);
+      CHECK((S - S.transpose()).norm() <= 1e-12);
       CHECK((R - Q).norm() <= 1e-12);
       const fem::Deformation d = fem::deformation(F);
       CHECK(d.rotation == doctest::Approx(Eigen::AngleAxisd(Q).angle()).epsilon(1e-9));
       CHECK(d.strain == doctest::Approx(trial % 2 ? 1.5 : 0.3));
+    }
+  }
+
+  // A converged frame's residual is made of the strains of nearly rigid
+  // tets: S - I must keep its digits when the strain is far below 1.
+  TEST_CASE("polar keeps the strain of a nearly rigid tet to about 1e-15 absolute") {
+    std::mt19937 rng(19);
+    std::normal_distribution<double> g(0, 1);
+    for (double strain : {1e-2, 1e-4, 1e-6}) {
+      double worst = 0;
+      for (int trial = 0; trial < 50; ++trial) {
+        Eigen::Matrix3d E;  // a symmetric strain
+        for (int i = 0; i < 9; ++i) E(i) = strain * g(rng);
+        E = (0.5 * (E + E.transpose())).eval();
+        const Eigen::Matrix3d Q = random_rotation(rng);
+        Eigen::Matrix3d R, S;
+        fem::polar(Q * (Eigen::Matrix3d::Identity() + E), R, S);
+        worst = std::max(worst, (S - Eigen::Matrix3d::Identity() - E).norm());
+      }
+      CAPTURE(strain);
+      CHECK(worst <= 2e-15);
     }
   }
 }

@@ -51,7 +51,7 @@ struct Bar {
   // max |K u - f - f0| over the free nodes' DOFs, N.
   double residual(const Eigen::MatrixX3d& u, const Eigen::MatrixX3d& f) const {
     Eigen::VectorXd r = fem::assemble_stiffness(mesh, material) * fem::flatten(u) - fem::flatten(f);
-    if (fem::any_initial_strain(material)) r -= fem::flatten(fem::initial_strain_forces(mesh, material));
+    if (fem::any_element_load(material)) r -= fem::flatten(fem::element_loads(mesh, material));
     double rmax = 0;
     for (int n = 0; n < unused(); ++n)
       if (!fixed[size_t(n)]) rmax = std::max(rmax, r.segment<3>(3 * n).cwiseAbs().maxCoeff());

@@ -29,7 +29,7 @@ TEST_SUITE("lua/check") {
           "liver.lua:7: load: unknown field 'forse' (did you mean 'force'?)");
     // Far from every name: the valid names are listed instead.
     const std::string e = misuse("s:fix{ zzzzzz = 1 }");
-    CHECK(e == "liver.lua:7: fix: unknown field 'zzzzzz' (valid: nodes)");
+    CHECK(e == "liver.lua:7: fix: unknown field 'zzzzzz' (valid: displacement, name, nodes, path)");
   }
 
   TEST_CASE("wrong types name the field, the expected type and unit, and what was given") {

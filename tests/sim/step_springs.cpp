@@ -112,9 +112,11 @@ class GenerationProbe final : public backend::Solver {
   explicit GenerationProbe(std::unique_ptr<const backend::Solver> inner) : inner_(std::move(inner)) {}
   long generation = 0;
   std::string name() const override { return inner_->name(); }
-  void solve(const Eigen::MatrixX3d& f, Eigen::MatrixX3d& u, backend::SolverRun& w, backend::SolveStats& st) const override {
-    inner_->solve(f, u, w, st);
+  void solve(const Eigen::MatrixX3d& f, Eigen::MatrixX3d& u, backend::SolverRun& w, backend::SolveStats& st,
+             const backend::FrameInput& in) const override {
+    inner_->solve(f, u, w, st, in);
   }
+  bool nonlinear() const override { return inner_->nonlinear(); }
   bool interior_valid() const override { return inner_->interior_valid(); }
   std::vector<std::pair<std::string, double>> precompute_ms() const override { return inner_->precompute_ms(); }
   const backend::BackendChoice& backend() const override { return inner_->backend(); }

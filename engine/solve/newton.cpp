@@ -1,0 +1,109 @@
+#include "solve/newton.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/error.hpp"
+
+namespace softcut::solve {
+
+namespace {
+
+enum class CgStatus { converged, negative_curvature, max_iterations };
+
+// PCG on T d = r from d = 0 (see the header for how T p is formed);
+// stops at |r - T d| <= target.
+CgStatus pcg_step(const NewtonProblem& p, const Eigen::VectorXd& r, Eigen::VectorXd& d, double target,
+                  int max_iterations, int& iterations) {
+  const Eigen::Index n = r.size();
+  d.setZero(n);
+  Eigen::VectorXd rr = r, z, dir, Pdir, q(n), Dq(n);
+  p.precondition(rr, z);
+  dir = z;
+  Pdir = rr;  // P dir = P z = rr
+  double rz = rr.dot(z);
+  for (int k = 0; k < max_iterations; ++k) {
+    Dq.setZero();
+    p.tangent_difference(dir, Dq);
+    q = Pdir + Dq;  // T dir
+    const double curvature = dir.dot(q);
+    if (!(curvature > 0)) return CgStatus::negative_curvature;
+    const double alpha = rz / curvature;
+    d.noalias() += alpha * dir;
+    rr.noalias() -= alpha * q;
+    ++iterations;
+    if (rr.norm() <= target) return CgStatus::converged;
+    p.precondition(rr, z);
+    const double rz_next = rr.dot(z);
+    const double beta = rz_next / rz;
+    rz = rz_next;
+    dir = z + beta * dir;
+    Pdir = rr + beta * Pdir;
+  }
+  return CgStatus::max_iterations;
+}
+
+}  // namespace
+
+NewtonReport newton(const NewtonProblem& p, Eigen::VectorXd& x, const NewtonOptions& opt, const std::string& what) {
+  NewtonReport rep;
+  Eigen::VectorXd r, d, xt, rt;
+  double energy = p.residual(x, r);
+  double rn = r.norm();
+  auto scale_at = [&](const Eigen::VectorXd& at) { return std::max(p.scale(at), 1e-300); };
+  double scale = scale_at(x);
+  auto too_large = [] {
+    return "; the load or motion of this frame is too large for the mesh: apply it over more frames, refine the "
+           "mesh, or lower the load";
+  };
+  for (;;) {
+    if (!std::isfinite(rn))
+      fail(what, ": the residual is not finite after ", rep.iterations, " Newton steps (an element degenerated?)");
+    rep.relative_residual = rn / scale;
+    if (rn == 0 || rep.relative_residual <= opt.tolerance) return rep;
+    if (rep.iterations >= opt.max_iterations)
+      fail(what, ": Newton's method did not converge in ", opt.max_iterations, " steps (relative residual ",
+           rep.relative_residual, ", tolerance ", opt.tolerance, "; ", rep.cg_iterations, " CG iterations, ",
+           rep.line_search_cuts, " step halvings)", too_large());
+    const double target = std::min(opt.max_forcing, rep.relative_residual) * rn;
+    CgStatus status = pcg_step(p, r, d, target, opt.max_cg_iterations, rep.cg_iterations);
+    if (status == CgStatus::negative_curvature) {
+      ++rep.projected_steps;
+      p.project();
+      status = pcg_step(p, r, d, target, opt.max_cg_iterations, rep.cg_iterations);
+      if (status == CgStatus::negative_curvature)
+        fail(what, ": the tangent is not positive definite even with projected element tangents (step ",
+             rep.iterations + 1, "); is every part of the body held?");
+    }
+    // Backtracking: the full step first, halved until |r| or the energy
+    // decreases (Armijo; the energy's slope along d is -r.d).
+    const double slope = -r.dot(d);
+    double alpha = 1;
+    bool accepted = false;
+    for (int k = 0; k <= opt.max_line_search; ++k) {
+      xt = x + alpha * d;
+      const double et = p.residual(xt, rt);
+      const double rtn = rt.norm();
+      const bool lower_residual = std::isfinite(rtn) && rtn <= (1 - 1e-4 * alpha) * rn;
+      const bool lower_energy = std::isfinite(rtn) && std::isfinite(et) && std::isfinite(energy) && slope < 0 &&
+                                et <= energy + 1e-4 * alpha * slope;
+      if (lower_residual || lower_energy) {
+        accepted = true;
+        x.swap(xt);
+        r.swap(rt);
+        rn = rtn;
+        energy = et;
+        break;
+      }
+      alpha *= 0.5;
+      ++rep.line_search_cuts;
+    }
+    ++rep.iterations;
+    if (!accepted)
+      fail(what, ": Newton's line search found no decrease of the residual (step ", rep.iterations,
+           ", relative residual ", rn / scale, ")", too_large());
+    scale = scale_at(x);
+  }
+}
+
+}  // namespace softcut::solve

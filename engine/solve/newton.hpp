@@ -1,0 +1,65 @@
+#pragma once
+// Newton's method for a nonlinear system r(x) = b - F(x) = 0 whose tangent
+// T(x) = dF/dx differs from a kept, factored matrix P by a sparse part
+// (DESIGN.md §1b): the large-deformation frame, where P is the linear model's
+// system (its Cholesky factor kept) and T - P lives on the nonlinear tets only.
+//
+// Each Newton step solves T d = r by PCG preconditioned with P^-1, applied
+// through the caller's factor. The products T p are formed without P: PCG's
+// direction p is z + beta p_old with z = P^-1 r, so P p = r + beta P p_old
+// is carried along, and T p = P p + (T - P) p costs one sparse product
+// (never the dense interface block K' a product with P would read). Where the
+// tangent is not positive definite (CG meets negative curvature: a buckling
+// or inverted state) the step is redone with the positive semidefinite
+// projection of the element tangents. A backtracking line search accepts a
+// step that lowers |r| or, where the problem has an energy, the energy
+// (a projected step descends the energy, not always |r|). Not converging is
+// an error, never a result.
+#include <Eigen/Core>
+#include <functional>
+#include <string>
+
+namespace softcut::solve {
+
+struct NewtonProblem {
+  // r = b - F(x) (both of the system's size) with the exact tangent at x
+  // formed for tangent_difference; returns the energy whose gradient is -r
+  // (J; NaN where the problem has none). May throw.
+  std::function<double(const Eigen::VectorXd& x, Eigen::VectorXd& r)> residual;
+  // Replaces the tangent of the last residual() call by a positive
+  // semidefinite one (the projection of its element tangents).
+  std::function<void()> project;
+  // y = (T - P) p with the tangent formed last (y sized, zero on entry).
+  std::function<void(const Eigen::VectorXd& p, Eigen::VectorXd& y)> tangent_difference;
+  // z = P^-1 r (z sized by the callee).
+  std::function<void(const Eigen::VectorXd& r, Eigen::VectorXd& z)> precondition;
+  // The residual's scale, N: convergence is |r| <= tolerance * scale (the
+  // norms of the terms r is the difference of: loads and internal forces).
+  std::function<double(const Eigen::VectorXd& x)> scale;
+};
+
+struct NewtonOptions {
+  double tolerance = 1e-10;    // relative residual |r| / scale at convergence
+  int max_iterations = 40;     // Newton steps
+  int max_cg_iterations = 500; // per step
+  // Inexact Newton: each step's CG stops at |T d - r| <= forcing |r|, with
+  // forcing = min(max_forcing, |r| / scale) (quadratic convergence kept).
+  double max_forcing = 1e-2;
+  int max_line_search = 12;    // halvings of a step
+};
+
+struct NewtonReport {
+  int iterations = 0;            // Newton steps taken
+  int cg_iterations = 0;         // PCG iterations, all steps
+  int line_search_cuts = 0;      // step halvings, all steps
+  int projected_steps = 0;       // steps that needed the projected tangent
+  double relative_residual = 0;  // |r| / scale at the end
+};
+
+// Solves from x (the warm start; the result is left in x). Throws
+// softcut::Error starting with `what` when |r| does not fall below the
+// tolerance within the options' limits, or the residual is not finite.
+NewtonReport newton(const NewtonProblem& p, Eigen::VectorXd& x, const NewtonOptions& opt = {},
+                    const std::string& what = "Newton solve");
+
+}  // namespace softcut::solve

@@ -1,0 +1,136 @@
+// solve/newton on problems whose answers are known: a linear one (one step,
+// one CG iteration: P is the tangent), a stiffening one checked against its
+// own equations at a tight tolerance with quadratic convergence, one whose
+// exact tangent is indefinite on the way (the projected fallback), and one
+// that cannot converge in the steps it is given (a clear error).
+#include "solve/newton.hpp"
+
+#include <doctest/doctest.h>
+
+#include <Eigen/Cholesky>
+#include <cmath>
+#include <random>
+
+#include "core/error.hpp"
+#include "test_support.hpp"
+
+using namespace softcut;
+
+namespace {
+
+// F(x) = A x + c g(x) componentwise, P = A (SPD, its factor the preconditioner).
+struct Problem {
+  Eigen::MatrixXd A;
+  Eigen::LLT<Eigen::MatrixXd> llt;
+  Eigen::VectorXd b;
+  double c = 0;
+  int kind = 0;  // 0: g = x^3 (stiffening); 1: g = -sin(x) (softening: T indefinite where cos x > lambda_min)
+  Eigen::VectorXd tangent;  // diag(T - P) at the last residual()
+  int residual_calls = 0, projected_calls = 0;
+
+  explicit Problem(int n, unsigned seed) {
+    std::mt19937 rng(seed);
+    std::normal_distribution<double> g(0, 1);
+    Eigen::MatrixXd B(n, n);
+    for (int i = 0; i < n * n; ++i) B(i) = g(rng);
+    A = B * B.transpose() / n + 0.2 * Eigen::MatrixXd::Identity(n, n);
+    llt.compute(A);
+    b.resize(n);
+    for (int i = 0; i < n; ++i) b(i) = g(rng);
+  }
+  Eigen::VectorXd F(const Eigen::VectorXd& x) const {
+    return A * x + c * (kind == 0 ? Eigen::VectorXd(x.array().cube()) : Eigen::VectorXd(-x.array().sin()));
+  }
+  solve::NewtonProblem problem() {
+    solve::NewtonProblem p;
+    p.residual = [this](const Eigen::VectorXd& x, Eigen::VectorXd& r) {
+      ++residual_calls;
+      r = b - F(x);
+      tangent = c * (kind == 0 ? Eigen::VectorXd(3 * x.array().square()) : Eigen::VectorXd(-x.array().cos()));
+      const double g = kind == 0 ? 0.25 * x.array().pow(4).sum() : x.array().cos().sum();
+      return 0.5 * x.dot(A * x) + c * g - b.dot(x);
+    };
+    p.project = [this] { ++projected_calls, tangent = tangent.cwiseMax(0.0); };
+    p.tangent_difference = [this](const Eigen::VectorXd& d, Eigen::VectorXd& y) { y = tangent.cwiseProduct(d); };
+    p.precondition = [this](const Eigen::VectorXd& r, Eigen::VectorXd& z) { z = llt.solve(r); };
+    p.scale = [this](const Eigen::VectorXd& x) { return b.norm() + F(x).norm(); };
+    return p;
+  }
+};
+
+}  // namespace
+
+TEST_SUITE("solve/newton") {
+  TEST_CASE("a linear problem: one step, one CG iteration, the direct solution") {
+    Problem pr(30, 1);
+    Eigen::VectorXd x = Eigen::VectorXd::Zero(30);
+    const solve::NewtonReport rep = solve::newton(pr.problem(), x);
+    CHECK(rep.iterations == 1);
+    CHECK(rep.cg_iterations == 1);
+    CHECK((x - pr.llt.solve(pr.b)).norm() <= 1e-12 * x.norm());
+  }
+
+  TEST_CASE("a stiffening problem converges to its equations at 1e-12, quadratically at the end") {
+    for (unsigned seed = 1; seed <= 5; ++seed) {
+      Problem pr(40, seed);
+      pr.c = 2.0;
+      pr.b *= 5;  // far from linear: |x| ~ 1, the cubic term dominates
+      Eigen::VectorXd x = Eigen::VectorXd::Zero(40);
+      std::vector<double> history;
+      solve::NewtonProblem p = pr.problem();
+      auto plain = p.residual;
+      p.residual = [&](const Eigen::VectorXd& at, Eigen::VectorXd& r) {
+        const double e = plain(at, r);
+        history.push_back(r.norm());
+        return e;
+      };
+      solve::NewtonOptions opt;
+      opt.tolerance = 1e-12;
+      const solve::NewtonReport rep = solve::newton(p, x, opt);
+      CAPTURE(seed);
+      CHECK(rep.relative_residual <= 1e-12);
+      CHECK((pr.b - pr.F(x)).norm() <= 1e-12 * (pr.b.norm() + pr.F(x).norm()));
+      CHECK(rep.iterations >= 3);
+      CHECK(rep.projected_steps == 0);
+      // Quadratic at the end: the last step above round-off took the
+      // residual from about e to about e^2 (relative; a power of 1.5 leaves room).
+      const double s = pr.b.norm();
+      std::vector<double> rel;
+      for (double h : history)
+        if (h / s > 1e-14) rel.push_back(h / s);
+      REQUIRE(rel.size() >= 2);
+      CHECK(rel[rel.size() - 1] <= 10 * std::pow(rel[rel.size() - 2], 1.5));
+    }
+  }
+
+  TEST_CASE("an indefinite exact tangent on the way: the projected tangent takes over and converges") {
+    Problem pr(20, 7);
+    pr.kind = 1;
+    pr.c = 1.0;  // A's smallest eigenvalue is about 0.2 < 1 = |d(-sin)/dx| at 0
+    pr.b *= 0.05;
+    Eigen::VectorXd x = Eigen::VectorXd::Zero(20);
+    const solve::NewtonReport rep = solve::newton(pr.problem(), x);
+    CHECK(rep.projected_steps >= 1);
+    CHECK(pr.projected_calls >= 1);
+    CHECK(rep.relative_residual <= 1e-10);
+    CHECK((pr.b - pr.F(x)).norm() <= 1e-9 * pr.b.norm());
+  }
+
+  TEST_CASE("not converging is an error naming the solve, never a result") {
+    Problem pr(20, 3);
+    pr.c = 5.0;
+    pr.b *= 50;
+    Eigen::VectorXd x = Eigen::VectorXd::Zero(20);
+    solve::NewtonOptions opt;
+    opt.max_iterations = 2;
+    CHECK(test::contains(test::error_of([&] { solve::newton(pr.problem(), x, opt, "frame 3"); }),
+                         "frame 3: Newton's method did not converge in 2 steps"));
+    solve::NewtonProblem p = pr.problem();
+    p.residual = [](const Eigen::VectorXd& at, Eigen::VectorXd& r) {
+      r = at;
+      r(0) = NAN;
+      return 0.0;
+    };
+    CHECK(test::contains(test::error_of([&] { solve::newton(p, x); }), "the residual is not finite"));
+  }
+}
