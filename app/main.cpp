@@ -1,4 +1,5 @@
 // softcut command-line program: dispatches to the subcommands in commands.hpp.
+#include <csignal>
 #include <cstdio>
 #include <exception>
 #include <string>
@@ -52,6 +53,11 @@ int main(int argc, char** argv) {
     std::printf("softcut %s\n", SOFTCUT_VERSION);
     return 0;
   }
+  // Past a file-size limit (ulimit -f, systemd's LimitFSIZE) a write fails
+  // with EFBIG instead of killing the process: every writer then takes its
+  // "write failed (disk full?)" path, removes its temporary file and says so.
+  // Ignored signals stay ignored across exec: `sweep`'s runs inherit it.
+  std::signal(SIGXFSZ, SIG_IGN);
   const Args args(argv + 2, argv + argc);
   // BLAS threads that do not fight other runs for the cores (core/threads.hpp).
   softcut::apply_blas_threads(softcut::thread_policy().blas_threads);
