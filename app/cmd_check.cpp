@@ -59,7 +59,7 @@ const char* kCheckFooter =
 // Most scenario files one check takes, and folder entries it looks at to find them.
 constexpr std::size_t kMaxScenarios = 10000;
 constexpr std::size_t kMaxEntries = 1000000;
-constexpr int kMaxDepth = 32;  // folders below a PATH
+constexpr int kMaxDepth = 32;  // folders below a PATH (deeper: a usage error, never skipped silently)
 
 // A scenario file and where it is read from: `root` is the folder the user
 // named (or a named file's folder), `rel` the file below it, read without
@@ -89,16 +89,17 @@ std::vector<Found> collect(const std::vector<std::string>& paths) {
         if (++entries > kMaxEntries)
           usage_fail("softcut check: ", printable(p), " holds more than ", kMaxEntries, " entries; name the folders "
                      "of the scenarios");
-        if (it.depth() >= kMaxDepth) it.disable_recursion_pending();
+        if (it.depth() >= kMaxDepth && it->is_directory(ec) && !it->is_symlink(ec))
+          usage_fail("softcut check: ", printable(p), " has folders nested more than ", kMaxDepth, " deep (",
+                     printable(it->path().string()), "); name the folders of the scenarios");
         if (it->path().extension() != ".lua") continue;
         const fs::file_status st = it->symlink_status(ec);
+        if (fs::is_directory(st)) continue;  // a folder named x.lua: searched, not run
         Found f{it->path(), p, it->path().lexically_relative(p), ""};
         if (fs::is_symlink(st))
           f.refused = "is a symbolic link; softcut check runs no linked scenario (copy the file into the folder)";
         else if (!fs::is_regular_file(st))
-          f.refused = "is not a regular file (a folder, FIFO or device named *.lua)";
-        else if (fs::is_directory(st))
-          continue;
+          f.refused = "is not a regular file (a FIFO, socket or device named *.lua)";
         found.push_back(std::move(f));
       }
       if (found.empty()) usage_fail("softcut check: no *.lua scenario under ", printable(p));

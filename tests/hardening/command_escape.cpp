@@ -301,6 +301,14 @@ TEST_SUITE("hardening/command_escape") {
     const auto named = run_softcut("check pkg/evil.lua", root);
     CHECK(named.status == 1);
     CHECK(!contains(named.output, "TOPSECRET"));
+    // Folders nested past 32 levels are a usage error, not searched without end or skipped silently.
+    fs::path deep = root / "deep";
+    for (int k = 0; k < 40; ++k) deep /= "d";
+    fs::create_directories(deep);
+    put_file(deep / "x.lua", bar("deep"));
+    const auto nested = run_softcut("check deep", root);
+    CHECK(nested.status == 2);
+    CHECK(contains(nested.output, "has folders nested more than 32 deep"));
   }
 
   TEST_CASE("item 4: a scenario swapped for a link after it was listed is still not read through it") {
