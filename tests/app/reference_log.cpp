@@ -63,7 +63,7 @@ TEST_SUITE("app/reference_log") {
     CHECK(reference_path("scenarios/knee.lua") == fs::path("scenarios/knee.ref.csv"));
   }
 
-  TEST_CASE("the header: one line, read back field for field; headerless references still read") {
+  TEST_CASE("the header: one line, read back field for field - headerless references still read") {
     const fs::path dir = softcut::test::scratch_dir("ref_header");
     const std::string line = reference_header_line(header_of("kidney_cut"));
     CHECK(line.rfind("# softcut-reference: {\"scenario\":\"kidney_cut\",", 0) == 0);
@@ -94,7 +94,7 @@ TEST_SUITE("app/reference_log") {
     }
   }
 
-  TEST_CASE("who made it: another scenario's reference is foreign; other parameters or mesh are named when it differs") {
+  TEST_CASE("who made it: another scenario's reference is foreign - other parameters or mesh are named when it differs") {
     const fs::path dir = softcut::test::scratch_dir("ref_identity");
     std::ofstream(dir / "log.csv") << kLog;
     std::ofstream(dir / "r.ref.csv") << reference_header_line(header_of("vessel_clamp"))

@@ -32,7 +32,7 @@ std::string usage_error(const Args& args, unsigned groups) {
 }  // namespace
 
 TEST_SUITE("app/run_options") {
-  TEST_CASE("typed values reach the run request; arguments() gives them back as softcut run reads them") {
+  TEST_CASE("typed values reach the run request - arguments() gives them back as softcut run reads them") {
     const Args args = {"--set", "f=0.5", "--frames", "12", "--backend", "cpu", "--render-every", "0",
                        "--size", "64x48", "--msaa", "2", "--max-tets", "5000", "--timeout", "0.5",
                        "--max-output", "3M", "--trust", "--no-render", "--no-cache", "--set", "g=a=b"};
@@ -72,7 +72,7 @@ TEST_SUITE("app/run_options") {
     CHECK(d.render);
   }
 
-  TEST_CASE("a command takes only its groups; bad values are named with the option") {
+  TEST_CASE("a command takes only its groups - bad values are named with the option") {
     CHECK(usage_error({"--frames", "3"}, RunOptions::scenario) ==
           "softcut demo: unknown option '--frames' (see softcut demo --help)");
     CHECK(usage_error({"--size", "64x48"}, RunOptions::scenario | RunOptions::frames).find("unknown option '--size'") !=

@@ -43,7 +43,7 @@ void put_summary(const fs::path& dir, const std::string& id, const nlohmann::jso
 }  // namespace
 
 TEST_SUITE("app/sweep_merge") {
-  TEST_CASE("a summary is read field by field; optional fields take their defaults") {
+  TEST_CASE("a summary is read field by field - optional fields take their defaults") {
     const RunSummary s = parse_run_summary(summary("1").dump(), "x.json");
     CHECK(s.exit_reason == "completed");
     CHECK(s.frames == 3);
@@ -69,7 +69,7 @@ TEST_SUITE("app/sweep_merge") {
     CHECK(contains(error_of([&] { parse_run_summary("[]", "x.json"); }), "'the document' is not an object"));
   }
 
-  TEST_CASE("merge: the table of a folder made by hand; missing runs listed; a foreign run refused") {
+  TEST_CASE("merge: the table of a folder made by hand - missing runs listed - a foreign run refused") {
     const fs::path dir = softcut::test::scratch_dir("sweep_merge_unit");
     make_sweep(dir, {"1", "2"});
     put_summary(dir, "run_0000", summary("1"));

@@ -121,7 +121,7 @@ TEST_SUITE("app/sweep_plan") {
               .find("bad.json: not a sweep plan") != std::string::npos);
   }
 
-  TEST_CASE("values: UTF-8 text without control characters, at most 4096 bytes; bounds on keys and values") {
+  TEST_CASE("values: UTF-8 text without control characters, at most 4096 bytes - bounds on keys and values") {
     CHECK(bad_value("0.5") == "");
     CHECK(bad_value("a\tb\nc\r") == "");         // a quoted field may hold these
     CHECK(bad_value("\xC3\xA9t\xC3\xA9") == "");  // été

@@ -372,7 +372,7 @@ TEST_SUITE("hardening/command_escape") {
     CHECK(contains(run_softcut("sweep merge s", root).output, "'runs[1].id' is 'run_0000', not 'run_0001'"));
   }
 
-  TEST_CASE("item 8: summaries with thousands of expectation names merge in seconds; 40,000 are refused") {
+  TEST_CASE("item 8: summaries with thousands of expectation names merge in seconds - 40,000 are refused") {
     const fs::path root = softcut::test::scratch_dir("cmd_esc_merge_names");
     auto with_names = [](std::size_t i, int names) {
       nlohmann::json s = summary_of(i);

@@ -213,7 +213,7 @@ TEST_SUITE("hybrid/precompute_cache") {
     CHECK(fs::exists(rf.file));
   }
 
-  TEST_CASE("temporary files of killed writes are counted and removed; a live writer's stays") {
+  TEST_CASE("temporary files of killed writes are counted and removed - a live writer's stays") {
     std::mt19937 rng(35);
     TempDir dir;
     const HybridCase c = test::random_case(rng, 0);
