@@ -185,7 +185,9 @@ SweepMerge merge_sweep(const fs::path& dir) {
     return l + "\n";
   };
   m.csv = line(header);
-  json rows = json::array();
+  // sweep.json's rows as text, one row at a time: the document is never
+  // held whole as JSON values (that took ~3x the text).
+  std::string rows_text;
   std::vector<const RunSummary::Expectation*> cell_of(expect_names.size());
   for (size_t i = 0; i < plan.runs.size(); ++i) {
     const SweepRun& r = plan.runs[i];
@@ -214,15 +216,24 @@ SweepMerge merge_sweep(const fs::path& dir) {
                               {"message", e->message}});
     }
     m.csv += line(cells);
-    rows.push_back({{"id", r.id}, {"params", params}, {"pass", pass}, {"exit_reason", s.exit_reason},
-                    {"message", s.message}, {"frames", s.frames}, {"last_time_s", s.last_time_s},
-                    {"cut_events", s.cut_events}, {"detached_pieces", s.detached_pieces},
-                    {"expectations", expectations}, {"summary", r.id + "/summary.json"}});
+    const json row = {{"id", r.id}, {"params", params}, {"pass", pass}, {"exit_reason", s.exit_reason},
+                      {"message", s.message}, {"frames", s.frames}, {"last_time_s", s.last_time_s},
+                      {"cut_events", s.cut_events}, {"detached_pieces", s.detached_pieces},
+                      {"expectations", expectations}, {"summary", r.id + "/summary.json"}};
+    // Indented as a member of the document's "rows" list (JSON text holds no
+    // raw line break inside a string: every one is structure).
+    rows_text += i ? ",\n  " : "  ";
+    for (const char c : row.dump(1, ' ', false, json::error_handler_t::replace)) {
+      rows_text += c;
+      if (c == '\n') rows_text += "  ";
+    }
   }
   const json out = {{"schema", "softcut-sweep/1"}, {"scenario", plan.scenario}, {"run_options", plan.run_options},
                     {"keys", plan.keys}, {"runs", m.runs}, {"passed", m.passed}, {"failed", m.failed},
-                    {"rows", rows}};
-  m.json = out.dump(1, ' ', false, json::error_handler_t::replace) + "\n";
+                    {"rows", json::array()}};
+  m.json = out.dump(1, ' ', false, json::error_handler_t::replace);  // ends with "rows": []\n}
+  if (!rows_text.empty()) m.json.replace(m.json.size() - 4, 4, "[\n" + rows_text + "\n ]\n}");
+  m.json += "\n";
   return m;
 }
 

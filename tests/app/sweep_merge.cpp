@@ -82,6 +82,11 @@ TEST_SUITE("app/sweep_merge") {
           "id,f,pass,exit_reason,frames,last_time_s,cut_events,detached_pieces,expect.sag,expect.holds\n"
           "run_0000,1,true,completed,3,0.2,2,1,-0.5,true\n"
           "run_0001,2,false,error,3,0.2,2,1,-0.5,false\n");
+    // sweep.json, written a row at a time, is exactly nlohmann-json's text of itself.
+    const auto doc = nlohmann::ordered_json::parse(m.json);
+    CHECK(m.json == doc.dump(1, ' ') + "\n");
+    CHECK(doc["rows"].size() == 2);
+    CHECK(doc["rows"][1]["expectations"][1]["pass"] == false);
     put_summary(dir, "run_0001", summary("3"));
     CHECK(contains(error_of([&] { merge_sweep(dir); }), "run_0001/summary.json: it was not run with --set f=2"));
   }
