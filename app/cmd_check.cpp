@@ -333,11 +333,14 @@ int cmd_check(const Args& args) {
             });
         r.name = spec.name;
         if (dog.expired().load()) fail("the wall-clock limit of ", req.timeout_s, " s (--timeout) passed");
-        // Checked before any folder is made or cleared for it.
+        // The name (and everything else checkable without the mesh) is
+        // checked before any folder is made or cleared for it.
         try {
-          sim::check_scenario_name(spec.name);
+          sim::check_spec(spec);
         } catch (const Error& e) {
-          fail(f.file.string(), ": ", e.what());
+          const std::string msg = e.what();
+          if (msg.rfind(f.file.string(), 0) == 0) throw;
+          fail(f.file.string(), ": ", msg);
         }
         run_it = true;
       } catch (const std::exception& e) {
