@@ -5,14 +5,13 @@
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
-#include <tuple>
 
 #include "app/commands.hpp"
 #include "app/options.hpp"
+#include "app/run_options.hpp"
 #include "app/run_support.hpp"
-#include "core/error.hpp"
-#include "hybrid/precompute_cache.hpp"
 #include "app/scenario_run.hpp"
+#include "core/error.hpp"
 
 namespace softcut::app {
 
@@ -35,32 +34,14 @@ const char* kRunFooter =
 int cmd_run(const Args& args) {
   Options o("softcut run", kRunAbout, kRunFooter);
   CLI::App& app = o.app();
-  std::vector<std::string> files, sets;
-  std::string out_dir, frames, backend, render_every, size, msaa, max_tets, timeout, max_output;
-  bool quiet = false, trust = false, no_render = false, no_cache = false;
+  std::vector<std::string> files;
+  std::string out_dir;
+  bool quiet = false;
   app.add_option("scenario", files, "the scenario file (SCENARIO.lua)")->type_name("SCENARIO.lua");
   app.add_option("--out", out_dir, "output folder")->type_name("DIR");
-  o.add_list("--set", sets, "override a parameter the scenario declares with softcut.params{...}")->type_name("key=value");
-  app.add_option("--frames", frames, "stop after N frames")->type_name("N");
-  app.add_option("--backend", backend, "operational solver: auto, cpu, gpu, direct or monolithic (overrides the scenario)")
-      ->type_name("B");
-  app.add_option("--render-every", render_every, "render every N-th frame (also when the scenario renders none)")
-      ->type_name("N");
-  app.add_option("--size", size, "rendered frame size in pixels (overrides the scenario's, e.g. 640x480)")
-      ->type_name("WxH");
-  app.add_option("--msaa", msaa, "multisample count of rendered frames (0: none; overrides the scenario's)")
-      ->type_name("N");
+  o.needs("--out", "a folder");
   app.add_flag("-q,--quiet", quiet, "no progress output");
-  app.add_option("--max-tets", max_tets, "sandbox: largest mesh the scenario may load or generate (default 2000000 tets)")
-      ->type_name("N");
-  app.add_option("--timeout", timeout, "wall-clock limit of the run in seconds (default 3600; 0: none); the run then "
-                 "stops, writes its outputs and exits 124 (exit_reason \"timeout\")")->type_name("S");
-  app.add_option("--max-output", max_output, "bytes the run may write, all files together (default 4G; 0: none; "
-                 "K/M/G suffix)")->type_name("BYTES");
-  app.add_flag("--trust", trust, "no sandbox: full Lua standard library, no instruction, memory or mesh budget");
-  app.add_flag("--no-render", no_render, "write no frames (also when no OpenGL context can be made)");
-  app.add_flag("--no-cache", no_cache, "redo the hybrid precompute instead of loading it from the cache "
-               "($SOFTCUT_CACHE_DIR, else $XDG_CACHE_HOME/softcut or ~/.cache/softcut)");
+  RunOptions run(o, RunOptions::all);
   if (args.empty()) {
     std::fputs(o.help().c_str(), stderr);
     return 2;
@@ -69,22 +50,11 @@ int cmd_run(const Args& args) {
   if (files.size() != 1) usage_fail("softcut run: give exactly one scenario file (got ", files.size(), ")");
 
   app::RunRequest req;
+  run.apply(req);
   req.scenario = files[0];
-  req.cache_dir = no_cache ? std::filesystem::path() : hybrid::default_cache_dir();
   req.command_line = {"softcut", "run"};
   req.command_line.insert(req.command_line.end(), args.begin(), args.end());
   req.out_dir = out_dir;
-  for (const auto& s : sets) add_override(req.overrides, s);
-  if (app.count("--frames")) req.max_frames = parse_count(frames, "--frames");
-  if (app.count("--backend")) req.backend = parse_backend(backend);
-  if (app.count("--render-every")) req.render_every = std::max(1, parse_count(render_every, "--render-every"));
-  if (app.count("--size")) std::tie(req.width, req.height) = parse_size(size, "--size");
-  if (app.count("--msaa")) req.msaa_samples = parse_count(msaa, "--msaa");
-  if (app.count("--max-tets")) req.max_tets = parse_count(max_tets, "--max-tets");
-  if (app.count("--timeout")) req.timeout_s = parse_seconds(timeout, "--timeout");
-  if (app.count("--max-output")) req.max_output = parse_bytes(max_output, "--max-output");
-  req.trusted = trust;
-  req.render = !no_render;
 
   Progress progress(quiet ? Progress::Mode::quiet : ::isatty(STDERR_FILENO) ? Progress::Mode::bar : Progress::Mode::lines);
   req.progress = [&](int frame, int n, double elapsed) { progress.update(frame, n, elapsed); };

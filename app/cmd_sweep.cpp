@@ -7,9 +7,10 @@
 // one line per run in id order, then the tally. `merge` gathers the
 // summaries into one table (sweep_merge.hpp). docs/sweeps.md.
 #include <fcntl.h>
-#include <signal.h>
 #include <sched.h>
-#include <spawn.h>
+#include <signal.h>
+#include <sys/prctl.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -21,13 +22,15 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
-#include <fstream>
 #include <mutex>
 #include <optional>
 #include <thread>
 
 #include "app/commands.hpp"
+#include "app/json_input.hpp"
+#include "app/option_values.hpp"
 #include "app/options.hpp"
+#include "app/run_options.hpp"
 #include "app/run_support.hpp"
 #include "app/sweep_merge.hpp"
 #include "app/sweep_plan.hpp"
@@ -37,6 +40,7 @@
 #include "core/json_text.hpp"
 #include "core/printable.hpp"
 #include "core/threads.hpp"
+#include "core/watchdog.hpp"
 #include "app/scenario_run.hpp"
 #include "sim/outputs.hpp"
 
@@ -83,29 +87,34 @@ std::string params_text(const SweepRun& r) {
 
 // Runs `argv` with stdout and stderr into `log` (made new: an earlier one,
 // a link or a hard link is unlinked first, never written through) and stdin
-// from /dev/null, in its own process group, so a Ctrl-C reaches the sweep
-// alone, which passes a stop on once (SignalGuard) to each run. Returns the
-// wait status.
+// from /dev/null. The run is in its own process group, so a Ctrl-C at the
+// terminal reaches the sweep alone, which passes a stop on once (SignalGuard)
+// to each run; and it dies with the sweep (PR_SET_PDEATHSIG: SIGKILL when the
+// thread that started it ends, which it does only after waiting for it), so
+// killing the sweep (CI cancel, OOM kill, timeout -s KILL) leaves no run
+// behind. Returns the wait status.
 int spawn_and_wait(const std::vector<std::string>& argv, const fs::path& log, const std::vector<std::string>& env) {
   ::unlink(log.c_str());
-  posix_spawn_file_actions_t fa;
-  posix_spawn_file_actions_init(&fa);
-  posix_spawn_file_actions_addopen(&fa, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
-  posix_spawn_file_actions_addopen(&fa, STDOUT_FILENO, log.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW, 0644);
-  posix_spawn_file_actions_adddup2(&fa, STDOUT_FILENO, STDERR_FILENO);
-  posix_spawnattr_t attr;
-  posix_spawnattr_init(&attr);
-  posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETPGROUP);
-  posix_spawnattr_setpgroup(&attr, 0);
+  const UniqueFd out(::open(log.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644));
+  if (!out) fail("softcut sweep: cannot create ", log.string(), " (", std::strerror(errno), ")");
+  const UniqueFd in(::open("/dev/null", O_RDONLY | O_CLOEXEC));
+  if (!in) fail("softcut sweep: cannot open /dev/null (", std::strerror(errno), ")");
   std::vector<char*> cargv, cenv;
   for (const auto& a : argv) cargv.push_back(const_cast<char*>(a.c_str()));
   for (const auto& e : env) cenv.push_back(const_cast<char*>(e.c_str()));
   cargv.push_back(nullptr), cenv.push_back(nullptr);
-  pid_t pid = -1;
-  const int err = posix_spawn(&pid, "/proc/self/exe", &fa, &attr, cargv.data(), cenv.data());
-  posix_spawn_file_actions_destroy(&fa);
-  posix_spawnattr_destroy(&attr);
-  if (err != 0) fail("softcut sweep: cannot start `softcut run` (", std::strerror(err), ")");
+  const pid_t parent = ::getpid();
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    // The child of a threaded process: only async-signal-safe calls until exec.
+    if (::prctl(PR_SET_PDEATHSIG, SIGKILL) != 0 || ::getppid() != parent) ::_exit(127);  // the sweep already died
+    if (::setpgid(0, 0) != 0 || ::dup2(in.get(), STDIN_FILENO) < 0 || ::dup2(out.get(), STDOUT_FILENO) < 0 ||
+        ::dup2(out.get(), STDERR_FILENO) < 0)
+      ::_exit(127);
+    ::execve("/proc/self/exe", cargv.data(), cenv.data());
+    ::_exit(127);
+  }
+  if (pid < 0) fail("softcut sweep: cannot start `softcut run` (", std::strerror(errno), ")");
   int status = 0;
   bool stopped = false;
   for (;;) {
@@ -117,19 +126,35 @@ int spawn_and_wait(const std::vector<std::string>& argv, const fs::path& log, co
   }
 }
 
-// Why a run failed, from its exit status and log: the error or failed
+// Why a run failed, from its exit status and the end of its log (the last
+// 1 MiB: a script may print megabytes before the error): the error or failed
 // expectation the child printed, else the status.
-std::string failure_of(int status, const fs::path& log) {
-  std::ifstream in(log);
-  std::string line, expect;
-  while (std::getline(in, line)) {
+std::string failure_of(int status, const fs::path& dir) {
+  std::string tail;
+  try {
+    const UniqueFd fd = open_below(dir, "run.log", Access::read, "softcut sweep");
+    struct stat st {};
+    if (::fstat(fd.get(), &st) == 0) {
+      const off_t from = std::max<off_t>(0, st.st_size - (off_t(1) << 20));
+      tail.resize(std::size_t(st.st_size - from));
+      const ssize_t n = ::pread(fd.get(), tail.data(), tail.size(), from);
+      tail.resize(n > 0 ? std::size_t(n) : 0);
+    }
+  } catch (const Error&) {
+  }
+  std::string expect;
+  for (size_t at = 0; at < tail.size();) {
+    const size_t nl = std::min(tail.find('\n', at), tail.size());
+    const std::string line = tail.substr(at, nl - at);
+    at = nl + 1;
     if (line.rfind("softcut: error: ", 0) == 0) return line.substr(16);
     if (expect.empty() && line.find(": expect '") != std::string::npos) expect = line;
   }
+  const std::string log = (dir / "run.log").string();
   if (!expect.empty()) return expect;
-  if (WIFSIGNALED(status)) return cat("killed by signal ", WTERMSIG(status), " (see ", log.string(), ")");
+  if (WIFSIGNALED(status)) return cat("killed by signal ", WTERMSIG(status), " (see ", log, ")");
   if (WEXITSTATUS(status) == 130) return "interrupted (stopped after its frame, outputs written)";
-  return cat("exit status ", WEXITSTATUS(status), " (see ", log.string(), ")");
+  return cat("exit status ", WEXITSTATUS(status), " (see ", log, ")");
 }
 
 // A run that ended before its outputs started (a script error in the main
@@ -161,7 +186,8 @@ int cmd_merge(const Args& args) {
   if (dirs.empty()) usage_fail("softcut sweep merge: give the sweep folder (see softcut sweep --help)");
   const fs::path dir = dirs[0];
   fs::path csv = csv_text, json = json_text_path;
-  if (!fs::exists(dir / "sweep_plan.json"))
+  std::error_code ec;
+  if (!fs::exists(fs::symlink_status(dir / "sweep_plan.json", ec)))
     fail("softcut sweep merge: ", (dir / "sweep_plan.json").string(), " does not exist (not a sweep folder, or no "
          "shard has started yet)");
   const SweepMerge m = merge_sweep(dir);
@@ -187,33 +213,26 @@ int cmd_sweep(const Args& args) {
   if (!args.empty() && args[0] == "merge") return cmd_merge(Args(args.begin() + 1, args.end()));
   Options o("softcut sweep", kSweepAbout, kSweepFooter);
   CLI::App& app = o.app();
-  std::vector<std::string> grids, files, sets;
-  std::string table_text, out_text, shard_text, shards_text, jobs_text;
+  std::vector<std::string> grids, files;
+  std::string table_text, out_text, shard_text;
+  int jobs = 0, shards_count = 1;
   bool dry_run = false;
   app.add_option("scenario", files, "the scenario file")->type_name("SCENARIO.lua");
   o.add_list("--grid", grids, "a parameter's values (repeatable; the runs are the product of all grids)")
       ->type_name("key=v1,v2,...");
   app.add_option("--table", table_text, "one run per CSV row (a header of parameter names)")->type_name("FILE.csv");
   app.add_option("--out", out_text, "sweep folder (default: renders/<scenario file stem>-sweep)")->type_name("DIR");
-  app.add_option("-j,--jobs", jobs_text, "runs at once (default: the cores this process may use)")->type_name("N");
+  CLI::Option* jobs_opt = app.add_option("-j,--jobs", jobs, "runs at once (default: the cores this process may use)")
+                              ->type_name("N")->check(whole_number(1, 100000));
   app.add_option("--shard", shard_text, "run only runs i with i % N == I (see below)")->type_name("I/N");
-  app.add_option("--shards", shards_text, "shard count of a Kubernetes indexed Job (see below)")->type_name("N");
-  o.add_list("--set", sets, "a fixed parameter for every run")->type_name("key=value");
+  app.add_option("--shards", shards_count, "shard count of a Kubernetes indexed Job (see below)")->type_name("N")
+      ->check(whole_number(1, 1000000));
   app.add_flag("--dry-run", dry_run, "print this shard's runs and their parameters, run nothing");
   // Options for each `softcut run`, checked here so a typo fails once, not per run.
-  const std::vector<std::pair<std::string, std::string>> valued = {
-      {"--frames", "N"}, {"--backend", "B"}, {"--render-every", "N"}, {"--size", "WxH"}, {"--msaa", "N"},
-      {"--max-tets", "N"}, {"--timeout", "S"}, {"--max-output", "BYTES"}};
-  std::map<std::string, std::string> run_values;
-  for (const auto& [name, type] : valued)
-    app.add_option(name, run_values[name], "passed on to each run")->type_name(type);
-  std::map<std::string, bool> run_flags = {{"--trust", false}, {"--no-render", false}, {"--no-cache", false}};
-  for (auto& [name, on] : run_flags) app.add_flag(name, on, "passed on to each run");
+  RunOptions run(o, RunOptions::all);
   for (const auto& [option, what] :
        {std::pair{"--grid", "key=v1,v2,..."}, {"--table", "a CSV file"}, {"--out", "a folder"}, {"--jobs", "a number"},
-        {"--shard", "I/N"}, {"--shards", "a number"}, {"--set", "key=value"}, {"--frames", "a number"},
-        {"--render-every", "a number"}, {"--msaa", "a number"}, {"--max-tets", "a number"}, {"--backend", "a backend"},
-        {"--size", "WxH"}, {"--timeout", "seconds"}, {"--max-output", "bytes"}})
+        {"--shard", "I/N"}, {"--shards", "a number"}})
     o.needs(option, what);
   if (args.empty()) {
     std::fputs(o.help().c_str(), stderr);
@@ -221,36 +240,24 @@ int cmd_sweep(const Args& args) {
   }
   if (!o.parse(args)) return 0;
 
-  std::vector<std::string> run_options;
+  const std::vector<std::string> run_options = run.arguments();
   std::map<std::string, std::string> fixed;
-  for (const auto& kv : sets) {
+  for (const auto& kv : run.sets()) {
     add_override(fixed, kv);
-    run_options.insert(run_options.end(), {"--set", kv});
+    const auto eq = kv.find('=');
+    if (const std::string why = bad_value(kv.substr(eq + 1)); !why.empty())
+      usage_fail("softcut sweep: --set ", printable(kv, 80), ": the value ", why);
   }
-  int max_tets = -1;  // --max-tets, also for the check before the runs
-  for (const auto& [name, type] : valued) {
-    if (!app.count(name)) continue;
-    const std::string& v = run_values[name];
-    if (name == "--backend") parse_backend(v);
-    else if (name == "--size") parse_size(v, "--size");
-    else if (name == "--timeout") parse_seconds(v, "--timeout");
-    else if (name == "--max-output") parse_bytes(v, "--max-output");
-    else if (name == "--max-tets") max_tets = parse_count(v, "--max-tets");
-    else parse_count(v, name.c_str());
-    run_options.insert(run_options.end(), {name, v});
-  }
-  for (const auto& [name, on] : run_flags)
-    if (on) run_options.push_back(name);
   const fs::path table = table_text;
   fs::path out = out_text;
   std::optional<std::string> shard_arg;
   if (app.count("--shard")) shard_arg = shard_text;
   std::optional<int> shards;
-  if (app.count("--shards")) shards = std::max(1, parse_count(shards_text, "--shards"));
-  const int jobs = app.count("--jobs") ? parse_jobs(jobs_text, "softcut sweep") : usable_cores();
+  if (app.count("--shards")) shards = shards_count;
+  if (!jobs_opt->count()) jobs = usable_cores();
   if (files.size() != 1) usage_fail("softcut sweep: give exactly one scenario file (got ", files.size(), ")");
   if (grids.empty() == table.empty()) usage_fail("softcut sweep: give the runs as --grid key=v1,v2,... or as --table FILE.csv (one of them)");
-  if (!fs::is_regular_file(files[0])) usage_fail("softcut sweep: ", files[0], ": no such scenario file");
+  if (!fs::is_regular_file(files[0])) usage_fail("softcut sweep: ", printable(files[0]), ": no such scenario file");
 
   SweepPlan plan;
   plan.scenario = fs::absolute(files[0]).lexically_normal().string();
@@ -267,12 +274,17 @@ int cmd_sweep(const Args& args) {
   // accepts): checked on the first run before any process starts.
   {
     app::RunRequest req;
+    run.apply(req);
     req.scenario = files[0];
-    req.overrides = fixed;
-    req.trusted = std::find(run_options.begin(), run_options.end(), "--trust") != run_options.end();
-    if (max_tets >= 0) req.max_tets = max_tets;
     for (const auto& [k, v] : plan.runs.front().params) req.overrides[k] = v;
-    app::load_scenario_spec(req);
+    const SignalGuard signals;
+    req.interrupt = &SignalGuard::flag();
+    const Watchdog dog(req.timeout_s, std::clamp(req.timeout_s / 10, 5.0, 60.0),
+                       cat(files[0], ": the wall-clock limit of ", req.timeout_s, " s (--timeout) passed while the "
+                           "script ran and it did not stop; exiting"));
+    app::load_scenario_spec(req, [&dog](const RunRequest& q, OutputBudget* output, const Watchdog*) {
+      return open_lua_scenario(q, output, &dog);
+    });
   }
   const std::string plan_text = plan_json(plan);
   if (dry_run) {
@@ -286,7 +298,7 @@ int cmd_sweep(const Args& args) {
   if (ec || !fs::is_directory(out)) fail("softcut sweep: cannot create the sweep folder ", out.string(), ": ", ec ? ec.message() : "not a folder");
   const fs::path plan_file = out / "sweep_plan.json";
   if (fs::exists(fs::symlink_status(plan_file, ec))) {
-    if (read_regular_file(plan_file, "the sweep plan", std::size_t(256) << 20) != plan_text)
+    if (read_file_below(out, "sweep_plan.json", "the sweep plan", kMaxPlanBytes) != plan_text)
       fail("softcut sweep: ", out.string(), " holds another sweep (its sweep_plan.json differs from this one: other "
            "parameters, options or scenario); give another --out or remove the folder");
   } else {
@@ -338,9 +350,11 @@ int cmd_sweep(const Args& args) {
       if (SignalGuard::flag().load()) {
         o.reason = "interrupted before it ran";
       } else {
+        fs::path dir;
+        std::vector<std::string> argv;
         try {
-          const fs::path dir = make_folder_below(out, r.id, "softcut sweep");
-          std::vector<std::string> argv = {"softcut", "run", plan.scenario, "--out", dir.string(), "--quiet"};
+          dir = make_folder_below(out, r.id, "softcut sweep");
+          argv = {"softcut", "run", plan.scenario, "--out", dir.string(), "--quiet"};
           for (const auto& [key, v] : r.params) argv.insert(argv.end(), {"--set", key + "=" + v});
           argv.insert(argv.end(), run_options.begin(), run_options.end());
           // An earlier run's summary must not stand for this one (a run that
@@ -349,10 +363,18 @@ int cmd_sweep(const Args& args) {
           const int status = spawn_and_wait(argv, dir / "run.log", env);
           o.ran = true;
           o.pass = WIFEXITED(status) && WEXITSTATUS(status) == 0;
-          if (!o.pass) o.reason = failure_of(status, dir / "run.log");
-          if (!fs::exists(dir / "summary.json")) write_failure_summary(dir, argv, o.reason);
+          if (!o.pass) o.reason = failure_of(status, dir);
         } catch (const std::exception& e) {
           o.reason = e.what();
+        }
+        // A run that could not start, or ended before its outputs, is a
+        // failed row of the merge, not a missing one.
+        std::error_code ec;
+        if (!dir.empty() && !fs::exists(fs::symlink_status(dir / "summary.json", ec))) {
+          try {
+            write_failure_summary(dir, argv, o.reason);
+          } catch (const std::exception&) {
+          }
         }
       }
       o.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

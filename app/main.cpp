@@ -1,4 +1,5 @@
 // softcut command-line program: dispatches to the subcommands in commands.hpp.
+#include <csignal>
 #include <cstdio>
 #include <exception>
 #include <string>
@@ -20,7 +21,8 @@ const char* kUsage =
     "                   [--quiet] [--trust] [--no-render]\n"
     "                       run a Lua scenario headless; logs and frames under renders/<name>/\n"
     "  check PATH... [-j N] [--only PAT] [--exclude PAT] [--set key=value ...] [--timeout S]\n"
-    "                [--junit FILE] [--json FILE] [--record] [--backend B] [--out DIR] [--trust]\n"
+    "                [--junit FILE] [--json FILE] [--record [--force]] [--backend B] [--out DIR]\n"
+    "                [--max-output BYTES] [--trust]\n"
     "                       run scenarios' expectations and compare with their reference logs\n"
     "  sweep SCENARIO.lua (--grid key=v1,v2,... | --table FILE.csv) [-j N] [--shard I/N] [--out DIR]\n"
     "                       run a scenario once per parameter combination, on one machine or sharded\n"
@@ -52,6 +54,11 @@ int main(int argc, char** argv) {
     std::printf("softcut %s\n", SOFTCUT_VERSION);
     return 0;
   }
+  // Past a file-size limit (ulimit -f, systemd's LimitFSIZE) a write fails
+  // with EFBIG instead of killing the process: every writer then takes its
+  // "write failed (disk full?)" path, removes its temporary file and says so.
+  // Ignored signals stay ignored across exec: `sweep`'s runs inherit it.
+  std::signal(SIGXFSZ, SIG_IGN);
   const Args args(argv + 2, argv + argc);
   // BLAS threads that do not fight other runs for the cores (core/threads.hpp).
   softcut::apply_blas_threads(softcut::thread_policy().blas_threads);

@@ -14,11 +14,6 @@ Options::Options(std::string command, const std::string& description, const std:
   app_.get_formatter()->column_width(24);
 }
 
-CLI::Option* Options::add_list(const std::string& name, std::vector<std::string>& values, const std::string& help) {
-  return app_.add_option(name, values, help)->multi_option_policy(CLI::MultiOptionPolicy::TakeAll)->expected(1)
-      ->allow_extra_args(false);
-}
-
 bool Options::parse(const Args& args) {
   // CLI11 takes the arguments last first.
   std::vector<std::string> rev(args.rbegin(), args.rend());
@@ -42,6 +37,13 @@ bool Options::parse(const Args& args) {
       const auto it = needs_.find(name);
       usage_fail(command_, ": ", name, " needs ", it == needs_.end() ? "a value" : it->second, see);
     }
+    usage_fail(command_, ": ", what, see);
+  } catch (const CLI::ValidationError& e) {
+    // "--frames: lots: expected ..." from CLI11 and our validators (whose
+    // messages start with the value) reads "--frames lots: expected ...".
+    std::string what = e.what();
+    const auto colon = what.find(": ");
+    if (what.rfind("-", 0) == 0 && colon != std::string::npos) what.erase(colon, 1);
     usage_fail(command_, ": ", what, see);
   } catch (const CLI::ParseError& e) {
     usage_fail(command_, ": ", e.what(), see);

@@ -7,8 +7,10 @@
 // words, naming the command:
 //   softcut run: unknown option '--bogus' (see softcut run --help)
 //   softcut run: --out needs a value (see softcut run --help)
-// Values are kept as text and converted by the command (run_support.hpp's
-// parse_count, parse_seconds, ...), whose messages name the option.
+// Values are typed: CLI11 converts them after a validator (option_values.hpp)
+// has checked the text, whose message names the option and the value:
+//   softcut run: --frames lots: expected a whole number from 0 to 100000000
+// The options of a scenario run are declared once (run_options.hpp).
 //
 //   Options o("softcut run", "Runs a Lua scenario headless ...");
 //   o.app().add_option("--out", out, "output folder")->type_name("DIR");
@@ -29,8 +31,12 @@ class Options {
   // statuses, environment, examples).
   Options(std::string command, const std::string& description, const std::string& footer = "");
   CLI::App& app() { return app_; }
-  // A repeatable option collecting its values in order (--set, --only).
-  CLI::Option* add_list(const std::string& name, std::vector<std::string>& values, const std::string& help);
+  // A repeatable option collecting its values in order (--set, --only, --tets).
+  template <class T>
+  CLI::Option* add_list(const std::string& name, std::vector<T>& values, const std::string& help) {
+    return app_.add_option(name, values, help)->multi_option_policy(CLI::MultiOptionPolicy::TakeAll)->expected(1)
+        ->allow_extra_args(false);
+  }
   // How a missing value of `option` is named in its message ("--json needs
   // a file name"); default "a value".
   void needs(const std::string& option, std::string what) { needs_[option] = std::move(what); }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <memory>
 
+#include "app/reference_log.hpp"
 #include "core/checked_file.hpp"
 #include "core/error.hpp"
 #include "core/output_budget.hpp"
@@ -138,6 +139,8 @@ RunOutcome run_watched(const RunRequest& req, const OpenScript& open, const Watc
     }
   }
   const sim::Model model = sim::compile(spec, backend::RunResources{context.get()});
+  out.mesh_fingerprint = mesh_fingerprint(model.mesh);
+  out.params = spec.params;
   // Frames are drawn on a worker thread while the next frame is simulated,
   // unless the solver (GPU CG, or stage 5's product on the device) needs the
   // shared context on this thread.
@@ -185,6 +188,7 @@ std::unique_ptr<sim::ScenarioScript> open_lua_scenario(const RunRequest& req, Ou
                                                        const Watchdog* watchdog) {
   lua::ScriptRequest s;
   s.scenario = req.scenario;
+  s.scenario_root = req.scenario_root;
   s.overrides = req.overrides;
   s.sandbox.trusted = req.trusted;
   s.sandbox.instruction_budget = req.instruction_budget;

@@ -14,6 +14,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "sim/run.hpp"
@@ -29,6 +30,8 @@ namespace softcut::app {
 
 struct RunRequest {
   std::filesystem::path scenario;                 // the .lua file
+  std::filesystem::path scenario_root;            // set: read `scenario` below it without following a link
+                                                  // (softcut check: the folder the user named)
   std::filesystem::path out_dir;                  // empty: renders/<scenario name>/ under the working folder
   std::map<std::string, std::string> overrides;   // --set key=value (the scenario's params{})
   int max_frames = -1;                            // --frames N (>= 0)
@@ -61,6 +64,8 @@ struct ExpectationResult {
 
 struct RunOutcome {
   std::string name;         // scenario name (renders/<name>)
+  std::string mesh_fingerprint;  // of the rest mesh (reference_log.hpp), for reference headers
+  std::vector<std::pair<std::string, std::string>> params;  // after --set, as the script saw them
   std::filesystem::path out_dir;
   double tolerance = 1e-6;  // reference comparison, relative to max |u_ref|
   int num_frames = 0;       // of the timeline

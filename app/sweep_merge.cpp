@@ -1,8 +1,12 @@
 #include "app/sweep_merge.hpp"
 
-#include <algorithm>
-#include <nlohmann/json.hpp>
+#include <sys/stat.h>
 
+#include <algorithm>
+#include <unordered_map>
+#include <unordered_set>
+
+#include "app/json_input.hpp"
 #include "app/sweep_plan.hpp"
 #include "core/checked_file.hpp"
 #include "core/error.hpp"
@@ -23,7 +27,7 @@ std::string csv_field(const std::string& s) {
   return q + "\"";
 }
 
-std::string text_of(const json& v) {
+std::string text_of(const nlohmann::json& v) {
   if (v.is_null()) return "";
   if (v.is_string()) return v.get<std::string>();
   return v.dump();  // numbers: the shortest form that reads back the same
@@ -32,59 +36,141 @@ std::string text_of(const json& v) {
 // The run passed as `softcut run` judges it: no error, interrupt or timeout,
 // and every expectation passed (one not reached counts only when the run
 // completed).
-bool run_passed(const json& summary) {
-  const std::string reason = summary.at("run").at("exit_reason").get<std::string>();
-  if (reason == "error" || reason == "interrupted" || reason == "timeout") return false;
-  for (const json& e : summary.at("expectations"))
-    if (!e.at("pass").get<bool>() && (e.at("reached").get<bool>() || reason == "completed")) return false;
+bool run_passed(const RunSummary& s) {
+  if (s.exit_reason == "error" || s.exit_reason == "interrupted" || s.exit_reason == "timeout") return false;
+  for (const auto& e : s.expectations)
+    if (!e.pass && (e.reached || s.exit_reason == "completed")) return false;
   return true;
+}
+
+// Field access with messages naming the field.
+struct Reader {
+  [[noreturn]] static void bad(const std::string& path, const char* what) {
+    fail("'", path, "' ", what);
+  }
+  static const nlohmann::json* find(const nlohmann::json& obj, const std::string& parent, const char* key,
+                                    bool required) {
+    if (!obj.is_object()) bad(parent.empty() ? "the document" : parent, "is not an object");
+    const auto it = obj.find(key);
+    if (it == obj.end()) {
+      if (required) bad(field_path(parent, key), "is missing");
+      return nullptr;
+    }
+    return &*it;
+  }
+  static std::string text(const nlohmann::json& v, const std::string& path) {
+    if (!v.is_string()) bad(path, "is not a string");
+    return v.get<std::string>();
+  }
+  static bool boolean(const nlohmann::json& v, const std::string& path) {
+    if (!v.is_boolean()) bad(path, "is not true or false");
+    return v.get<bool>();
+  }
+  static nlohmann::json number(const nlohmann::json& v, const std::string& path, bool null_ok) {
+    if (!v.is_number() && !(null_ok && v.is_null())) bad(path, null_ok ? "is not a number or null" : "is not a number");
+    return v;
+  }
+};
+
+std::string cut(std::string s, std::size_t n) {
+  if (s.size() > n) s = printable(s, n);
+  return s;
 }
 
 }  // namespace
 
+RunSummary parse_run_summary(const std::string& text, const std::string& file) {
+  RunSummary s;
+  const nlohmann::json j = parse_bounded_json(text, file, 2000000, 16);
+  using R = Reader;
+  try {
+    const nlohmann::json& words = *R::find(j, "", "command_line", true);
+    if (!words.is_array()) R::bad("command_line", "is not a list");
+    if (words.size() > 100000) R::bad("command_line", "has more than 100000 words");
+    for (std::size_t i = 0; i < words.size(); ++i) s.command_line.push_back(R::text(words[i], field_path("command_line", i)));
+    const nlohmann::json& run = *R::find(j, "", "run", true);
+    s.exit_reason = R::text(*R::find(run, "run", "exit_reason", true), "run.exit_reason");
+    s.frames = R::number(*R::find(run, "run", "frames", true), "run.frames", false);
+    if (const auto* t = R::find(run, "run", "last_time_s", false)) s.last_time_s = R::number(*t, "run.last_time_s", true);
+    if (const auto* m = R::find(run, "run", "message", false)) s.message = cut(R::text(*m, "run.message"), kMaxMergedMessage);
+    if (const auto* c = R::find(j, "", "cutting", false); c && !c->is_null()) {
+      if (const auto* e = R::find(*c, "cutting", "events", false)) s.cut_events = R::number(*e, "cutting.events", false);
+      if (const auto* p = R::find(*c, "cutting", "detached_pieces", false))
+        s.detached_pieces = R::number(*p, "cutting.detached_pieces", false);
+    }
+    const nlohmann::json& list = *R::find(j, "", "expectations", true);
+    if (!list.is_array()) R::bad("expectations", "is not a list");
+    if (list.size() > kMaxSummaryExpectations)
+      fail("'expectations' lists ", list.size(), " expectations, more than the ", kMaxSummaryExpectations,
+           " a scenario may declare");
+    s.expectations.reserve(list.size());
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      const std::string at = field_path("expectations", i);
+      RunSummary::Expectation e;
+      e.name = R::text(*R::find(list[i], at, "name", true), field_path(at, "name"));
+      if (e.name.size() > kMaxExpectationName)
+        fail("'", field_path(at, "name"), "' is ", e.name.size(), " bytes long, more than ", kMaxExpectationName);
+      e.pass = R::boolean(*R::find(list[i], at, "pass", true), field_path(at, "pass"));
+      e.reached = R::boolean(*R::find(list[i], at, "reached", true), field_path(at, "reached"));
+      if (const auto* v = R::find(list[i], at, "value", false)) e.value = R::number(*v, field_path(at, "value"), true);
+      if (const auto* m = R::find(list[i], at, "message", false))
+        e.message = cut(R::text(*m, field_path(at, "message")), kMaxMergedMessage);
+      s.expectations.push_back(std::move(e));
+    }
+  } catch (const Error& e) {
+    fail(file, ": not a summary softcut wrote: ", e.what(), " (rerun the run)");
+  }
+  return s;
+}
+
 SweepMerge merge_sweep(const fs::path& dir) {
-  const SweepPlan plan = read_plan(dir / "sweep_plan.json");
+  const SweepPlan plan = read_plan(dir);
   SweepMerge m;
   m.runs = int(plan.runs.size());
-  std::vector<json> summaries;
+  std::vector<RunSummary> summaries;
+  summaries.reserve(plan.runs.size());
   for (const SweepRun& r : plan.runs) {
-    const fs::path file = dir / r.id / "summary.json";
-    std::error_code ec;
-    if (!fs::exists(fs::symlink_status(file, ec))) {
+    const fs::path rel = fs::path(r.id) / "summary.json";
+    const std::string file = (dir / rel).string();
+    int missing = 0;
+    // Below DIR without following a link: a linked run_NNNN is refused.
+    const UniqueFd fd = open_below_if_exists(dir, rel, Access::read, "softcut sweep merge", &missing);
+    if (!fd) {
       m.missing.push_back(r.id);
       continue;
     }
-    json s;
-    try {
-      s = json::parse(read_regular_file(file, "a run's summary", std::size_t(256) << 20));
-      // The run's own command line says which values it was given (params
-      // holds them as the scenario read them: "1e3" becomes "1000.0").
-      const auto words = s.at("command_line").get<std::vector<std::string>>();
-      for (const auto& [k, v] : r.params) {
-        bool given = false;
-        for (size_t w = 0; w + 1 < words.size(); ++w) given = given || (words[w] == "--set" && words[w + 1] == k + "=" + v);
-        if (!given)
-          fail("it was not run with --set ", k, "=", printable(v, 40), " as the plan says: the folder holds runs of "
-               "another sweep (use a fresh --out)");
-      }
-      run_passed(s);  // the fields it reads are there
-      (void)s.at("run").at("frames");
-    } catch (const json::exception& e) {
-      fail(file.string(), ": not a softcut summary (", e.what(), ")");
-    } catch (const Error& e) {
-      fail(file.string(), ": ", e.what());
-    }
+    struct stat st {};
+    if (::fstat(fd.get(), &st) == 0 && std::uint64_t(st.st_size) > kMaxSummaryBytes)
+      fail(file, ": holds ", std::uint64_t(st.st_size), " bytes, more than the ", kMaxSummaryBytes,
+           " bytes of a summary softcut reads (not a summary softcut wrote)");
+    RunSummary s = parse_run_summary(read_whole(fd, "a run's summary", file, kMaxSummaryBytes), file);
+    // The run's own command line says which values it was given (params
+    // holds them as the scenario read them: "1e3" becomes "1000.0").
+    std::unordered_set<std::string> given;
+    for (size_t w = 0; w + 1 < s.command_line.size(); ++w)
+      if (s.command_line[w] == "--set") given.insert(s.command_line[w + 1]);
+    for (const auto& [k, v] : r.params)
+      if (!given.count(k + "=" + v))
+        fail(file, ": it was not run with --set ", k, "=", printable(v, 40), " as the plan says: the folder holds runs "
+             "of another sweep (use a fresh --out)");
     summaries.push_back(std::move(s));
   }
   if (!m.missing.empty()) return m;
 
   // Expectation columns: every name, in the order runs first report them.
   std::vector<std::string> expect_names;
-  for (const json& s : summaries)
-    for (const json& e : s.at("expectations")) {
-      const std::string n = e.at("name").get<std::string>();
-      if (std::find(expect_names.begin(), expect_names.end(), n) == expect_names.end()) expect_names.push_back(n);
-    }
+  std::unordered_map<std::string, std::size_t> column_of;
+  for (const RunSummary& s : summaries)
+    for (const auto& e : s.expectations)
+      if (column_of.emplace(e.name, expect_names.size()).second) {
+        expect_names.push_back(e.name);
+        if (expect_names.size() > kMaxExpectationColumns)
+          fail((dir / "sweep_plan.json").string(), ": the runs' summaries name more than ", kMaxExpectationColumns,
+               " different expectations; merge fewer runs");
+      }
+  if (double(summaries.size()) * double(expect_names.size()) > double(kMaxMergeCells))
+    fail((dir / "sweep_plan.json").string(), ": the table would hold ", summaries.size(), " runs x ",
+         expect_names.size(), " expectation columns, more than ", kMaxMergeCells, " cells; merge fewer runs");
   // A key named like a fixed column ("frames") gets the column "param.frames".
   const std::vector<std::string> fixed = {"id", "pass", "exit_reason", "frames", "last_time_s", "cut_events",
                                           "detached_pieces"};
@@ -99,45 +185,55 @@ SweepMerge merge_sweep(const fs::path& dir) {
     return l + "\n";
   };
   m.csv = line(header);
-  json rows = json::array();
+  // sweep.json's rows as text, one row at a time: the document is never
+  // held whole as JSON values (that took ~3x the text).
+  std::string rows_text;
+  std::vector<const RunSummary::Expectation*> cell_of(expect_names.size());
   for (size_t i = 0; i < plan.runs.size(); ++i) {
     const SweepRun& r = plan.runs[i];
-    const json& s = summaries[i];
+    const RunSummary& s = summaries[i];
     const bool pass = run_passed(s);
     (pass ? m.passed : m.failed)++;
-    const json& run = s.at("run");
-    const json cutting = s.contains("cutting") ? s.at("cutting") : json::object();
-    const json events = cutting.value("events", json(0)), pieces = cutting.value("detached_pieces", json(0));
+    std::fill(cell_of.begin(), cell_of.end(), nullptr);
+    for (const auto& e : s.expectations) {
+      const RunSummary::Expectation*& c = cell_of[column_of.at(e.name)];
+      if (!c) c = &e;  // the first of a name
+    }
     std::vector<std::string> cells = {r.id};
     json params = json::object(), expectations = json::array();
     for (const auto& [k, v] : r.params) cells.push_back(v), params[k] = v;
-    for (const std::string& c : {std::string(pass ? "true" : "false"), text_of(run.at("exit_reason")),
-                                 text_of(run.at("frames")), text_of(run.value("last_time_s", json())),
-                                 text_of(events), text_of(pieces)})
+    for (const std::string& c : {std::string(pass ? "true" : "false"), s.exit_reason, text_of(s.frames),
+                                 text_of(s.last_time_s), text_of(s.cut_events), text_of(s.detached_pieces)})
       cells.push_back(c);
-    for (const auto& n : expect_names) {
-      std::string cell;
-      for (const json& e : s.at("expectations"))
-        if (e.at("name") == n) {
-          const json value = e.value("value", json());
-          cell = value.is_null() ? (e.at("pass").get<bool>() ? "true" : "false") : text_of(value);  // a check: its verdict
-          expectations.push_back({{"name", n}, {"value", e.value("value", json())}, {"pass", e.at("pass")},
-                                  {"reached", e.at("reached")}, {"message", e.value("message", json(""))}});
-          break;
-        }
-      cells.push_back(cell);
+    for (size_t c = 0; c < expect_names.size(); ++c) {
+      const RunSummary::Expectation* e = cell_of[c];
+      if (!e) {
+        cells.emplace_back();
+        continue;
+      }
+      cells.push_back(e->value.is_null() ? (e->pass ? "true" : "false") : text_of(e->value));  // a check: its verdict
+      expectations.push_back({{"name", e->name}, {"value", e->value}, {"pass", e->pass}, {"reached", e->reached},
+                              {"message", e->message}});
     }
     m.csv += line(cells);
-    rows.push_back({{"id", r.id}, {"params", params}, {"pass", pass}, {"exit_reason", run.at("exit_reason")},
-                    {"message", run.value("message", json(""))}, {"frames", run.at("frames")},
-                    {"last_time_s", run.value("last_time_s", json())}, {"cut_events", events},
-                    {"detached_pieces", pieces}, {"expectations", expectations},
-                    {"summary", r.id + "/summary.json"}});
+    const json row = {{"id", r.id}, {"params", params}, {"pass", pass}, {"exit_reason", s.exit_reason},
+                      {"message", s.message}, {"frames", s.frames}, {"last_time_s", s.last_time_s},
+                      {"cut_events", s.cut_events}, {"detached_pieces", s.detached_pieces},
+                      {"expectations", expectations}, {"summary", r.id + "/summary.json"}};
+    // Indented as a member of the document's "rows" list (JSON text holds no
+    // raw line break inside a string: every one is structure).
+    rows_text += i ? ",\n  " : "  ";
+    for (const char c : row.dump(1, ' ', false, json::error_handler_t::replace)) {
+      rows_text += c;
+      if (c == '\n') rows_text += "  ";
+    }
   }
   const json out = {{"schema", "softcut-sweep/1"}, {"scenario", plan.scenario}, {"run_options", plan.run_options},
                     {"keys", plan.keys}, {"runs", m.runs}, {"passed", m.passed}, {"failed", m.failed},
-                    {"rows", rows}};
-  m.json = out.dump(1, ' ', false, json::error_handler_t::replace) + "\n";
+                    {"rows", json::array()}};
+  m.json = out.dump(1, ' ', false, json::error_handler_t::replace);  // ends with "rows": []\n}
+  if (!rows_text.empty()) m.json.replace(m.json.size() - 4, 4, "[\n" + rows_text + "\n ]\n}");
+  m.json += "\n";
   return m;
 }
 

@@ -10,6 +10,7 @@
 #include "core/checked_file.hpp"
 #include "core/error.hpp"
 #include "core/printable.hpp"
+#include "app/json_input.hpp"
 
 namespace fs = std::filesystem;
 
@@ -68,12 +69,37 @@ std::vector<std::string> csv_record(const std::string& text, size_t& pos, int& l
   return fields;
 }
 
+constexpr std::size_t kMaxPlanValues = kMaxSweepValues + 4 * kMaxSweepRuns + 10000;
+
 void check_runs(std::size_t n, const std::string& what) {
   if (n > kMaxSweepRuns)
     usage_fail(what, " expands to more than ", kMaxSweepRuns, " runs; split the study into several sweeps");
 }
 
+void check_values(std::size_t runs, std::size_t keys, const std::string& what) {
+  if (keys > kMaxSweepKeys) usage_fail(what, " sweeps more than ", kMaxSweepKeys, " parameters");
+  if (double(runs) * double(keys) > double(kMaxSweepValues))
+    usage_fail(what, " gives ", runs, " runs of ", keys, " parameters, more than ", kMaxSweepValues,
+               " values in all; split the study into several sweeps");
+}
+
 }  // namespace
+
+std::string bad_value(const std::string& value) {
+  if (value.empty()) return "is empty";
+  if (value.size() > kMaxValueBytes)
+    return cat("is ", value.size(), " bytes long, more than ", kMaxValueBytes, " (put long data in a file the "
+               "scenario reads)");
+  for (std::size_t i = 0; i < value.size();) {
+    const auto c = static_cast<unsigned char>(value[i]);
+    const std::size_t n = utf8_sequence_length(std::string_view(value).substr(i));
+    if (n == 0) return cat("is not UTF-8 text (byte ", i + 1, " is 0x", "0123456789ABCDEF"[c >> 4], "0123456789ABCDEF"[c & 15], ")");
+    if ((c < 0x20 && c != '\t' && c != '\n' && c != '\r') || c == 0x7F)
+      return cat("holds a control character (byte ", i + 1, ")");
+    i += n;
+  }
+  return "";
+}
 
 std::vector<SweepRun> expand_grid(const std::vector<std::string>& grids, std::vector<std::string>& keys) {
   std::vector<std::vector<std::string>> values;
@@ -86,11 +112,13 @@ std::vector<SweepRun> expand_grid(const std::vector<std::string>& grids, std::ve
     for (const auto& k : keys)
       if (k == key) usage_fail("softcut sweep: the parameter '", key, "' is swept twice (--grid/--set)");
     std::vector<std::string> vs = split(g.substr(eq + 1), ',');
-    for (const auto& v : vs)
-      if (v.empty()) usage_fail("softcut sweep: --grid '", printable(g, 80), "' has an empty value");
+    for (size_t i = 0; i < vs.size(); ++i)
+      if (const std::string why = bad_value(vs[i]); !why.empty())
+        usage_fail("softcut sweep: --grid '", printable(g, 80), "': value ", i + 1, " of '", key, "' ", why);
     keys.push_back(key);
     total *= vs.size();
     check_runs(total, "the grid");
+    check_values(total, keys.size(), "the grid");
     values.push_back(std::move(vs));
   }
   std::vector<SweepRun> runs(grids.empty() ? 0 : total);
@@ -131,6 +159,7 @@ std::vector<SweepRun> read_table(const fs::path& csv, std::vector<std::string>& 
         for (const auto& seen : keys)
           if (seen == k) fail(file, ":", at, ": the parameter '", k, "' is named twice");
         keys.push_back(k);
+        if (keys.size() > kMaxSweepKeys) fail(file, ":", at, ": more than ", kMaxSweepKeys, " parameters");
       }
       header = false;
       continue;
@@ -139,11 +168,14 @@ std::vector<SweepRun> read_table(const fs::path& csv, std::vector<std::string>& 
       fail(file, ":", at, ": ", fields.size(), " values for ", keys.size(), " parameters (", keys.size() == 1 ? "" : "quote values holding commas; ", "every row gives one value per column)");
     SweepRun r;
     for (size_t k = 0; k < keys.size(); ++k) {
-      if (fields[k].empty()) fail(file, ":", at, ": the value of '", keys[k], "' is empty");
+      if (const std::string why = bad_value(fields[k]); !why.empty())
+        fail(file, ":", at, ": the value of '", keys[k], "' ", why);
       r.params.emplace_back(keys[k], fields[k]);
     }
     runs.push_back(std::move(r));
     if (runs.size() > kMaxSweepRuns) fail(file, ":", at, ": more than ", kMaxSweepRuns, " runs; split the table");
+    if (runs.size() * keys.size() > kMaxSweepValues)
+      fail(file, ":", at, ": more than ", kMaxSweepValues, " values in all (runs x parameters); split the table");
   }
   if (header) fail(file, ": empty table (the first line names the parameters, each further line is one run)");
   if (runs.empty()) fail(file, ": the table has no runs (one line per run after the header)");
@@ -173,29 +205,69 @@ std::string plan_json(const SweepPlan& plan) {
   return j.dump(1, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
 }
 
-SweepPlan read_plan(const fs::path& file) {
-  const std::string text = read_regular_file(file, "the sweep plan", std::size_t(256) << 20);
+SweepPlan parse_plan(const std::string& text, const std::string& file) {
+  // Values: the runs' ids and parameters, plus a few per run and the options.
+  const nlohmann::json j = parse_bounded_json(text, file, kMaxPlanValues, 8);
   SweepPlan plan;
+  auto string_at = [&](const nlohmann::json& v, const std::string& where) {
+    if (!v.is_string()) fail("'", where, "' is not a string");
+    return v.get<std::string>();
+  };
+  auto field = [&](const nlohmann::json& obj, const std::string& parent, const char* key) -> const nlohmann::json& {
+    const std::string where = field_path(parent, key);
+    if (!obj.is_object()) fail("'", parent.empty() ? "the document" : parent, "' is not an object");
+    const auto it = obj.find(key);
+    if (it == obj.end()) fail("'", where, "' is missing");
+    return *it;
+  };
   try {
-    const nlohmann::json j = nlohmann::json::parse(text);
-    if (j.at("schema") != "softcut-sweep-plan/1") fail("unknown schema ", j.at("schema").dump());
-    plan.scenario = j.at("scenario").get<std::string>();
-    plan.run_options = j.at("run_options").get<std::vector<std::string>>();
-    plan.keys = j.at("keys").get<std::vector<std::string>>();
-    for (const auto& r : j.at("runs")) {
-      SweepRun run;
-      run.id = r.at("id").get<std::string>();
-      if (run.id.rfind("run_", 0) != 0 || run.id.find_first_not_of("0123456789", 4) != std::string::npos)
-        fail("bad run id ", printable(run.id, 40));
-      for (const auto& k : plan.keys) run.params.emplace_back(k, r.at("params").at(k).get<std::string>());
-      plan.runs.push_back(std::move(run));
+    if (string_at(field(j, "", "schema"), "schema") != "softcut-sweep-plan/1")
+      fail("unknown schema ", printable(j.at("schema").get<std::string>(), 40));
+    plan.scenario = string_at(field(j, "", "scenario"), "scenario");
+    const nlohmann::json& options = field(j, "", "run_options");
+    if (!options.is_array()) fail("'run_options' is not a list");
+    for (size_t i = 0; i < options.size(); ++i) plan.run_options.push_back(string_at(options[i], field_path("run_options", i)));
+    const nlohmann::json& keys = field(j, "", "keys");
+    if (!keys.is_array()) fail("'keys' is not a list");
+    if (keys.size() > kMaxSweepKeys) fail("more than ", kMaxSweepKeys, " keys");
+    for (size_t i = 0; i < keys.size(); ++i) {
+      const std::string k = string_at(keys[i], field_path("keys", i));
+      if (!is_key(k)) fail("'", field_path("keys", i), "' is not a parameter name");
+      if (std::find(plan.keys.begin(), plan.keys.end(), k) != plan.keys.end()) fail("the key '", k, "' is listed twice");
+      plan.keys.push_back(k);
     }
-  } catch (const nlohmann::json::exception& e) {
-    fail(file.string(), ": not a sweep plan written by softcut sweep (", e.what(), ")");
+    const nlohmann::json& runs = field(j, "", "runs");
+    if (!runs.is_array()) fail("'runs' is not a list");
+    if (runs.size() > kMaxSweepRuns) fail("more than ", kMaxSweepRuns, " runs");
+    if (runs.size() * std::max<std::size_t>(1, plan.keys.size()) > kMaxSweepValues)
+      fail("more than ", kMaxSweepValues, " values (runs x keys)");
+    plan.runs.resize(runs.size());
+    number_runs(plan.runs);  // the ids a plan must hold, in order: unique by construction
+    for (size_t i = 0; i < runs.size(); ++i) {
+      const std::string where = field_path("runs", i);
+      const std::string id = string_at(field(runs[i], where, "id"), field_path(where, "id"));
+      if (id != plan.runs[i].id)
+        fail("'", field_path(where, "id"), "' is '", printable(id, 40), "', not '", plan.runs[i].id,
+             "' (run ids number the runs in order)");
+      const nlohmann::json& params = field(runs[i], where, "params");
+      if (!params.is_object() || params.size() != plan.keys.size())
+        fail("'", field_path(where, "params"), "' does not hold one value per key");
+      for (const auto& k : plan.keys) {
+        const std::string v = string_at(field(params, field_path(where, "params"), k.c_str()),
+                                        field_path(field_path(where, "params"), k));
+        if (const std::string why = bad_value(v); !why.empty())
+          fail("'", field_path(field_path(where, "params"), k), "' ", why);
+        plan.runs[i].params.emplace_back(k, v);
+      }
+    }
   } catch (const Error& e) {
-    fail(file.string(), ": ", e.what());
+    fail(file, ": not a sweep plan written by softcut sweep: ", e.what());
   }
   return plan;
+}
+
+SweepPlan read_plan(const fs::path& dir) {
+  return parse_plan(read_file_below(dir, "sweep_plan.json", "the sweep plan", kMaxPlanBytes), (dir / "sweep_plan.json").string());
 }
 
 Shard choose_shard(const std::optional<std::string>& shard_arg, std::optional<int> shards,

@@ -10,6 +10,7 @@
 #include <thread>
 
 #include "bench/bench.hpp"
+#include "app/option_values.hpp"
 #include "app/options.hpp"
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
@@ -105,26 +106,21 @@ std::string num(double v, const char* fmt = "%.1f") {
 int bench_assembly(const Args& args) {
   app::Options o("softcut bench assembly", "Stiffness assembly of Kuhn boxes against Eigen's setFromTriplets in "
                  "the same run; CHOLMOD and CG solve times by tet count.");
-  std::vector<std::string> tets;
-  std::string repeat_text, threads_text, direct_text, json;
-  o.add_list("--tets", tets, "target tet count of a Kuhn box (repeatable; default 1000 5000 20000 50000 100000 "
-             "200000)")->type_name("N");
-  o.app().add_option("--repeat", repeat_text, "timings are the minimum over R runs (default 3)")->type_name("R");
-  o.app().add_option("--threads", threads_text, cat("threads of the block assembler (default: the engine's "
+  std::vector<int> sizes;
+  int repeat = 3, threads = 0, direct_max = 60000;  // threads 0: assemble_stiffness decides, as in the engine
+  std::string json;
+  o.add_list("--tets", sizes, "target tet count of a Kuhn box (repeatable; default 1000 5000 20000 50000 100000 "
+             "200000)")->type_name("N")->check(app::whole_number(1, 100000000));
+  o.app().add_option("--repeat", repeat, "timings are the minimum over R runs (default 3)")->type_name("R")
+      ->check(app::whole_number(1, 100000000));
+  o.app().add_option("--threads", threads, cat("threads of the block assembler (default: the engine's "
                      "automatic choice, 1 below 20000 tets, else ", std::thread::hardware_concurrency(), " here)"))
-      ->type_name("T");
-  o.app().add_option("--direct-max-tets", direct_text, "CHOLMOD only up to N tets (default 60000; its fill grows "
-                     "fast on cubes)")->type_name("N");
+      ->type_name("T")->check(app::whole_number(1, 100000000));
+  o.app().add_option("--direct-max-tets", direct_max, "CHOLMOD only up to N tets (default 60000; its fill grows "
+                     "fast on cubes)")->type_name("N")->check(app::whole_number(1, 100000000));
   o.app().add_option("--json", json, "also write the rows as JSON")->type_name("FILE");
   o.needs("--json", "a file name");
   if (!o.parse(args)) return 0;
-  std::vector<int> sizes;
-  for (const auto& t : tets) sizes.push_back(positive_int("assembly", "--tets", t));
-  const int repeat = o.app().count("--repeat") ? positive_int("assembly", "--repeat", repeat_text) : 3;
-  const int threads = o.app().count("--threads") ? positive_int("assembly", "--threads", threads_text)
-                                                 : 0;  // assemble_stiffness decides, as in the engine
-  const int direct_max = o.app().count("--direct-max-tets") ? positive_int("assembly", "--direct-max-tets", direct_text)
-                                                            : 60000;
   if (sizes.empty()) sizes = {1000, 5000, 20000, 50000, 100000, 200000};
 
   std::printf("Stiffness assembly on Kuhn boxes (E = 3 kPa, nu = 0.45), minimum of %d runs, threads: %s;\n"

@@ -1,8 +1,6 @@
 // The benchmark list and the `softcut bench` command.
 #include "bench/bench.hpp"
 
-#include <cmath>
-
 #include <cstdio>
 
 #include "core/error.hpp"
@@ -15,26 +13,6 @@ int bench_gpu(const Args& args);       // gpu.cpp
 int bench_render(const Args& args);    // render.cpp
 int bench_springs(const Args& args);   // springs.cpp
 int bench_cut(const Args& args);       // cut.cpp
-
-int positive_int(const char* bench, const std::string& flag, const std::string& value, long max) {
-  try {
-    size_t used = 0;
-    const long x = std::stol(value, &used);
-    if (used == value.size() && x > 0 && x <= max) return int(x);
-  } catch (...) {
-  }
-  usage_fail("bench ", bench, ": ", flag, " needs a positive integer, got '", value, "'");
-}
-
-std::optional<double> finite_number(const std::string& value) {
-  try {
-    size_t used = 0;
-    const double x = std::stod(value, &used);
-    if (used == value.size() && std::isfinite(x)) return x;
-  } catch (...) {
-  }
-  return std::nullopt;
-}
 
 // Add a line here when a bench/<name>.cpp lands.
 const std::vector<Benchmark>& benchmarks() {

@@ -5,7 +5,6 @@
 // application (app/: option parsing, scenario runs), which they use;
 // the program's `bench` command (app::cmd_bench) is defined here.
 #include <algorithm>
-#include <optional>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -50,12 +49,6 @@ double median_ms(int reps, F&& f) {
   std::nth_element(t.begin(), t.begin() + t.size() / 2, t.end());
   return t[t.size() / 2];
 }
-
-// An option's value that must be an integer in 1 .. max; else a usage error
-// "bench NAME: FLAG needs a positive integer, got 'VALUE'".
-int positive_int(const char* bench, const std::string& flag, const std::string& value, long max = 100000000);
-// An option's value that must be one finite number, nothing after it; else nullopt.
-std::optional<double> finite_number(const std::string& value);
 
 // A field of a JSON report (--json, written with core/json_text): counts as
 // they are, times and ratios to 6 significant digits, null when not finite.

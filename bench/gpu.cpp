@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "bench/bench.hpp"
+#include "app/option_values.hpp"
 #include "app/options.hpp"
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
@@ -33,25 +34,20 @@ struct Row {
 int bench_gpu(const Args& args) {
   app::Options o("softcut bench gpu", "Compute-shader SpMV bandwidth and CG iteration time against the CPU, by "
                  "system size.");
-  std::vector<std::string> cells_text;
-  std::string iterations_text, peak_text, json;
+  std::vector<int> cells;
+  int iterations = 50;
+  double peak = 0;
+  std::string json;
   bool fp64 = false;
-  o.add_list("--cells", cells_text, "box of 2N x N x N Kuhn cells (repeatable; default 4 8 12 16 24)")->type_name("N");
-  o.app().add_option("--iterations", iterations_text, "CG iterations timed per size (default 50)")->type_name("K");
+  o.add_list("--cells", cells, "box of 2N x N x N Kuhn cells (repeatable; default 4 8 12 16 24)")->type_name("N")
+      ->check(app::whole_number(1, 99999));
+  o.app().add_option("--iterations", iterations, "CG iterations timed per size (default 50)")->type_name("K")
+      ->check(app::whole_number(1, 99999));
   o.app().add_flag("--fp64", fp64, "double-precision kernels");
-  o.app().add_option("--peak-gbs", peak_text, "the device's peak memory bandwidth, to report the fraction reached")
-      ->type_name("G");
+  o.app().add_option("--peak-gbs", peak, "the device's peak memory bandwidth, to report the fraction reached")
+      ->type_name("G")->check(app::open_interval(0, INFINITY, "a positive bandwidth in GB/s"));
   o.app().add_option("--json", json, "also write the rows as JSON")->type_name("FILE");
   if (!o.parse(args)) return 0;
-  std::vector<int> cells;
-  for (const auto& c : cells_text) cells.push_back(positive_int("gpu", "--cells", c, 99999));
-  const int iterations = o.app().count("--iterations") ? positive_int("gpu", "--iterations", iterations_text, 99999) : 50;
-  double peak = 0;
-  if (o.app().count("--peak-gbs")) {
-    const std::optional<double> v = finite_number(peak_text);
-    if (!v || !(*v > 0)) usage_fail("bench gpu: --peak-gbs ", peak_text, ": expected a positive bandwidth in GB/s");
-    peak = *v;
-  }
   if (cells.empty()) cells = {4, 8, 12, 16, 24};
 
   gpu::EglContext context;

@@ -14,6 +14,7 @@
 #include <sstream>
 
 #include "bench/bench.hpp"
+#include "app/option_values.hpp"
 #include "app/options.hpp"
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
@@ -422,24 +423,19 @@ int bench_hybrid(const Args& args) {
   app::Options o("softcut bench hybrid", "The hybrid condensed model against monolithic solves of the same mesh in "
                  "the same run (the paper's Tables 2-5), at paper and organ sizes.");
   bool quick = false;
-  std::string json_path, md_path, only, storage_text;
+  std::string json_path, md_path, only;
+  Storage storage = Storage::automatic;
   o.app().add_flag("--quick", quick, "smaller models and fewer frames");
   o.app().add_option("--only", only, "only the models of these names (comma-separated)")->type_name("MODEL[,MODEL]");
-  o.app().add_option("--storage", storage_text, "nonoperational storage: dense, product, factor or automatic")
-      ->type_name("S");
+  o.app().add_option("--storage", storage, "nonoperational storage: dense, product, factor or automatic")
+      ->type_name("S")->transform(app::one_of({{"dense", int(Storage::dense)}, {"product", int(Storage::product)},
+                                           {"factor", int(Storage::factor)}, {"automatic", int(Storage::automatic)}}));
   bool use_gpu = false;
   o.app().add_flag("--gpu", use_gpu, "also time full frames with the gpu backend (compute-shader CG) on the EGL "
                    "device, against the default backend");
   o.app().add_option("--json", json_path, "also write the results as JSON")->type_name("FILE");
   o.app().add_option("--md", md_path, "also write the tables as Markdown")->type_name("FILE");
   if (!o.parse(args)) return 0;
-  Storage storage = Storage::automatic;
-  if (o.app().count("--storage")) {
-    const std::string& v = storage_text;
-    storage = v == "dense" ? Storage::dense : v == "product" ? Storage::product : v == "factor" ? Storage::factor : Storage::automatic;
-    if (v != "dense" && v != "product" && v != "factor" && v != "automatic")
-      usage_fail("bench hybrid: --storage takes dense, product, factor or automatic, got '", v, "'");
-  }
   std::vector<ModelEntry> models;
   models.push_back({"ligament", ligament});
   models.push_back({"upper_leg", upper_leg});

@@ -8,10 +8,10 @@
 #include <filesystem>
 #include <string>
 #include <thread>
-#include <tuple>
 #include <vector>
 
 #include "bench/bench.hpp"
+#include "app/option_values.hpp"
 #include "app/options.hpp"
 #include "app/run_support.hpp"
 #include "core/error.hpp"
@@ -25,16 +25,16 @@ int bench_render(const Args& args) {
                  "rendering every frame inline and rendering every frame on the worker thread, and compares the "
                  "time per frame.");
   std::vector<std::string> scenarios;
-  std::string size_text, msaa_text, frames_text;
+  app::FrameSize size{640, 480};
+  int samples = 4, frames = -1;
   o.app().add_option("scenario", scenarios, "scenario files")->type_name("SCENARIO.lua...");
-  o.app().add_option("--size", size_text, "frame size (default 640x480)")->type_name("WxH");
-  o.app().add_option("--msaa", msaa_text, "MSAA samples (default 4)")->type_name("S");
-  o.app().add_option("--frames", frames_text, "frames per run (default: the scenario's)")->type_name("N");
+  o.app().add_option("--size", size, "frame size (default 640x480)")->type_name("WxH")->check(app::frame_size());
+  o.app().add_option("--msaa", samples, "MSAA samples (default 4)")->type_name("S")
+      ->check(app::whole_number(0, 100000000));
+  o.app().add_option("--frames", frames, "frames per run (default: the scenario's)")->type_name("N")
+      ->check(app::whole_number(0, 100000000));
   if (!o.parse(args)) return 0;
-  int width = 640, height = 480;
-  if (o.app().count("--size")) std::tie(width, height) = app::parse_size(size_text, "--size");
-  const int samples = o.app().count("--msaa") ? app::parse_count(msaa_text, "--msaa") : 4;
-  const int frames = o.app().count("--frames") ? app::parse_count(frames_text, "--frames") : -1;
+  const int width = size.width, height = size.height;
   if (scenarios.empty()) scenarios = {"scenarios/knee_ligament.lua", "scenarios/upper_leg.lua"};
   for (const auto& s : scenarios)
     if (!std::filesystem::is_regular_file(s))

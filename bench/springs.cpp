@@ -6,6 +6,7 @@
 #include <string>
 
 #include "bench/bench.hpp"
+#include "app/option_values.hpp"
 #include "app/options.hpp"
 #include "app/run_support.hpp"
 #include "core/error.hpp"
@@ -82,20 +83,14 @@ Row measure(const sim::Model& m, bool implicit, bool cache) {
 int bench_springs(const Args& args) {
   app::Options o("softcut bench springs", "Steps a grasped box with an explicit spring, an implicit spring with the "
                  "compliance cache, and without it.");
-  std::string frames_text, radius_text;
-  o.app().add_option("--frames", frames_text, "frames (default 31)")->type_name("N");
-  o.app().add_option("--radius", radius_text, "grasper radius in m (default 0.009: a grip on 17 nodes)")
-      ->type_name("R");
-  if (!o.parse(args)) return 0;
-  const int frames = o.app().count("--frames") ? std::max(2, app::parse_count(frames_text, "bench springs: --frames"))
-                                               : 31;
+  int frames = 31;
   double radius = 0.009;
-  if (o.app().count("--radius")) {
-    const std::optional<double> v = finite_number(radius_text);
-    if (!v || !(*v > 0 && *v < 1))
-      usage_fail("bench springs: --radius ", radius_text, ": expected a grasper radius in m, greater than 0 and below 1");
-    radius = *v;
-  }
+  o.app().add_option("--frames", frames, "frames (default 31; at least 2)")->type_name("N")
+      ->check(app::whole_number(0, 100000000));
+  o.app().add_option("--radius", radius, "grasper radius in m (default 0.009: a grip on 17 nodes)")->type_name("R")
+      ->check(app::open_interval(0, 1, "a grasper radius in m"));
+  if (!o.parse(args)) return 0;
+  frames = std::max(2, frames);
   std::printf("| backend | spring | grasped nodes | frame ms (mean) | springs ms/frame w/o builds | compliance builds | "
               "build ms total | frame / explicit |\n|---|---|---|---|---|---|---|---|\n");
   for (const char* backend : {"cpu", "direct"}) {

@@ -230,9 +230,12 @@ void Runtime::call(int nargs, int nresults) {
 }
 
 void Runtime::run_file(const fs::path& path, int nresults) {
+  run_source(read_regular_file(path, "the scenario file"), path, nresults);
+}
+
+void Runtime::run_source(std::string text, const fs::path& path, int nresults) {
   chunk_ = path.string();
   const std::string chunk = "@" + path.string();
-  std::string text = read_regular_file(path, "the scenario file");
   if (!text.empty() && text[0] == '#') text.insert(0, "--");  // shebang line stays a comment
   if (luaL_loadbufferx(L_, text.data(), text.size(), chunk.c_str(), opt_.trusted ? "bt" : "t") != LUA_OK) {
     std::string msg = lua_tostring(L_, -1);

@@ -46,6 +46,9 @@ class Runtime {
   // Loads `path` as a text chunk named "@path" and calls it with no arguments;
   // leaves `nresults` results on the stack. Throws softcut::Error.
   void run_file(const std::filesystem::path& path, int nresults);
+  // The same for a file's text already read (through the checked open);
+  // `path` names the chunk.
+  void run_source(std::string text, const std::filesystem::path& path, int nresults);
   // Same for a string (tests, --set parsing); `chunkname` like "=[test]".
   void run_string(std::string_view code, const std::string& chunkname, int nresults);
   // Calls the function below `nargs` arguments on the stack, with the

@@ -4,6 +4,7 @@
 
 #include <memory>
 
+#include "core/checked_file.hpp"
 #include "core/error.hpp"
 #include "core/printable.hpp"
 #include "core/watchdog.hpp"
@@ -23,7 +24,15 @@ namespace {
 int run_script(Runtime& rt, const ScriptRequest& req) {
   lua_State* L = rt.state();
   const fs::path file = fs::absolute(req.scenario).lexically_normal();
-  if (!fs::is_regular_file(file)) fail(req.scenario.string(), ": no such scenario file");
+  std::string checked_text;  // read below scenario_root, before the script's state is touched
+  if (!req.scenario_root.empty()) {
+    const fs::path rel = req.scenario.lexically_normal().lexically_relative(req.scenario_root.lexically_normal());
+    if (rel.empty() || relative_below(req.scenario_root, rel) != rel)
+      fail(req.scenario.string(), ": not below ", req.scenario_root.string());
+    checked_text = read_below(req.scenario_root, rel, "the scenario file", std::size_t(64) << 20);
+  } else if (!fs::is_regular_file(file)) {
+    fail(req.scenario.string(), ": no such scenario file");
+  }
   rt.push_internal();
   lua_newtable(L);
   for (const auto& [k, v] : req.overrides) {
@@ -39,7 +48,9 @@ int run_script(Runtime& rt, const ScriptRequest& req) {
   lua_setfield(L, -2, "scenario_file");
   lua_pop(L, 1);
 
-  rt.run_file(req.scenario.lexically_normal(), 1);  // messages name the file as the user gave it
+  // Messages name the file as the user gave it.
+  if (req.scenario_root.empty()) rt.run_file(req.scenario.lexically_normal(), 1);
+  else rt.run_source(std::move(checked_text), req.scenario.lexically_normal(), 1);
   const int top = lua_gettop(L);
   auto is_scenario = [L](int idx) {
     if (!lua_istable(L, idx) || !lua_getmetatable(L, idx)) return false;

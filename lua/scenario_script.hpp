@@ -19,6 +19,10 @@ namespace softcut::lua {
 
 struct ScriptRequest {
   std::filesystem::path scenario;                // the .lua file
+  // Set: `scenario` lies below this folder and is read through the checked
+  // open (no link at or below the folder; a regular file of at most 64 MiB),
+  // as `softcut check` reads the scenarios of a package.
+  std::filesystem::path scenario_root;
   std::map<std::string, std::string> overrides;  // --set key=value (the scenario's params{})
   // Trust, budgets, interrupt and output budget. Its folders and deadline
   // are set here: read_dir is the scenario's folder, write_dir none until

@@ -5,7 +5,7 @@
 # crashing input is left in build-fuzz/findings/<target>/ (copy it to
 # tests/fuzz/regressions/<target>/ and add a doctest case, see docs/hardening.md).
 #   scripts/fuzz.sh                      # every target, 60 s each
-#   scripts/fuzz.sh --seconds 20 gmsh    # one target (names: gmsh medit vtk vtu tetgen nrrd lua)
+#   scripts/fuzz.sh --seconds 20 gmsh    # one target (names: gmsh medit vtk vtu tetgen nrrd lua junit reflog sweep_table sweep_plan summary)
 #   scripts/fuzz.sh --build-only
 #   scripts/fuzz.sh --seconds 30 --jobs 2   # two targets at a time (CI: scripts/test.sh)
 #   scripts/fuzz.sh --runs 1000000 --seconds 7200 nrrd   # stop at 1e6 executions (or the time)
@@ -14,7 +14,7 @@
 #   scripts/fuzz.sh --seconds 3600
 set -euo pipefail
 cd "$(dirname "$0")/.."
-all=(gmsh medit vtk vtu tetgen nrrd lua)
+all=(gmsh medit vtk vtu tetgen nrrd lua junit reflog sweep_table sweep_plan summary)
 seconds=60
 runs=-1
 max_len=65536
@@ -68,7 +68,7 @@ fuzz_one() {
   rate=$(grep -o 'stat::average_exec_per_sec: *[0-9]*' "$log" | grep -o '[0-9]*$' | tail -1 || true)
   cov=$(grep -o 'cov: [0-9]*' "$log" | tail -1 | grep -o '[0-9]*' || true)
   if [ $rc -eq 0 ]; then res=ok; else res="CRASH (rc $rc; $log, $findings/)"; fi
-  printf '%-8s %12s %10s %8s  %s\n' "$t" "${execs:-?}" "${rate:-?}" "${cov:-?}" "$res" >"build-fuzz/fuzz-$t.row"
+  printf '%-12s %12s %10s %8s  %s\n' "$t" "${execs:-?}" "${rate:-?}" "${cov:-?}" "$res" >"build-fuzz/fuzz-$t.row"
 }
 
 # Up to $jobs targets at a time, each an in-process fuzzer on one core.
@@ -79,7 +79,7 @@ for t in "${targets[@]}"; do
 done
 wait
 failed=0
-printf '%-8s %12s %10s %8s  %s\n' target execs exec/s cov result
+printf '%-12s %12s %10s %8s  %s\n' target execs exec/s cov result
 for t in "${targets[@]}"; do
   row=$(cat "build-fuzz/fuzz-$t.row" 2>/dev/null || echo "$t  (no result)")
   echo "$row"

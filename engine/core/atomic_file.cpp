@@ -1,6 +1,7 @@
 #include "core/atomic_file.hpp"
 
 #include <fcntl.h>
+#include <sys/file.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -73,6 +74,9 @@ std::uintmax_t write_file_atomic(const std::filesystem::path& path, const std::f
   const int fd = ::openat(dir.get(), tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
   if (fd < 0) fail(path.string(), ": cannot create the file (", std::strerror(errno), ")");
   const UniqueFd file(fd);
+  // Held while the file is written: a cleaner (the precompute cache's
+  // eviction) tells a live writer's temporary file from a killed one's.
+  ::flock(fd, LOCK_EX | LOCK_NB);
   std::uintmax_t bytes = 0;
   bool ok = false;
   try {

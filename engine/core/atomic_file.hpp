@@ -14,8 +14,10 @@ namespace softcut {
 // returns the bytes written. The temporary file is created new (it never
 // follows a symlink planted under its name) and the rename replaces `path`
 // itself, a symlink there included, so a planted link never redirects the
-// write. Throws softcut::Error naming the path when the folder is missing or
-// not writable, or when writing fails (the temporary file is removed).
+// write. The temporary file is flock()ed while it is written (so a cleaner
+// can tell it from one a killed process left). Throws softcut::Error naming
+// the path when the folder is missing or not writable, or when writing fails
+// (the temporary file is removed).
 std::uintmax_t write_file_atomic(const std::filesystem::path& path,
                        const std::function<void(std::ostream&)>& write,
                        bool binary = false);

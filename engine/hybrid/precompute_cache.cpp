@@ -1,17 +1,20 @@
 #include "hybrid/precompute_cache.hpp"
 
 #include <fcntl.h>
+#include <sys/file.h>
 #include <sys/stat.h>
 #include <unistd.h>
 #include <zlib.h>
 
 #include <algorithm>
 #include <cerrno>
+#include <chrono>
 #include <cstdlib>
 #include <sstream>
 
 #include "core/atomic_file.hpp"
 #include "core/binary_io.hpp"
+#include "core/checked_file.hpp"
 #include "core/error.hpp"
 #include "core/timer.hpp"
 
@@ -158,8 +161,25 @@ std::string try_load(const fs::path& file, const std::string& inputs, Model& M) 
   return {};
 }
 
-// Removes the least recently used entries until all fit in max_bytes (keeping `keep`).
-int evict(const fs::path& dir, const fs::path& keep, double max_bytes) {
+// A temporary file of a write that was killed (SIGKILL, power loss) stays
+// behind; one whose writer lives is flock()ed by it (write_file_atomic). A
+// temporary file nobody locks and nobody has written for this long is stale.
+// The age covers the moment between its creation and its lock.
+constexpr auto kStaleTmpAge = std::chrono::seconds(60);
+
+// True when `path` is a temporary file no live writer holds: its lock can be
+// taken (flock works across processes and PID namespaces; a dead process's
+// locks are gone), and it is old.
+bool stale_tmp(const fs::path& path, fs::file_time_type written) {
+  if (fs::file_time_type::clock::now() - written < kStaleTmpAge) return false;
+  const UniqueFd fd(::open(path.c_str(), O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC));
+  return fd && ::flock(fd.get(), LOCK_EX | LOCK_NB) == 0;  // closing the fd drops our lock
+}
+
+// Removes stale temporary files (".hybrid-<key>.bin.<pid>.<n>.tmp"), then the
+// least recently used entries until all fit in max_bytes (keeping `keep`);
+// the temporary files still being written count toward the bound.
+int evict(const fs::path& dir, const fs::path& keep, double max_bytes, int* stale_removed) {
   struct Entry {
     fs::file_time_type time;
     std::uintmax_t size;
@@ -170,8 +190,17 @@ int evict(const fs::path& dir, const fs::path& keep, double max_bytes) {
   std::error_code ec;
   for (const auto& e : fs::directory_iterator(dir, ec)) {
     const std::string name = e.path().filename().string();
-    if (name.rfind("hybrid-", 0) != 0 || e.path().extension() != ".bin" || !e.is_regular_file(ec)) continue;
-    Entry x{e.last_write_time(ec), e.file_size(ec), e.path()};
+    if (!e.is_regular_file(ec) || e.is_symlink(ec)) continue;
+    const std::uintmax_t size = e.file_size(ec);
+    if (ec) continue;
+    if (name.rfind(".hybrid-", 0) == 0 && name.size() > 4 && name.compare(name.size() - 4, 4, ".tmp") == 0) {
+      const fs::file_time_type written = e.last_write_time(ec);
+      if (!ec && stale_tmp(e.path(), written) && fs::remove(e.path(), ec)) ++*stale_removed;
+      else total += double(size);
+      continue;
+    }
+    if (name.rfind("hybrid-", 0) != 0 || e.path().extension() != ".bin") continue;
+    Entry x{e.last_write_time(ec), size, e.path()};
     total += double(x.size);
     all.push_back(std::move(x));
   }
@@ -239,7 +268,7 @@ Model precompute_cached(const mesh::TetMesh& m, const std::vector<fem::Material>
           w.finish();
         },
         true));
-    rep.evicted = evict(cache.dir, file, cache.max_bytes);
+    rep.evicted = evict(cache.dir, file, cache.max_bytes, &rep.stale_removed);
   } catch (const std::exception& e) {
     rep.write_error = e.what();
   }

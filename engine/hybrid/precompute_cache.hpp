@@ -7,7 +7,9 @@
 // too: a hit compares them byte for byte, so a hash collision or a changed
 // input is a miss, never a wrong model. A CRC-32 over the whole file catches
 // corrupt and truncated entries; either is rebuilt and rewritten. Entries
-// are written atomically; past `max_bytes` the least recently used go.
+// are written atomically; past `max_bytes` the least recently used go. The
+// temporary files of writes in progress count toward `max_bytes`; those of
+// killed writes (no process holds their flock, a minute old) are removed.
 //
 //   CacheReport rep;
 //   Model M = precompute_cached(mesh, mat, part, opt, {default_cache_dir()}, &rep);
@@ -34,6 +36,7 @@ struct CacheReport {
   double write_ms = 0;      // writing the entry (misses)
   double bytes = 0;         // the entry's size
   int evicted = 0;          // entries removed to stay within max_bytes
+  int stale_removed = 0;    // temporary files of killed writes removed (no live writer holds their lock)
   std::string write_error;  // a failed write is reported, not fatal
 };
 

@@ -68,6 +68,8 @@ void check_due_expectations(const Model& m, State& s, const ExpectationCheck& ch
     } else if (check) {
       auto [ok, message] = check(int(i), m, s);
       o.ok = ok;
+      if (message.size() > kMaxExpectationMessage)
+        message = cat(message.substr(0, kMaxExpectationMessage), "... (", message.size(), " bytes, cut)");
       o.message = std::move(message);
     } else {
       o.message = "no check function to run (the scenario layer gave none)";

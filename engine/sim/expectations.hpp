@@ -4,6 +4,7 @@
 // loop (sim/run.hpp) owns them: after each recorded frame it checks the due
 // ones in declaration order, bounds here, check functions through
 // RunHooks::check (the scenario layer's code), before the on_frame hook.
+#include <cstddef>
 #include <functional>
 #include <optional>
 #include <string>
@@ -16,6 +17,14 @@ namespace softcut::sim {
 
 struct Model;
 struct State;
+
+// Most expectations one scenario may declare, longest name (bytes), and the
+// most of a check function's message kept (bytes; longer ones are cut):
+// what a run holds, prints and writes for them stays bounded (summary.json,
+// softcut check's reports, sweep merge's table).
+constexpr std::size_t kMaxExpectations = 10000;
+constexpr std::size_t kMaxExpectationName = 1000;
+constexpr std::size_t kMaxExpectationMessage = 1000;
 
 struct ExpectationSpec {
   enum class Measure { mean, max };  // of the mean displacement vector; or over the nodes (largest |value|, signed)

@@ -75,7 +75,14 @@ void check_spec(const ScenarioSpec& s) {
     if (!names.insert("motion " + mo.name).second) fail(w, ": another motion has the same name");
     tools::check_path(mo.path, w);
   }
+  if (s.expectations.size() > kMaxExpectations)
+    fail(prefixed(s.expectations[kMaxExpectations].where, "expectations"), ": the scenario declares ",
+         s.expectations.size(), " expectations, more than ", kMaxExpectations, "; check fewer things, or several at "
+         "once in one check function");
   for (const auto& e : s.expectations) {
+    if (e.name.size() > kMaxExpectationName)
+      fail(prefixed(e.where, "expectation"), ": the name is ", e.name.size(), " bytes long, more than ",
+           kMaxExpectationName);
     const std::string w = prefixed(e.where, "expectation '" + e.name + "'");
     if (!(std::isfinite(e.at) && e.at >= 0)) fail(w, ": at must be a finite time >= 0 s, got ", e.at);
     if (e.at > tl.duration + 1e-12)

@@ -218,6 +218,61 @@ TEST_SUITE("app/cmd_check") {
     CHECK(run_cli("check --frobnicate " + dir.string()).status == 2);
   }
 
+  // Issue #40 item 5: a copied reference was called stale, and --record overwrote it.
+  TEST_CASE("a reference says who made it: another scenario's is named, --record keeps it without --force, old ones read") {
+    const fs::path dir = softcut::test::scratch_dir("check_ref_header");
+    write_bar(dir / "a.lua", "bar_a");
+    write_bar(dir / "b.lua", "bar_b");
+    REQUIRE(run_cli("check --record " + (dir / "a.lua").string()).status == 0);
+    const std::string a_ref = slurp(dir / "a.ref.csv");
+    CHECK(a_ref.rfind("# softcut-reference: {\"scenario\":\"bar_a\",\"mesh\":\"fnv1a64:", 0) == 0);
+    CHECK(contains(a_ref, "\"params\":{\"f\":\"0.01\"}"));
+    fs::copy_file(dir / "a.ref.csv", dir / "b.ref.csv");  // the same motion: it compared equal before
+    const auto foreign = run_cli("check " + (dir / "b.lua").string());
+    CHECK(foreign.status == 1);
+    CHECK(contains(foreign.output, "this reference was made by scenario 'bar_a', not 'bar_b' (" +
+                                       (dir / "b.ref.csv").string() + ")"));
+    CHECK(!contains(foreign.output, "stale"));
+    const auto keep = run_cli("check --record " + (dir / "b.lua").string());
+    CHECK(keep.status == 1);
+    CHECK(contains(keep.output, (dir / "b.ref.csv").string() + " was recorded by scenario 'bar_a', not 'bar_b'; "
+                                "--record would overwrite another scenario's reference: move it away, or give --force"));
+    CHECK(slurp(dir / "b.ref.csv") == a_ref);
+    CHECK(run_cli("check --record --force " + (dir / "b.lua").string()).status == 0);
+    CHECK(slurp(dir / "b.ref.csv").rfind("# softcut-reference: {\"scenario\":\"bar_b\"", 0) == 0);
+    CHECK(run_cli("check " + (dir / "b.lua").string()).status == 0);
+    // A reference recorded before headers existed still reads (and --record may replace it).
+    std::ofstream(dir / "a.ref.csv", std::ios::trunc) << a_ref.substr(a_ref.find('\n') + 1);
+    CHECK(run_cli("check " + (dir / "a.lua").string()).status == 0);
+    // Other parameters: said when the log differs.
+    std::ofstream(dir / "a.ref.csv", std::ios::trunc) << a_ref;
+    const auto other = run_cli("check --set f=0.02 " + (dir / "a.lua").string());
+    CHECK(other.status == 1);
+    CHECK(contains(other.output, "displacements differ from the reference"));
+    CHECK(contains(other.output, "(the reference was recorded with f=0.01, this run has f=0.02)"));
+  }
+
+  // Issue #40 item 6: the comparison was skipped (comparison: null) when an expectation failed.
+  TEST_CASE("a failed expectation and a differing log are both reported") {
+    const fs::path dir = softcut::test::scratch_dir("check_both");
+    write_bar(dir / "c.lua", "bar_c", "P.f < 0.05");
+    REQUIRE(run_cli("check --record " + (dir / "c.lua").string()).status == 0);
+    const fs::path json = dir / "r.json";
+    const auto r = run_cli("check --set f=0.1 --json " + json.string() + " " + (dir / "c.lua").string());
+    CHECK(r.status == 1);
+    CHECK(contains(r.output, "FAIL  " + (dir / "c.lua").string() + ": " + (dir / "c.lua").string() +
+                                 ":8: expect 'holds' failed: f = 0.1"));
+    CHECK(contains(r.output, "      displacements differ from the reference by up to"));
+    const auto j = softcut::test::read_json(json);
+    CHECK(j["scenarios"][0]["failures"].size() == 2);
+    REQUIRE(j["scenarios"][0].contains("comparison"));
+    CHECK(j["scenarios"][0]["comparison"]["max_diff_m"].get<double>() > 0);
+    // A failing scenario records nothing.
+    const std::string before = slurp(softcut::app::reference_path(dir / "c.lua"));
+    CHECK(run_cli("check --record --set f=0.1 " + (dir / "c.lua").string()).status == 1);
+    CHECK(slurp(softcut::app::reference_path(dir / "c.lua")) == before);
+  }
+
   TEST_CASE("--junit writes JUnit XML that validates against the schema CI systems read, --json the same facts") {
     const fs::path dir = softcut::test::scratch_dir("check_reports");
     write_bar(dir / "good.lua", "good");
@@ -237,7 +292,7 @@ TEST_SUITE("app/cmd_check") {
     CHECK(contains(x, "tests=\"3\" failures=\"1\""));
     CHECK(contains(x, "skipped=\"1\""));
     CHECK(contains(x, "<testcase name=\"bad\" classname=\"" + (dir / "bad.lua").string() + "\""));
-    CHECK(contains(x, "<failure message=\"" + (dir / "bad.lua").string() + ":8: expect &apos;holds&apos; failed"));
+    CHECK(contains(x, "<failure message=\"" + (dir / "bad.lua").string() + ":8: expect 'holds' failed"));
     const nlohmann::ordered_json j = softcut::test::read_json(json);
     CHECK(j["passed"] == 1);
     CHECK(j["failed"] == 1);

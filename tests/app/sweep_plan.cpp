@@ -3,6 +3,8 @@
 #include <doctest/doctest.h>
 
 #include <fstream>
+#include <functional>
+#include <nlohmann/json.hpp>
 #include <map>
 #include <set>
 
@@ -111,12 +113,62 @@ TEST_SUITE("app/sweep_plan") {
     p.runs = expand_grid({"b=1,2", "a=\"q\""}, p.keys);
     number_runs(p.runs);
     std::ofstream(dir / "sweep_plan.json") << plan_json(p);
-    const SweepPlan q = read_plan(dir / "sweep_plan.json");
+    const SweepPlan q = read_plan(dir);
     CHECK(plan_json(q) == plan_json(p));
     CHECK(q.keys == std::vector<std::string>{"b", "a"});  // column order kept
     CHECK(q.runs[1].params[1].second == "\"q\"");
-    std::ofstream(dir / "bad.json") << "{\"schema\": \"softcut-sweep-plan/1\", \"runs\": 3}";
-    CHECK(error_of([&] { read_plan(dir / "bad.json"); }).find("bad.json: not a sweep plan") != std::string::npos);
+    CHECK(error_of([&] { parse_plan("{\"schema\": \"softcut-sweep-plan/1\", \"runs\": 3}", "bad.json"); })
+              .find("bad.json: not a sweep plan") != std::string::npos);
+  }
+
+  TEST_CASE("values: UTF-8 text without control characters, at most 4096 bytes - bounds on keys and values") {
+    CHECK(bad_value("0.5") == "");
+    CHECK(bad_value("a\tb\nc\r") == "");         // a quoted field may hold these
+    CHECK(bad_value("\xC3\xA9t\xC3\xA9") == "");  // été
+    CHECK(bad_value("") == "is empty");
+    CHECK(bad_value("0.0\xff") == "is not UTF-8 text (byte 4 is 0xFF)");
+    CHECK(bad_value("\xC0\x80") == "is not UTF-8 text (byte 1 is 0xC0)");  // an overlong NUL
+    CHECK(bad_value("a\x1b[31m") == "holds a control character (byte 2)");
+    CHECK(bad_value("\x7f") == "holds a control character (byte 1)");
+    CHECK(bad_value(std::string(4096, '1')) == "");
+    CHECK(bad_value(std::string(4097, '1')).find("is 4097 bytes long, more than 4096") == 0);
+    std::vector<std::string> keys;
+    CHECK(error_of([&] { expand_grid({"a=1,\xfe"}, keys); }).find("value 2 of 'a' is not UTF-8 text") != std::string::npos);
+    std::vector<std::string> grids;
+    for (int k = 0; k < 101; ++k) grids.push_back("k" + std::to_string(k) + "=1");
+    keys.clear();
+    CHECK(error_of([&] { expand_grid(grids, keys); }).find("more than 100 parameters") != std::string::npos);
+    const fs::path dir = softcut::test::scratch_dir("sweep_values");
+    std::ofstream(dir / "t.csv") << "a\n1\n" << std::string(5000, '2') << "\n";
+    keys.clear();
+    CHECK(error_of([&] { read_table(dir / "t.csv", keys); }).find("t.csv:3: the value of 'a' is 5000 bytes long") !=
+          std::string::npos);
+  }
+
+  TEST_CASE("a plan read back is checked field by field: ids in order, a value per key, bounds") {
+    SweepPlan p;
+    p.scenario = "/abs/s.lua";
+    p.runs = expand_grid({"a=1,2,3"}, p.keys);
+    number_runs(p.runs);
+    const nlohmann::json good = nlohmann::json::parse(plan_json(p));
+    auto error_with = [&](const std::function<void(nlohmann::json&)>& edit) {
+      nlohmann::json j = good;
+      edit(j);
+      return error_of([&] { parse_plan(j.dump(), "p.json"); });
+    };
+    CHECK(error_with([](nlohmann::json&) {}) == "");
+    CHECK(error_with([](nlohmann::json& j) { j.erase("keys"); }) == "p.json: not a sweep plan written by softcut sweep: 'keys' is missing");
+    CHECK(error_with([](nlohmann::json& j) { j["runs"][2]["id"] = "run_0001"; }) ==
+          "p.json: not a sweep plan written by softcut sweep: 'runs[2].id' is 'run_0001', not 'run_0002' (run ids "
+          "number the runs in order)");
+    CHECK(error_with([](nlohmann::json& j) { j["runs"][1]["params"].erase("a"); }).find("'runs[1].params' does not hold one value per key") != std::string::npos);
+    CHECK(error_with([](nlohmann::json& j) { j["runs"][0]["params"]["a"] = 1; }).find("'runs[0].params.a' is not a string") != std::string::npos);
+    CHECK(error_with([](nlohmann::json& j) { j["runs"][0]["params"]["a"] = "\x01"; }).find("'runs[0].params.a' holds a control character") != std::string::npos);
+    CHECK(error_with([](nlohmann::json& j) { j["keys"] = {"a", "a"}; }).find("the key 'a' is listed twice") != std::string::npos);
+    CHECK(error_with([](nlohmann::json& j) { j["keys"] = {"../x"}; }).find("'keys[0]' is not a parameter name") != std::string::npos);
+    CHECK(error_with([](nlohmann::json& j) { j["run_options"] = {1}; }).find("'run_options[0]' is not a string") != std::string::npos);
+    CHECK(error_with([](nlohmann::json& j) { j = nlohmann::json::array(); }).find("'the document' is not an object") != std::string::npos);
+    CHECK(error_of([&] { parse_plan(std::string(100, '['), "p.json"); }).find("p.json: not valid JSON") == 0);
   }
 
   TEST_CASE("shards: --shard I/N, Slurm's array variables, Kubernetes' index - every run in exactly one shard") {

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "../fuzz/app_fuzz.hpp"
 #include "hardening_support.hpp"
 #include "mesh/io/mesh_io.hpp"
 #include "mesh/volume/label_volume.hpp"
@@ -21,10 +22,10 @@ using softcut::test::slurp;
 
 namespace {
 
-std::vector<fs::path> inputs(const std::string& target) {
+std::vector<fs::path> inputs(const std::string& target, const char* folder = "regressions") {
   std::vector<fs::path> v;
   std::error_code ec;
-  for (const auto& e : fs::directory_iterator(fs::path(SOFTCUT_FUZZ_REGRESSIONS) / target, ec))
+  for (const auto& e : fs::directory_iterator(fs::path(SOFTCUT_FUZZ_REGRESSIONS).parent_path() / folder / target, ec))
     if (e.is_regular_file() && e.path().filename().string()[0] != '.') v.push_back(e.path());
   std::sort(v.begin(), v.end());
   return v;
@@ -51,6 +52,16 @@ void feed(const std::string& target, const std::string& bytes, const fs::path& d
     req.sandbox.instruction_budget = 100'000;  // the fuzz target's budgets
     req.sandbox.memory_budget = 8u << 20;
     softcut::lua::open_scenario(req)->spec();
+  } else if (target == "junit") {
+    softcut::fuzz_app::feed_junit(bytes);
+  } else if (target == "reflog") {
+    softcut::fuzz_app::feed_reflog(bytes, dir);
+  } else if (target == "sweep_table") {
+    softcut::fuzz_app::feed_sweep_table(bytes, dir);
+  } else if (target == "sweep_plan") {
+    softcut::fuzz_app::feed_sweep_plan(bytes);
+  } else if (target == "summary") {
+    softcut::fuzz_app::feed_summary(bytes);
   } else {
     const char* ext = target == "gmsh" ? ".msh" : target == "medit" ? ".mesh" : target == "vtk" ? ".vtk" : ".vtu";
     softcut::mesh::read_mesh(put_file(dir / (std::string("in") + ext), bytes), diag);
@@ -63,7 +74,8 @@ TEST_SUITE("hardening/fuzz_regressions") {
   TEST_CASE("every saved fuzz finding reads cleanly or fails with softcut::Error") {
     const fs::path dir = softcut::test::scratch_dir("hardening_fuzz_regressions");
     int n = 0;
-    for (const std::string target : {"gmsh", "medit", "vtk", "vtu", "tetgen", "nrrd", "lua"})
+    for (const std::string target : {"gmsh", "medit", "vtk", "vtu", "tetgen", "nrrd", "lua", "junit", "reflog",
+                                     "sweep_table", "sweep_plan", "summary"})
       for (const fs::path& p : inputs(target)) {
         CAPTURE(p.string());
         ++n;
@@ -73,5 +85,21 @@ TEST_SUITE("hardening/fuzz_regressions") {
         }
       }
     MESSAGE(n, " saved fuzz inputs replayed");
+  }
+
+  TEST_CASE("the application targets' seeds go through their entry points (JUnit writer, readers)") {
+    // The targets are built only by the fuzz preset: this runs their code in every build.
+    const fs::path dir = softcut::test::scratch_dir("hardening_fuzz_app_seeds");
+    int n = 0;
+    for (const std::string target : {"junit", "reflog", "sweep_table", "sweep_plan", "summary"}) {
+      const std::vector<fs::path> seeds = inputs(target, "corpus");
+      CHECK(seeds.size() >= 2);
+      for (const fs::path& p : seeds) {
+        CAPTURE(p.string());
+        ++n;
+        CHECK_NOTHROW(feed(target, slurp(p), dir));
+      }
+    }
+    MESSAGE(n, " seeds of the application targets replayed");
   }
 }

@@ -3,6 +3,6 @@
 # so softcut_hardening is that set. The fuzz regression cases read
 # tests/fuzz/regressions/<target>/ at run time.
 add_library(softcut_hardening INTERFACE)
-target_link_libraries(softcut_hardening INTERFACE softcut_app)
+target_link_libraries(softcut_hardening INTERFACE softcut_app pugixml::pugixml)
 target_compile_definitions(test_hardening PRIVATE
   SOFTCUT_FUZZ_REGRESSIONS="${PROJECT_SOURCE_DIR}/tests/fuzz/regressions")

@@ -1,12 +1,17 @@
 #include "hybrid/precompute_cache.hpp"
 
 #include <doctest/doctest.h>
+#include <fcntl.h>
+#include <sys/file.h>
+#include <unistd.h>
 
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <random>
 
 #include "core/binary_io.hpp"
+#include "core/checked_file.hpp"
 #include "fixtures.hpp"
 #include "hybrid/update.hpp"
 #include "mesh/generate/box.hpp"
@@ -207,6 +212,45 @@ TEST_SUITE("hybrid/precompute_cache") {
     for (const auto& e : fs::directory_iterator(dir.path)) total += double(e.file_size());
     CHECK(total <= co.max_bytes);
     CHECK(fs::exists(rf.file));
+  }
+
+  TEST_CASE("temporary files of killed writes are counted and removed - a live writer's stays") {
+    std::mt19937 rng(35);
+    TempDir dir;
+    const HybridCase c = test::random_case(rng, 0);
+    auto plant = [&](const std::string& name, std::size_t bytes, bool old) {
+      const fs::path p = dir.path / name;
+      std::ofstream(p) << std::string(bytes, 'x');
+      if (old) fs::last_write_time(p, fs::file_time_type::clock::now() - std::chrono::hours(1));
+      return p;
+    };
+    const fs::path killed = plant(".hybrid-00000000deadbeef.bin.4242.0.tmp", 1 << 20, true);  // a SIGKILLed write
+    const fs::path fresh = plant(".hybrid-00000000deadbeef.bin.4243.0.tmp", 1000, false);    // just created
+    const fs::path live = plant(".hybrid-00000000cafef00d.bin.4244.0.tmp", 1 << 20, true);   // written, still locked
+    const UniqueFd held(::open(live.c_str(), O_RDONLY | O_CLOEXEC));
+    REQUIRE(::flock(held.get(), LOCK_EX | LOCK_NB) == 0);
+    const fs::path other = plant("notes.tmp", 10, true);  // not the cache's: left alone
+    CacheReport r;
+    CacheOptions co{dir.path};
+    co.max_bytes = 1.5 * (1 << 20);  // the live temporary file alone takes most of it
+    precompute_cached(c.mesh, c.material, c.partition, {}, co, &r);
+    CHECK(r.write_error == "");
+    CHECK(r.stale_removed == 1);
+    CHECK(!fs::exists(killed));
+    CHECK(fs::exists(fresh));
+    CHECK(fs::exists(live));
+    CHECK(fs::exists(other));
+    CHECK(fs::exists(r.file));  // the new entry is kept whatever the bound
+    // Counted: with room for the temporary files and one and a half entries,
+    // a second entry pushes the first out.
+    co.max_bytes = double(fs::file_size(live) + fs::file_size(fresh)) + 1.5 * r.bytes;
+    HybridCase d = c;  // another entry of the same size: one material differs
+    d.material[0].young *= 2;
+    CacheReport r2;
+    precompute_cached(d.mesh, d.material, d.partition, {}, co, &r2);
+    CHECK(r2.evicted == 1);
+    CHECK(!fs::exists(r.file));
+    CHECK(fs::exists(live));
   }
 
   TEST_CASE("no folder means no cache, and an unwritable folder is reported, not fatal") {

@@ -174,4 +174,29 @@ TEST_SUITE("sim/expectations") {
     spec.expectations[1].at = std::numeric_limits<double>::quiet_NaN();
     CHECK_THROWS_WITH(sim::check_spec(spec), doctest::Contains("expectation 'tip still': at must be a finite time"));
   }
+
+  TEST_CASE("what expectations hold is bounded: their count, their names, a check's message") {
+    sim::ScenarioSpec spec = spec_with_expectations(softcut::test::scratch_dir("sim_expect_bounded"));
+    const sim::ExpectationSpec check = spec.expectations[2];
+    spec.expectations.assign(sim::kMaxExpectations, check);
+    for (std::size_t i = 0; i < spec.expectations.size(); ++i) spec.expectations[i].name = "e" + std::to_string(i);
+    CHECK_NOTHROW(sim::check_spec(spec));
+    spec.expectations.push_back(check);
+    spec.expectations.back().where = "s.lua:9";
+    CHECK_THROWS_WITH(sim::check_spec(spec),
+                      doctest::Contains("s.lua:9: expectations: the scenario declares 10001 expectations, more than 10000"));
+    spec.expectations.resize(3);
+    spec.expectations[1].name = std::string(sim::kMaxExpectationName + 1, 'n');
+    CHECK_THROWS_WITH(sim::check_spec(spec), doctest::Contains("expectation: the name is 1001 bytes long, more than 1000"));
+    // A check function's long message is cut where the outcome is made.
+    const sim::Model m = sim::compile(spec_with_expectations(softcut::test::scratch_dir("sim_expect_long")));
+    sim::State s = sim::make_state(m);
+    const sim::ExpectationCheck hook = [](int, const sim::Model&, sim::State&) {
+      return std::pair<bool, std::string>{false, std::string(100000, 'x')};
+    };
+    while (s.frame < 3) sim::step(m, s), sim::check_due_expectations(m, s, hook);
+    REQUIRE(s.expectations[2].reached);
+    CHECK(s.expectations[2].message.size() < sim::kMaxExpectationMessage + 40);
+    CHECK(s.expectations[2].message.find("... (100000 bytes, cut)") != std::string::npos);
+  }
 }
