@@ -24,8 +24,8 @@ const char* kRunAbout =
 
 const char* kRunFooter =
     "Ctrl-C (SIGINT) or SIGTERM stops the script at once (also inside pcall), finishes the current\n"
-    "frame, writes the outputs and marks the summary interrupted; a second one ends the process\n"
-    "at once, without outputs.\n"
+    "frame, writes the outputs and marks the summary interrupted (before the frame loop, e.g. in the\n"
+    "precompute, it ends at once without outputs); a second one ends the process at once, without outputs.\n"
     "Exit status: 0 done, 1 an error or a failed expectation (outputs still written; one the\n"
     "run did not reach counts only if the run completed), 2 usage, 124 wall-clock limit\n"
     "(--timeout), 130 interrupted.";
@@ -54,7 +54,8 @@ int cmd_run(const Args& args) {
   app.add_option("--max-tets", max_tets, "sandbox: largest mesh the scenario may load or generate (default 2000000 tets)")
       ->type_name("N");
   app.add_option("--timeout", timeout, "wall-clock limit of the run in seconds (default 3600; 0: none); the run then "
-                 "stops, writes its outputs and exits 124 (exit_reason \"timeout\")")->type_name("S");
+                 "stops, writes its outputs and exits 124 (exit_reason \"timeout\"), as soon as its frames so far show "
+                 "that the rest cannot finish in time")->type_name("S");
   app.add_option("--max-output", max_output, "bytes the run may write, all files together (default 4G; 0: none; "
                  "K/M/G suffix)")->type_name("BYTES");
   app.add_flag("--trust", trust, "no sandbox: full Lua standard library, no instruction, memory or mesh budget");

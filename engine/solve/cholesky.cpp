@@ -232,6 +232,16 @@ void Cholesky::factor(const Eigen::SparseMatrix<double>& A, const std::string& w
   rows_ = int(A.rows());
 }
 
+double Cholesky::symbolic_nonzeros(const Eigen::SparseMatrix<double>& A) {
+  if (A.rows() == 0) return 0;
+  Llt llt;
+  llt.cholmod().print = 0;
+  llt.cholmod().final_asis = 0;  // as factor() asks
+  llt.cholmod().final_ll = 1;
+  llt.analyzePattern(A);
+  return double(llt.cholmod().lnz);
+}
+
 Eigen::VectorXd Cholesky::solve(const Eigen::VectorXd& b) const {
   if (!llt_) fail("Cholesky::solve called before factor()");
   if (b.size() != rows_) fail("Cholesky::solve: right-hand side of size ", b.size(), " for a ", rows_, "-row factor");

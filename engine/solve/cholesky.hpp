@@ -50,6 +50,11 @@ class Cholesky {
   explicit Cholesky(const Eigen::SparseMatrix<double>& A, const std::string& what = "matrix");
   void factor(const Eigen::SparseMatrix<double>& A, const std::string& what = "matrix",
               double max_bytes = std::numeric_limits<double>::infinity());
+  // Nonzeros of the factor factor() would make of a matrix with A's pattern
+  // (lower triangle read; values ignored): CHOLMOD's symbolic analysis only,
+  // with the same ordering methods. For estimates made before a matrix is
+  // assembled (hybrid/precompute_estimate.hpp).
+  static double symbolic_nonzeros(const Eigen::SparseMatrix<double>& A);
 
   Eigen::VectorXd solve(const Eigen::VectorXd& b) const;
   Eigen::MatrixXd solve(const Eigen::MatrixXd& B) const;  // one column per right-hand side
