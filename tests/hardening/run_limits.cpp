@@ -63,6 +63,8 @@ const char* kCostlyC[] = {
     "local a, b = string.rep('y', 16 << 20), string.rep('y', 16 << 20)\nwhile true do local x = a < b end",
     // next() on a cleared 2M-slot table scans the empty slots per call.
     "local t = {} for i = 1, 2e6 do t[i] = i end for i = 1, 2e6 do t[i] = nil end\nwhile true do local k = next(t) end",
+    // Lua's parser is quadratic on a long `or` chain, and no hook runs while it parses.
+    "local src = 'local a return ' .. string.rep('a or ', 1e6) .. 'a'\nlocal f = load(src)",
 };
 
 }  // namespace

@@ -67,13 +67,19 @@ TEST_SUITE("lua/runtime") {
   }
 
   TEST_CASE("tracebacks show the script's frames, not softcut's own or C functions") {
-    const std::string e = lua_error("local function f()\n  local s = softcut.scenario{ duration = 'x' .. nil }\nend\n"
-                                    "pcall(print)\nf()\n");
+    // Raised in the script's __len, called by the library's argument check.
+    const std::string e = lua_error("local bad = setmetatable({}, { __len = function() error('len') end })\n"
+                                    "local function f() local n = softcut.vec.length(bad) return n end\nf()\n");
     INFO(e);
-    CHECK(contains(e, "stack traceback:\n\tsnippet.lua:2: in "));
-    CHECK(contains(e, "snippet.lua:5: in main chunk"));
-    CHECK_FALSE(contains(e, "[C]"));
+    CHECK(e.rfind("snippet.lua:1: len\nstack traceback:\n\tsnippet.lua:1: in function <snippet.lua:1>", 0) == 0);
+    CHECK(contains(e, "\n\tsnippet.lua:2: in local 'f'"));
+    CHECK(contains(e, "\n\tsnippet.lua:3: in main chunk"));
     CHECK_FALSE(contains(e, "softcut/"));
+    // Raised in a comparator that table.sort (C) calls.
+    const std::string c = lua_error("\ntable.sort({3, 2, 1}, function(a, b) error('cmp') end)\n");
+    INFO(c);
+    CHECK(contains(c, "snippet.lua:2: in main chunk"));
+    CHECK_FALSE(contains(c, "[C]"));
     // A deep recursion: the first frames, then "...".
     const std::string deep = lua_error("local function f(n) if n == 0 then error('bottom') end return 1 + f(n - 1) end\nf(500)\n");
     CHECK(contains(deep, "snippet.lua:1: bottom"));
