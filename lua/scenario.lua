@@ -167,10 +167,14 @@ function Scenario:load(args)
               where = check.where(), nodes = a.nodes, per_node = a.per_node }
   local ramp = args.ramp ~= nil and (" times field 'ramp' (up to %g)"):format(ramp_peak(a.ramp)) or ""
   if a.force then
-    -- The length without overflow: {0, 0, -1e300} has one (its square has none).
     local f = a.force
+    local len = math.sqrt(f[1] ^ 2 + f[2] ^ 2 + f[3] ^ 2)
     local big = math.max(math.abs(f[1]), math.abs(f[2]), math.abs(f[3]))
-    local len = big > 0 and big * math.sqrt((f[1] / big) ^ 2 + (f[2] / big) ^ 2 + (f[3] / big) ^ 2) or 0
+    if len == math.huge or (len == 0 and big > 0) then
+      -- Its square over- or underflowed ({0, 0, -1e300} has a length): scaled. Only
+      -- then, so that every other force keeps its bits.
+      len = big * math.sqrt((f[1] / big) ^ 2 + (f[2] / big) ^ 2 + (f[3] / big) ^ 2)
+    end
     check_force("load", ("field 'force' (length %g N)%s"):format(len, ramp), len * ramp_peak(a.ramp))
     l.kind, l.direction = "world", len > 0 and { f[1] / len, f[2] / len, f[3] / len } or { 0, 0, -1 }
     l.magnitude = M.scaled_ramp(a.ramp, len)

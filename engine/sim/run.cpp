@@ -53,7 +53,9 @@ RunResult run(const Model& m, State& s, Recorder& rec, const RunHooks& hooks) {
     char when[64];
     std::snprintf(when, sizeof when, left >= 7200 ? "%.1f h" : left >= 120 ? "%.0f min" : "%.0f s",
                   left >= 7200 ? left / 3600 : left >= 120 ? left / 60 : left);
-    r.message = cat("at ", std::round(per_frame * 1e4) / 10, " ms per frame the ", last - s.frame,
+    char ms[32];
+    std::snprintf(ms, sizeof ms, "%.2g", per_frame * 1e3);
+    r.message = cat("at ", ms, " ms per frame the ", last - s.frame,
                     " frames left would take about ", when, ", past the wall-clock limit (--timeout) in ",
                     std::round(std::max(0.0, hooks.seconds_left - elapsed)), " s: stopped now; lower fps or duration, "
                     "stop earlier with --frames N, or raise --timeout");

@@ -124,7 +124,7 @@ TEST_SUITE("sim/mesh_source") {
     CHECK_THROWS_WITH_AS(sim::load_mesh_source(file, diag, 383), doctest::Contains("bar.msh has 384 tetrahedra"), Error);
   }
 
-  TEST_CASE("the band's twist is `twist` (degrees) as on the command line; twist_deg still reads") {
+  TEST_CASE("the band's twist is `twist` (degrees) as on the command line, and twist_deg still reads") {
     auto band = [](std::map<std::string, double> opts) {
       sim::MeshSource src;
       src.generator = "band";
