@@ -23,8 +23,8 @@ const char* kRunAbout =
 
 const char* kRunFooter =
     "Ctrl-C (SIGINT) or SIGTERM stops the script at once (also inside pcall), finishes the current\n"
-    "frame, writes the outputs and marks the summary interrupted; a second one ends the process\n"
-    "at once, without outputs.\n"
+    "frame, writes the outputs and marks the summary interrupted (before the frame loop, e.g. in the\n"
+    "precompute, it ends at once without outputs); a second one ends the process at once, without outputs.\n"
     "Exit status: 0 done, 1 an error or a failed expectation (outputs still written; one the\n"
     "run did not reach counts only if the run completed), 2 usage, 124 wall-clock limit\n"
     "(--timeout), 130 interrupted.";

@@ -6,6 +6,7 @@
 
 #include "app/commands.hpp"
 #include "core/error.hpp"
+#include "core/stop_flags.hpp"
 #include "core/threads.hpp"
 #include "core/printable.hpp"
 
@@ -30,7 +31,8 @@ const char* kUsage =
     "  mesh info FILE [--json]\n"
     "  mesh convert IN OUT  convert between mesh formats (by extension)\n"
     "  mesh generate KIND [options] OUT\n"
-    "                       box, cylinder, tube, band, ligament, upper_leg, or volume (NRRD labels)\n"
+    "                       box, cylinder, tube, band, ligament, upper_leg; organ shapes meshed by\n"
+    "                       CGAL: liver, kidney, knee_ligament; or volume (NRRD labels)\n"
     "  bench NAME [options] benchmarks (ratios against a baseline in the same run)\n"
     "\n"
     "  B (backend): auto, cpu, gpu, direct or monolithic\n"
@@ -76,6 +78,9 @@ int main(int argc, char** argv) {
   } catch (const softcut::TimeoutError& e) {
     std::fprintf(stderr, "softcut: error: %s\n", softcut::printable(e.what(), 8192, true).c_str());
     return 124;
+  } catch (const softcut::InterruptedError& e) {  // Ctrl-C / SIGTERM before the frame loop (the loop's own: 130 too)
+    std::fprintf(stderr, "softcut: error: %s\n", softcut::printable(e.what(), 8192, true).c_str());
+    return 130;
   } catch (const softcut::Error& e) {
     // Messages carry bytes from scripts and files: shown escaped and bounded.
     std::fprintf(stderr, "softcut: error: %s\n", softcut::printable(e.what(), 8192, true).c_str());

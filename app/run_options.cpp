@@ -39,7 +39,8 @@ RunOptions::RunOptions(Options& o, unsigned groups) {
     max_tets_opt_ = app.add_option("--max-tets", max_tets_, "sandbox: largest mesh a scenario may load or generate "
                                    "(default 2000000 tets)")->type_name("N")->check(whole_number(0, 100000000));
     timeout_opt_ = app.add_option("--timeout", timeout_s_, "wall-clock limit of a run (check: of each scenario) in "
-                                  "seconds (default 3600; 0: none)")->type_name("S")->check(seconds_limit());
+                                  "seconds (default 3600; 0: none); the run then stops, writes its outputs and exits "
+                                  "124, as soon as its frames so far show that the rest cannot finish in time")->type_name("S")->check(seconds_limit());
     max_output_opt_ = app.add_option("--max-output", max_output_, "bytes a run may write, all files together "
                                      "(default 4G; 0: none; K/M/G suffix)")->type_name("BYTES")->transform(byte_count());
     for (const auto& [option, what] : {std::pair{"--max-tets", "a number"}, {"--timeout", "seconds"},

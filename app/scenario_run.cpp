@@ -7,6 +7,7 @@
 #include "core/checked_file.hpp"
 #include "core/error.hpp"
 #include "core/output_budget.hpp"
+#include "core/stop_flags.hpp"
 #include "core/watchdog.hpp"
 #include "gpu/egl_context.hpp"
 #include "render/frame_writer.hpp"
@@ -138,7 +139,21 @@ RunOutcome run_watched(const RunRequest& req, const OpenScript& open, const Watc
       out.warnings.push_back(cat("no OpenGL context (", first_line(e.what()), "); solver backend auto uses the CPU"));
     }
   }
-  const sim::Model model = sim::compile(spec, backend::RunResources{context.get()});
+  // Ctrl-C and the deadline reach the precompute too (it may take minutes).
+  const StopFlags stop{req.interrupt, &dog.expired()};
+  const sim::Model model = [&] {
+    try {
+      return sim::compile(spec, backend::RunResources{context.get(), stop});
+    } catch (const InterruptedError&) {
+      throw;
+    } catch (const TimeoutError&) {
+      throw;
+    } catch (const Error& e) {  // what compile refuses, named with the scenario file
+      const std::string msg = e.what(), file = req.scenario.string();
+      if (msg.rfind(file, 0) == 0) throw;
+      fail(file, ": ", msg);
+    }
+  }();
   out.mesh_fingerprint = mesh_fingerprint(model.mesh);
   out.params = spec.params;
   // Frames are drawn on a worker thread while the next frame is simulated,
@@ -163,6 +178,7 @@ RunOutcome run_watched(const RunRequest& req, const OpenScript& open, const Watc
   hooks.on_frame = [&](const sim::Model& m, sim::State& st) { return script->on_frame(m, st); };
   hooks.interrupt = req.interrupt;
   hooks.timed_out = &dog.expired();
+  hooks.seconds_left = dog.seconds_left();
   hooks.max_frames = req.max_frames;
   hooks.progress = req.progress;
 
@@ -215,9 +231,12 @@ RunOutcome run_scenario(const RunRequest& req, const OpenScript& open) {
     return run_watched(req, open, dog);
   } catch (const TimeoutError&) {
     throw;
+  } catch (const InterruptedError&) {
+    throw;
   } catch (const Error& e) {
-    // The limit struck before the frame loop (the script's main chunk,
-    // compile): the same exit status as a timeout in the loop.
+    // The limit or a stop struck before the frame loop (the script's main
+    // chunk, compile): the same exit status as in the loop.
+    if (req.interrupt && req.interrupt->load()) throw InterruptedError(e.what());
     if (dog.expired()) throw TimeoutError(e.what());
     throw;
   }

@@ -29,8 +29,8 @@ local Frame = {}
 ---@field surface_nodes integer[]
 
 ---@class Frame
----@field frame integer frame index
----@field time number time (s)
+---@field frame integer frame index: 0 at t = 0, then 1, 2, ...
+---@field time number simulated time of this frame (frame / fps) (s)
 
 ---@class Sphere A ball.
 ---@field center number[] center (m)
@@ -55,8 +55,8 @@ local Frame = {}
 ---@class Render Off-screen frames written as PNG under DIR/frames/. Without eye/target the camera looks at the mesh's centre from azimuth/elevation, just far enough to see all of it.
 ---@field width? integer image width (px)
 ---@field height? integer image height (px)
----@field azimuth? number automatic camera: angle about `up` (deg)
----@field elevation? number automatic camera: angle above the horizontal (deg)
+---@field azimuth? number automatic camera: angle about `up`, counter-clockwise seen from above: with up = {0, 0, 1}, 0 puts the camera on the +x side of the centre looking toward -x, 90 on the +y side (for another `up`, 0 is the side of the world axis least aligned with it, x before y before z on ties) (deg)
+---@field elevation? number automatic camera: angle above the horizontal (90 would look along `up`) (deg)
 ---@field orbit? number automatic camera: azimuth rate (turntable; 0: still) (deg/s)
 ---@field eye? number[] camera position (with target: a fixed camera) (m)
 ---@field target? number[] point looked at (m)
@@ -93,7 +93,7 @@ function softcut.params(args) end
 ---@class softcut_scenario_args
 ---@field name? string output folder name renders/<name>/ (default: the file name without .lua)
 ---@field duration number simulated time; frames at t = 0, 1/fps, ..., duration (s)
----@field fps? number frame rate (Hz)
+---@field fps? number frame rate; frames are 1/fps apart (Hz)
 ---@field tolerance? number `softcut check`: max |u - u_ref| allowed, relative to max |u_ref| of the reference log
 ---@field description? string one line, recorded in summary.json (`scenario.description`)
 ---@field gravity? number[] acceleration of gravity: a body force density x gravity on every tet (a dead load; the condensed region takes it through its precomputed constant term) (m/s^2)
@@ -482,7 +482,7 @@ function Frame:mean_displacement(nodes) end
 ---@return number
 function Frame:max_displacement(nodes) end
 
----A tool's state: tip (m), engaged, num_nodes (the nodes it acts on: a grip's are its triangles' corners), force (N, total); a scalpel also pressure (Pa) and cutting (it cut this frame).
+---A tool's state: tip (vec3, m), engaged (boolean), num_nodes (the nodes it acts on: a grip's are its triangles' corners), force (vec3 {x, y, z}, N: the total force the tool applies to the tissue; its magnitude is softcut.vec.length(force)), pressure (Pa: a scalpel's contact pressure, else 0) and cutting (a scalpel cut this frame).
 ---@param name string tool name
 ---@return table
 function Frame:tool(name) end

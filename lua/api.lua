@@ -48,8 +48,13 @@ api.structs = {
       .. "looks at the mesh's centre from azimuth/elevation, just far enough to see all of it.", fields = {
       F("width", "integer", "image width", { unit = "px", ge = 16, le = 8192, default = 1280 }),
       F("height", "integer", "image height", { unit = "px", ge = 16, le = 8192, default = 720 }),
-      F("azimuth", "number", "automatic camera: angle about `up`", { unit = "deg", default = -60 }),
-      F("elevation", "number", "automatic camera: angle above the horizontal", { unit = "deg", ge = -90, le = 90, default = 25 }),
+      F("azimuth", "number", "automatic camera: angle about `up`, counter-clockwise seen from above: with up = "
+        .. "{0, 0, 1}, 0 puts the camera on the +x side of the centre looking toward -x, 90 on the +y side (for another "
+        .. "`up`, 0 is the side of the world axis least aligned with it, x before y before z on ties)",
+        { unit = "deg", default = -60 }),
+      F("elevation", "number", "automatic camera: angle above the horizontal (90 would look along `up`)",
+        { unit = "deg", gt = -90, lt = 90, default = 25,
+          why = "at +-90 the camera looks along `up`; to look straight down use 89.9" }),
       F("orbit", "number", "automatic camera: azimuth rate (turntable; 0: still)", { unit = "deg/s", default = 0 }),
       F("eye", "vec3", "camera position (with target: a fixed camera)", { unit = "m" }),
       F("target", "vec3", "point looked at", { unit = "m" }),
@@ -87,7 +92,8 @@ api.functions = {
       .. "The script returns the Scenario (or the last one created is used).", returns = "Scenario", fields = {
       F("name", "string", "output folder name renders/<name>/ (default: the file name without .lua)"),
       F("duration", "number", "simulated time; frames at t = 0, 1/fps, ..., duration", { unit = "s", ge = 0, required = true }),
-      F("fps", "number", "frame rate", { unit = "Hz", gt = 0, le = 10000, default = 30 }),
+      F("fps", "number", "frame rate; frames are 1/fps apart", { unit = "Hz", ge = 0.001, le = 10000, default = 30,
+        why = "a frame at most every 1000 s, at least every 0.1 ms; at most 10000000 frames in all" }),
       F("tolerance", "number", "`softcut check`: max |u - u_ref| allowed, relative to max |u_ref| of the reference log",
         { gt = 0, lt = 1, default = 1e-6 }),
       F("description", "string", "one line, recorded in summary.json (`scenario.description`)"),
@@ -389,11 +395,12 @@ api.functions = {
   { name = "Frame:max_displacement", summary = "Largest displacement magnitude over a node set.",
     positional = { F("nodes", "Selection", "node set", { required = true }) }, fields = {}, returns = "number",
     example = "if f:max_displacement(softcut.select.surface()) > 0.02 then f:stop() end" },
-  { name = "Frame:tool", summary = "A tool's state: tip (m), engaged, num_nodes (the nodes it acts on: a grip's "
-      .. "are its triangles' corners), force (N, total); "
-      .. "a scalpel also pressure (Pa) and cutting (it cut this frame).",
+  { name = "Frame:tool", summary = "A tool's state: tip (vec3, m), engaged (boolean), num_nodes (the nodes it acts "
+      .. "on: a grip's are its triangles' corners), force (vec3 {x, y, z}, N: the total force the tool applies to the "
+      .. "tissue; its magnitude is softcut.vec.length(force)), pressure (Pa: a scalpel's contact pressure, else 0) "
+      .. "and cutting (a scalpel cut this frame).",
     positional = { F("name", "string", "tool name", { required = true }) }, fields = {}, returns = "table",
-    example = "local jaw = f:tool(\"jaw\")" },
+    example = "local jaw = f:tool(\"jaw\")\nif softcut.vec.length(jaw.force) > 2 then f:stop() end" },
   { name = "Frame:cutting", summary = "Cutting so far: events (frames in which a blade changed the mesh), "
       .. "nodes_added, nodes, tets (of the current mesh), faces_separated (faces the blades opened, all events), "
       .. "faces_pending (faces on the cut still joined now: the cut front), components (pieces joined through "
@@ -426,6 +433,12 @@ for i, list in ipairs({ api.functions, api.structs }) do
     api.by_name[f.name] = f
   end
 end
+
+-- Fields of the Frame an on_frame or check function receives (read-only).
+api.frame_fields = {
+  F("frame", "integer", "frame index: 0 at t = 0, then 1, 2, ..."),
+  F("time", "number", "simulated time of this frame (frame / fps)", { unit = "s" }),
+}
 
 -- Values (not functions) of the library, documented too.
 api.values = {

@@ -72,6 +72,40 @@ function check.suggest(word, names)
   return " (valid: " .. table.concat(sorted, ", ") .. ")"
 end
 
+-- A method or function looked up on a softcut object or namespace that has
+-- no such name. Reading it stays nil (scripts may test fields of their own),
+-- but when the miss is then called ("attempt to call a nil value (method
+-- 'grasp')"), the runtime's message handler (lua/runtime.cpp) asks
+-- explain_call for the did-you-mean that fields get.
+local last_miss
+
+-- An __index for `class` (a method table) named `owner` in messages;
+-- `data` lists the object's own optional fields (a nil there is no miss).
+function check.recording_index(class, owner, data)
+  return function(_, k)
+    local v = rawget(class, k)
+    if v == nil and type(k) == "string" and k:sub(1, 1) ~= "_" and not (data and data[k]) then
+      last_miss = { owner = owner, key = k, class = class, where = internal.where() }
+    end
+    return v
+  end
+end
+
+-- "Scenario has no method 'grasp' (did you mean 'grasper'?)" when the last
+-- miss was `key`, looked up at `where`; else nil.
+function check.explain_call(kind, key, where)
+  local m = last_miss
+  last_miss = nil
+  if not m or m.key ~= key or m.where ~= where then return nil end
+  local names = {}
+  for n, v in pairs(m.class) do
+    if type(n) == "string" and n:sub(1, 2) ~= "__" and type(v) == "function" then names[#names + 1] = n end
+  end
+  return ("%s has no %s '%s'%s"):format(m.owner, kind == "method" and "method" or "function", key,
+    check.suggest(key, names))
+end
+internal.explain_call = check.explain_call
+
 local function finite(x) return x == x and x ~= math.huge and x ~= -math.huge end
 
 local function describe(v)

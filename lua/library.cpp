@@ -87,6 +87,10 @@ bool is_module_name(std::string_view name) {
 }
 
 constexpr std::size_t kMaxModuleBytes = 8u << 20;
+// Each nested require takes C stack (its protected call); Lua's own limit
+// (200 C levels) ends a 300-deep chain with "C stack overflow", naming
+// neither module nor file.
+constexpr int kMaxRequireDepth = 50;
 const char kLoadingMark = 0;  // its address marks a module whose chunk is running (a cycle)
 
 // The module's value on top of the stack: nil becomes true (as in Lua's
@@ -134,12 +138,20 @@ int user_require(lua_State* L, const char* name, int loaded) {
         } else {
           text = read_whole(fd, "module", file, kMaxModuleBytes);
           if (!text.empty() && text[0] == '#') text.insert(0, "--");  // a shebang line stays a comment, as Lua does
+          if (!text.empty() && text[0] == LUA_SIGNATURE[0])  // Lua's own refusal names neither module nor file
+            failure = cat("require '", name, "': ", printable(file), " is a precompiled (binary) Lua chunk; the "
+                          "sandbox loads modules from source text only (binary chunks can crash the interpreter): "
+                          "require the .lua source, or run with --trust");
         }
       } catch (const std::exception& e) {
         failure = cat("require '", name, "': ", e.what());
       }
     }
   }
+  Runtime::Budget* b = budget_of(L);
+  if (failure.empty() && b->require_depth >= kMaxRequireDepth)
+    failure = cat("require '", name, "' (", printable(file), "): the scenario's modules require each other ",
+                  kMaxRequireDepth, " deep, the sandbox's limit; flatten the chain (one module may require many)");
   if (!failure.empty()) {
     luaL_where(L, 1);
     lua_pushlstring(L, failure.data(), failure.size());
@@ -152,7 +164,7 @@ int user_require(lua_State* L, const char* name, int loaded) {
   lua_pushliteral(L, "@");
   lua_pushlstring(L, file.data(), file.size());
   lua_concat(L, 2);  // the chunk name
-  if (luaL_loadbufferx(L, text.data(), text.size(), lua_tostring(L, -1), "t") != LUA_OK) return lua_error(L);
+  if (load_text(L, text.data(), text.size(), lua_tostring(L, -1), "t") != LUA_OK) return lua_error(L);
   lua_remove(L, -2);  // the chunk name
   lua_pushlstring(L, file.data(), file.size());  // the chunk's second argument
   // Stack: ... chunk file
@@ -160,7 +172,10 @@ int user_require(lua_State* L, const char* name, int loaded) {
   lua_setfield(L, loaded, name);
   lua_pushstring(L, name);  // (name, file), as Lua's require passes them
   lua_insert(L, -2);
-  if (lua_pcall(L, 2, 1, 0) != LUA_OK) {
+  ++b->require_depth;
+  const int status = lua_pcall(L, 2, 1, 0);
+  --b->require_depth;
+  if (status != LUA_OK) {
     lua_pushnil(L);  // not loaded: a later require tries again
     lua_setfield(L, loaded, name);
     return lua_error(L);  // the module's own error, unchanged

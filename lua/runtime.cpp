@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
+#include <string_view>
 
 #include "core/checked_file.hpp"
 #include "core/error.hpp"
@@ -23,8 +24,61 @@ namespace {
 const char* kBudgetKey = "softcut.budget";
 const char* kOptionsKey = "softcut.options";
 
+// "attempt to call a nil value (method 'grasp')" when the name was just
+// looked up on a softcut object or namespace and missed: the library's
+// did-you-mean instead (check.lua, explain_call), else the message as is.
+void explain_missing_call(lua_State* L, std::string& msg) {
+  std::string kind, key;
+  for (const char* k : {"method", "field"}) {
+    const std::string head = cat("attempt to call a nil value (", k, " '");
+    const size_t at = msg.find(head);
+    if (at == std::string::npos) continue;
+    const size_t from = at + head.size(), to = msg.find("')", from);
+    if (to == std::string::npos || to - from > 200) return;
+    kind = k, key = msg.substr(from, to - from);
+    const std::string where = user_where(L);
+    lua_getfield(L, LUA_REGISTRYINDEX, kInternalKey);
+    lua_getfield(L, -1, "explain_call");
+    lua_remove(L, -2);
+    lua_pushstring(L, kind.c_str());
+    lua_pushlstring(L, key.data(), key.size());
+    lua_pushlstring(L, where.data(), where.size());
+    if (lua_pcall(L, 3, 1, 0) == LUA_OK && lua_type(L, -1) == LUA_TSTRING) msg = msg.substr(0, at) + lua_tostring(L, -1);
+    lua_pop(L, 1);
+    return;
+  }
+}
+
+// "stack traceback:" with the script's frames only: the library's own
+// (=softcut/...) and C functions are left out (they say nothing about the
+// user's code). At most the innermost kLevels frames are walked
+// (lua_getstack walks from the top: a deep recursion costs depth^2 else).
+std::string user_traceback(lua_State* L, int level) {
+  constexpr int kLevels = 64, kShown = 20;
+  std::string out = "stack traceback:";
+  lua_Debug ar, caller;
+  const auto hidden = [](const lua_Debug& d) {
+    return *d.what == 'C' || std::string_view(d.source).rfind("=softcut", 0) == 0;
+  };
+  int shown = 0, lv = level;
+  for (; lv < level + kLevels && shown < kShown && lua_getstack(L, lv, &ar); ++lv) {
+    lua_getinfo(L, "Sln", &ar);
+    if (hidden(ar)) continue;
+    out += cat("\n\t", ar.short_src, ":", ar.currentline, ": in ");
+    // A function's name comes from its caller's code: the library's local
+    // 'fn' says nothing to the script's author.
+    const bool named = ar.name && lua_getstack(L, lv + 1, &caller) && lua_getinfo(L, "S", &caller) && !hidden(caller);
+    if (*ar.what == 'm') out += "main chunk";
+    else if (named) out += cat(*ar.namewhat ? ar.namewhat : "function", " '", ar.name, "'");
+    else out += cat("function <", ar.short_src, ":", ar.linedefined, ">");
+    ++shown;
+  }
+  if (lua_getstack(L, lv, &ar)) out += "\n\t...";
+  return out;
+}
+
 // Message handler: API misuse errors (tables {message=...}) stay one line;
-// everything else gets a traceback.
+// everything else gets the script's traceback.
 int message_handler(lua_State* L) {
   if (lua_istable(L, 1)) {  // raw access: a user's error table may have any metatable
     lua_pushliteral(L, "softcut_api_error");
@@ -37,8 +91,27 @@ int message_handler(lua_State* L) {
       return 1;
     }
   }
-  const char* msg = luaL_tolstring(L, 1, nullptr);
-  luaL_traceback(L, L, msg, 1);
+  {
+    std::string msg;
+    if (lua_type(L, 1) == LUA_TSTRING || lua_type(L, 1) == LUA_TNUMBER || luaL_getmetafield(L, 1, "__tostring")) {
+      if (lua_gettop(L) > 1) lua_pop(L, 1);  // the __tostring field
+      size_t n = 0;
+      const char* m = luaL_tolstring(L, 1, &n);
+      msg.assign(m, n);
+      lua_pop(L, 1);
+      if (lua_type(L, 1) == LUA_TSTRING) {
+        if (!budget_of(L)->fatal) explain_missing_call(L, msg);
+      } else {  // error(42): Lua adds no position to a value that is not a string
+        msg.insert(0, user_prefix(L));
+      }
+    } else {
+      // error({}) or error(): Lua would print "table: 0x55..." or "nil".
+      msg = cat(user_prefix(L), "error raised with ", luaL_typename(L, 1), " as its message; pass a string, e.g. "
+                "error(\"what went wrong\")", lua_type(L, 1) == LUA_TTABLE ? ", or give the table a __tostring metamethod" : "");
+    }
+    msg += "\n" + user_traceback(L, 1);
+    lua_pushlstring(L, msg.data(), msg.size());
+  }
   return 1;
 }
 
@@ -139,6 +212,7 @@ Runtime::Runtime(const SandboxOptions& opt) : opt_(opt), budget_(new Budget) {
   if (!opt_.trusted) {
     budget_->limit = opt_.memory_budget;
     budget_->instruction_limit = opt_.instruction_budget;
+    budget_->cpu_limit_s = std::max(0.0, opt_.cpu_seconds);
   }
   L_ = lua_newstate(budget_alloc, budget_);
   if (!L_) {
@@ -204,9 +278,12 @@ void Runtime::call(int nargs, int nresults) {
   lua_insert(L_, base);
   budget_->memory_exceeded = false;
   budget_->instructions = 0;  // the budget is per entry from C++ (main chunk, each on_frame)
+  const bool outermost = budget_->calls_active == 0;
+  if (outermost) begin_call(L_, budget_);  // and the CPU time
   ++budget_->calls_active;
   const int status = lua_pcall(L_, nargs, nresults, base);
   --budget_->calls_active;
+  if (outermost) end_call(budget_);
   lua_remove(L_, base);
   if (status == LUA_OK) return;
   std::string msg;
@@ -237,7 +314,7 @@ void Runtime::run_source(std::string text, const fs::path& path, int nresults) {
   chunk_ = path.string();
   const std::string chunk = "@" + path.string();
   if (!text.empty() && text[0] == '#') text.insert(0, "--");  // shebang line stays a comment
-  if (luaL_loadbufferx(L_, text.data(), text.size(), chunk.c_str(), opt_.trusted ? "bt" : "t") != LUA_OK) {
+  if (load_text(L_, text.data(), text.size(), chunk.c_str(), opt_.trusted ? "bt" : "t") != LUA_OK) {
     std::string msg = lua_tostring(L_, -1);
     lua_pop(L_, 1);
     // Errors raised outside the parser's position tracking (nesting deeper
@@ -251,7 +328,7 @@ void Runtime::run_source(std::string text, const fs::path& path, int nresults) {
 }
 
 void Runtime::run_string(std::string_view code, const std::string& chunkname, int nresults) {
-  if (luaL_loadbufferx(L_, code.data(), code.size(), chunkname.c_str(), opt_.trusted ? "bt" : "t") != LUA_OK) {
+  if (load_text(L_, code.data(), code.size(), chunkname.c_str(), opt_.trusted ? "bt" : "t") != LUA_OK) {
     std::string msg = lua_tostring(L_, -1);
     lua_pop(L_, 1);
     throw Error(msg);

@@ -25,6 +25,7 @@ struct SandboxOptions {
   std::filesystem::path read_dir;           // io.open(..., "r") allowed below it (scenario folder)
   std::filesystem::path write_dir;          // io.open(..., "w"/"a") allowed below it (output folder)
   long long instruction_budget = 200'000'000;  // Lua VM instructions per call from C++ (main chunk, each on_frame)
+  double cpu_seconds = 10;                     // CPU time per call from C++, s (sandbox/cpu_limit.hpp); 0: none
   std::size_t memory_budget = 512u << 20;      // bytes held by the Lua heap and the script's meshes at any time
   double max_tets = 2'000'000;                 // tetrahedra of the mesh the script loads or generates
   const std::atomic<bool>* interrupt = nullptr;  // when set, running Lua code stops with "interrupted"

@@ -8,7 +8,8 @@ local check = require("check")
 
 local M = {}
 local Scenario = { __name = "Scenario" }
-Scenario.__index = Scenario
+Scenario.__index = check.recording_index(Scenario, "Scenario",
+  { name = true, duration = true, fps = true, tolerance = true, description = true, where = true })
 M.Scenario = Scenario
 
 function M.new(args)
@@ -137,17 +138,53 @@ function Scenario:fix(args)
     name = path and (a.name or ("motion" .. (moves + 1))) or nil }
 end
 
+-- The largest |value| a ramp (or a number) takes.
+local function ramp_peak(r)
+  if type(r) == "number" then return math.abs(r) end
+  local p = 0
+  for _, key in ipairs({ "to", "from", "offset" }) do
+    if type(r[key]) == "number" then p = math.max(p, math.abs(r[key])) end
+  end
+  if type(r.amplitude) == "number" then p = math.abs(r.offset or 0) + math.abs(r.amplitude) end
+  if type(r.values) == "table" then
+    for _, v in ipairs(r.values) do if type(v) == "number" then p = math.max(p, math.abs(v)) end end
+  end
+  return p
+end
+
+-- Forces past this are a mistake (units, a misplaced exponent), and past
+-- ~1e154 N their squares overflow inside the solver: refused naming the
+-- fields the script wrote.
+M.max_force = 1e6
+
+local function check_force(fname, what, peak)
+  if not (peak <= M.max_force) then
+    check.fail(fname, "%s reaches %g N, over softcut's bound of %g N on a force (a mistake in units or a misplaced "
+      .. "exponent?)", what, peak, M.max_force)
+  end
+end
+
 function Scenario:load(args)
   editable(self, "load")
   local a = check.args("Scenario:load", args)
   resolve(self, "load", a.nodes)
   local l = { name = a.name or ("load" .. (#self._loads + 1)),
               where = check.where(), nodes = a.nodes, per_node = a.per_node }
+  local ramp = args.ramp ~= nil and (" times field 'ramp' (up to %g)"):format(ramp_peak(a.ramp)) or ""
   if a.force then
-    local len = math.sqrt(a.force[1] ^ 2 + a.force[2] ^ 2 + a.force[3] ^ 2)
-    l.kind, l.direction = "world", len > 0 and { a.force[1] / len, a.force[2] / len, a.force[3] / len } or { 0, 0, -1 }
+    local f = a.force
+    local len = math.sqrt(f[1] ^ 2 + f[2] ^ 2 + f[3] ^ 2)
+    local big = math.max(math.abs(f[1]), math.abs(f[2]), math.abs(f[3]))
+    if len == math.huge or (len == 0 and big > 0) then
+      -- Its square over- or underflowed ({0, 0, -1e300} has a length): scaled. Only
+      -- then, so that every other force keeps its bits.
+      len = big * math.sqrt((f[1] / big) ^ 2 + (f[2] / big) ^ 2 + (f[3] / big) ^ 2)
+    end
+    check_force("load", ("field 'force' (length %g N)%s"):format(len, ramp), len * ramp_peak(a.ramp))
+    l.kind, l.direction = "world", len > 0 and { f[1] / len, f[2] / len, f[3] / len } or { 0, 0, -1 }
     l.magnitude = M.scaled_ramp(a.ramp, len)
   else
+    check_force("load", ("field 'normal' (%g N)%s"):format(a.normal, ramp), math.abs(a.normal) * ramp_peak(a.ramp))
     l.kind, l.direction = "normal", { 0, 0, 0 }
     l.magnitude = M.scaled_ramp(a.ramp, a.normal)
     local err = internal.check_on_surface(self._mesh.handle, a.nodes._ids)
@@ -159,6 +196,7 @@ end
 local function tool(s, kind, args)
   editable(s, kind)
   local a = check.args("Scenario:" .. kind, args)
+  if a.force then check_force(kind, "field 'force'", ramp_peak(a.force)) end
   local t = { name = a.name, where = check.where(), kind = kind,
               drive = a.stiffness and "spring" or "force", path = M.as_path(a.path), radius = a.radius,
               force = a.force and M.scaled_ramp(a.force, 1) or nil, direction = a.direction, stiffness = a.stiffness,
@@ -169,6 +207,7 @@ function Scenario:probe(args) tool(self, "probe", args) end
 function Scenario:scalpel(args)
   editable(self, "scalpel")
   local a = check.args("Scenario:scalpel", args)
+  if a.force then check_force("scalpel", "field 'force'", ramp_peak(a.force)) end
   local t = { name = a.name, where = check.where(), kind = "scalpel",
               drive = a.stiffness and "spring" or "force", path = M.as_path(a.path), radius = a.radius,
               force = a.force and M.scaled_ramp(a.force, 1) or nil, direction = a.direction, stiffness = a.stiffness,
@@ -220,7 +259,7 @@ end
 -- Frames -------------------------------------------------------------------------
 
 local Frame = { __name = "Frame" }
-Frame.__index = Frame
+Frame.__index = check.recording_index(Frame, "Frame", { frame = true, time = true })
 M.Frame = Frame
 
 local function node_arg(f, q, node)

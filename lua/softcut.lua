@@ -68,7 +68,8 @@ end
 -- Node selections -------------------------------------------------------------
 
 local Selection = check.Selection
-Selection.__index = Selection
+Selection.__index = check.recording_index(Selection, "Selection", { kind = true, children = true, where = true,
+  label = true, center = true, radius = true, min = true, max = true, point = true, normal = true, ids = true, name = true })
 
 local function selection(t)
   t.where = check.where()
@@ -121,7 +122,8 @@ end
 -- Ramps ------------------------------------------------------------------------
 
 local Ramp = check.Ramp
-Ramp.__index = Ramp
+Ramp.__index = check.recording_index(Ramp, "Ramp", { kind = true, to = true, from = true, t0 = true, t1 = true,
+  times = true, values = true, amplitude = true, frequency = true, phase = true, offset = true, where = true })
 Ramp.__tostring = function(r) return "Ramp(" .. r.kind .. ")" end
 
 local function ramp(t)
@@ -175,7 +177,8 @@ end
 -- Paths ------------------------------------------------------------------------
 
 local Path = check.Path
-Path.__index = Path
+Path.__index = check.recording_index(Path, "Path", { kind = true, times = true, points = true, center = true,
+  axis = true, start = true, sweep = true, t0 = true, t1 = true, where = true })
 Path.__tostring = function(p) return "Path(" .. p.kind .. ")" end
 
 local function path(t)
@@ -249,6 +252,12 @@ end
 softcut.tissues = {}
 for _, p in ipairs(internal.tissue_presets()) do
   softcut.tissues[p.name] = { young = p.young, poisson = p.poisson, source = p.source }
+end
+
+-- softcut.select.sphre{...} gets a did-you-mean too (check.recording_index).
+for name, t in pairs({ softcut = softcut, ["softcut.select"] = softcut.select, ["softcut.ramp"] = softcut.ramp,
+                        ["softcut.path"] = softcut.path, ["softcut.vec"] = softcut.vec }) do
+  setmetatable(t, { __index = check.recording_index(t, name) })
 end
 
 return softcut

@@ -64,6 +64,7 @@ sim::ScenarioSpec spec_from_table(lua_State* L, int s, const fs::path& source) {
   spec.timeline.duration = get_number(L, s, "duration", 1.0);
   spec.timeline.fps = get_number(L, s, "fps", 30.0);
   spec.gravity = get_vec3(L, s, "gravity", Eigen::Vector3d::Zero());
+  spec.timeline.where = printable(where, 2000);
 
   if (push_field(L, s, "_mesh") != LUA_TTABLE) fail(where, ": scenario: no mesh (add s:mesh{ file = ... } or s:mesh{ generate = ... })");
   push_field(L, -1, "handle");
@@ -209,6 +210,7 @@ sim::ScenarioSpec spec_from_table(lua_State* L, int s, const fs::path& source) {
     out.csv = get_bool(L, o, "csv", true);
     out.vtu = get_bool(L, o, "vtu", false);
     out.vtu_every = get_int(L, o, "vtu_every", 1);
+    out.where = printable(get_string(L, o, "where"), 2000);
     if (push_field(L, o, "render") == LUA_TTABLE) {
       const int r = lua_gettop(L);
       sim::RenderSettings& rs = out.render;

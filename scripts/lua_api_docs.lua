@@ -31,7 +31,8 @@ return s
 
 Every function takes a table of named fields (or the positional arguments listed). Misuse is an
 error at the scenario's line, e.g. `liver.lua:12: material: unknown field 'youngs' (did you mean
-'young'?)`; runtime errors carry a traceback.
+'young'?)`, and so is a misspelled method or function: `liver.lua:14: Scenario has no method 'grasp'
+(did you mean 'grasper'?)`. Runtime errors carry a traceback of the script's own frames.
 
 **Sandbox.** Scenarios run with the safe standard libraries only (base without `dofile`/`loadfile`,
 `load` of text only; `string`, `table`, `math`, `utf8`, `coroutine`; `os.clock/time/date`;
@@ -39,8 +40,10 @@ error at the scenario's line, e.g. `liver.lua:12: material: unknown field 'young
 and written below the output folder, never through a symbolic link, and only regular files; `file:seek`
 cannot move past the end. An instruction budget per call (the main chunk, each on_frame) also charges
 work inside the C library (bytes allocated, elements moved: `string.rep`, `table.concat`, `load`, ...)
-and the engine (loading meshes, evaluating selections); once it runs out, or Ctrl-C or the run's
-`--timeout` strikes, every later instruction fails and `pcall`/`xpcall`/coroutines re-raise it.
+and the engine (loading meshes, evaluating selections), and each such call may use at most 10 s of CPU
+time (what one instruction does in C, e.g. comparing huge strings, is seen by no count; generating the
+mesh is not counted); once either runs out, or Ctrl-C or the run's `--timeout` strikes, every later
+instruction fails and `pcall`/`xpcall`/coroutines re-raise it.
 `setmetatable` refuses `__gc` (finalizers would run outside the budget). A memory budget covers the Lua
 heap, the meshes the script holds and what its numbers make the engine allocate; meshes have at most
 2,000,000 tetrahedra (`--max-tets N` changes it). What the script writes counts towards the run's
@@ -111,6 +114,11 @@ function docs.markdown()
     if title ~= section then
       section = title
       lines[#lines + 1] = "## " .. title .. "\n"
+      if head == "Frame" then
+        lines[#lines + 1] = "A Frame's fields (read them, do not change them):\n"
+        field_table(lines, api.frame_fields)
+        lines[#lines + 1] = ""
+      end
     end
     lines[#lines + 1] = ("### `%s`%s\n"):format(signature(fn), fn.returns and (" -> " .. fn.returns) or "")
     lines[#lines + 1] = fn.summary .. "\n"
@@ -160,7 +168,9 @@ function docs.annotations()
   for _, c in ipairs(classes) do out[#out + 1] = ("---@class %s\nlocal %s = {}\n"):format(c, c) end
   out[#out + 1] = "---@class Mesh\n---@field num_nodes integer\n---@field num_tets integer\n---@field labels integer[]\n"
     .. "---@field min number[]\n---@field max number[]\n---@field center number[]\n---@field size number[]\n---@field sets string[]\n---@field surface_nodes integer[]\n"
-  out[#out + 1] = "---@class Frame\n---@field frame integer frame index\n---@field time number time (s)\n"
+  local frame = { "---@class Frame" }
+  for _, f in ipairs(api.frame_fields) do frame[#frame + 1] = ("---@field %s %s %s"):format(f.name, ls_type(f.type), doc_line(f)) end
+  out[#out + 1] = table.concat(frame, "\n") .. "\n"
   for _, st in ipairs(api.structs) do
     out[#out + 1] = ("---@class %s %s"):format(st.name, st.summary)
     for _, f in ipairs(st.fields) do

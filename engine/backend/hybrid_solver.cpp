@@ -27,11 +27,13 @@ struct HybridRunState final : SolverRunState {
 class HybridSolver final : public Solver {
  public:
   HybridSolver(const mesh::TetMesh& m, const std::vector<fem::Material>& tet_material, const hybrid::Partition& p,
-               const SolverSpec& spec, bool need_interior, BackendChoice choice, gpu::EglContext* context)
+               const SolverSpec& spec, bool need_interior, BackendChoice choice, gpu::EglContext* context,
+               const StopFlags& stop)
       : spec_(spec), need_interior_(need_interior), choice_(std::move(choice)) {
     hybrid::PrecomputeOptions opt;
     opt.storage = spec.storage;
     opt.max_bytes = spec.max_bytes;
+    opt.stop = stop;
     model_ = hybrid::precompute_cached(m, tet_material, p, opt, {spec.cache_dir}, &cache_);
     if (choice_.backend == Backend::gpu) {
       // The kernels compile once, here, so a context without what they need
@@ -286,8 +288,10 @@ class HybridSolver final : public Solver {
 
 std::unique_ptr<Solver> make_hybrid_solver(const mesh::TetMesh& m, const std::vector<fem::Material>& tet_material,
                                            const hybrid::Partition& partition, const SolverSpec& spec,
-                                           bool need_interior, BackendChoice choice, gpu::EglContext* context) {
-  return std::make_unique<HybridSolver>(m, tet_material, partition, spec, need_interior, std::move(choice), context);
+                                           bool need_interior, BackendChoice choice, gpu::EglContext* context,
+                                           const StopFlags& stop) {
+  return std::make_unique<HybridSolver>(m, tet_material, partition, spec, need_interior, std::move(choice), context,
+                                        stop);
 }
 
 }  // namespace softcut::backend

@@ -68,6 +68,7 @@ BackendChoice choose_backend(const SolverSpec& spec, const gpu::ContextInfo* inf
 std::unique_ptr<Solver> make_solver(const mesh::TetMesh& m, const std::vector<fem::Material>& tet_material,
                                     const hybrid::Partition& partition, const SolverSpec& spec, bool need_interior,
                                     const RunResources& resources, Diagnostics& diag) {
+  resources.stop.poll("compile");
   BackendChoice choice = choose_backend(spec, resources.context ? &resources.context->info() : nullptr);
   if (spec.gpu_fp64 && choice.backend != Backend::gpu)
     diag.warn("solver: gpu_fp64 ignored: the operational backend is ", to_string(choice.backend), " (", choice.reason,
@@ -80,7 +81,8 @@ std::unique_ptr<Solver> make_solver(const mesh::TetMesh& m, const std::vector<fe
              to_string(choice.backend), "' keeps none: use backend \"auto\" (or \"direct\", \"monolithic\")");
   if (choice.backend == Backend::monolithic)
     return make_monolithic_solver(m, tet_material, partition, std::move(choice), spec);
-  return make_hybrid_solver(m, tet_material, partition, spec, need_interior, std::move(choice), resources.context);
+  return make_hybrid_solver(m, tet_material, partition, spec, need_interior, std::move(choice), resources.context,
+                            resources.stop);
 }
 
 }  // namespace softcut::backend

@@ -15,6 +15,7 @@
 
 #include "backend/spec.hpp"
 #include "core/error.hpp"
+#include "core/stop_flags.hpp"
 #include "fem/grip_springs.hpp"
 #include "fem/material.hpp"
 #include "gpu/dense_product.hpp"
@@ -31,6 +32,7 @@ namespace softcut::backend {
 // the stepping thread.
 struct RunResources {
   gpu::EglContext* context = nullptr;
+  StopFlags stop;  // Ctrl-C and the watchdog, polled by the precompute (core/stop_flags.hpp)
 };
 
 // The operational backend actually used and why (written to summary.json).

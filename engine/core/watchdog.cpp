@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 
 namespace softcut {
@@ -22,6 +23,11 @@ Watchdog::Watchdog(double seconds, double grace_s, std::string message)
     std::fflush(stderr);
     ::_exit(124);
   });
+}
+
+double Watchdog::seconds_left() const {
+  if (!(seconds_ > 0)) return HUGE_VAL;
+  return seconds_ - std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
 }
 
 Watchdog::~Watchdog() {

@@ -7,6 +7,7 @@
 // code where nothing polls), it prints `message` and ends the process with
 // exit status 124, as timeout(1) does: outputs are then left unfinished.
 #include <atomic>
+#include <chrono>
 #include <condition_variable>
 #include <mutex>
 #include <string>
@@ -24,9 +25,12 @@ class Watchdog {
 
   const std::atomic<bool>& expired() const { return expired_; }
   double seconds() const { return seconds_; }
+  // Time until the deadline, s (negative past it; infinite without a limit).
+  double seconds_left() const;
 
  private:
   double seconds_, grace_s_;
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
   std::string message_;
   std::atomic<bool> expired_{false};
   std::mutex mutex_;

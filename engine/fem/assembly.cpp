@@ -57,7 +57,7 @@ void check_tets(const mesh::TetMesh& m, const std::vector<Material>& tet_materia
 }
 
 SparseMatrix assemble_stiffness(const mesh::TetMesh& m, const std::vector<Material>& tet_material,
-                                const std::vector<int>& tets_in, int threads) {
+                                const std::vector<int>& tets_in, int threads, const StopFlags* stop) {
   const int nn = m.num_nodes();
   const std::vector<int> tets = tet_set(m, tets_in);
   check_tets(m, tet_material, tets, "assemble_stiffness");
@@ -131,8 +131,13 @@ SparseMatrix assemble_stiffness(const mesh::TetMesh& m, const std::vector<Materi
   int nthreads = threads;
   if (nthreads <= 0)
     nthreads = tets.size() < 20000 ? 1 : int(std::clamp(std::thread::hardware_concurrency(), 1u, 8u));
+  // ~10 ms of elements between polls.
+  constexpr size_t kPollEvery = 8192;
   if (nthreads == 1) {
-    for (int t : tets) scatter(t, 0, nn);
+    for (size_t k = 0; k < tets.size(); ++k) {
+      if (stop && k % kPollEvery == 0) stop->poll("assembling the stiffness matrix");
+      scatter(tets[k], 0, nn);
+    }
     return K;
   }
 
@@ -164,9 +169,14 @@ SparseMatrix assemble_stiffness(const mesh::TetMesh& m, const std::vector<Materi
   std::vector<std::thread> pool;
   for (int p = 0; p < nthreads; ++p)
     pool.emplace_back([&, p] {
-      for (int t : work[size_t(p)]) scatter(t, bound[size_t(p)], bound[size_t(p) + 1]);
+      const std::vector<int>& mine = work[size_t(p)];
+      for (size_t k = 0; k < mine.size(); ++k) {
+        if (stop && k % kPollEvery == 0 && stop->requested()) return;  // thrown below, on the caller's thread
+        scatter(mine[k], bound[size_t(p)], bound[size_t(p) + 1]);
+      }
     });
   for (auto& th : pool) th.join();
+  if (stop) stop->poll("assembling the stiffness matrix");
   return K;
 }
 

@@ -7,6 +7,7 @@
 #include <array>
 #include <vector>
 
+#include "core/stop_flags.hpp"
 #include "fem/element_stiffness.hpp"
 #include "fem/material.hpp"
 
@@ -24,8 +25,10 @@ using SparseMatrix = Eigen::SparseMatrix<double>;  // column-major, int indices
 // result does not depend on the thread count (same additions, same order per
 // entry). Throws softcut::Error naming the tet for ids out of range, a
 // degenerate or inverted tet (run mesh::validate first), or a bad material.
+// `stop` (optional) is polled every few thousand tets: a stop request ends
+// the assembly with its InterruptedError / TimeoutError (core/stop_flags.hpp).
 SparseMatrix assemble_stiffness(const mesh::TetMesh& m, const std::vector<Material>& tet_material,
-                                const std::vector<int>& tets = {}, int threads = 0);
+                                const std::vector<int>& tets = {}, int threads = 0, const StopFlags* stop = nullptr);
 
 // K of the tets restricted to a subset of nodes and renumbered, in 3x3 node
 // blocks (block CSR; K is symmetric, so node row j is node column j):

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <exception>
 #include <functional>
 #include <mutex>
@@ -13,6 +14,7 @@
 #include "core/timer.hpp"
 #include "fem/assembly.hpp"
 #include "hybrid/loads.hpp"
+#include "hybrid/precompute_estimate.hpp"
 #include "hybrid/schur_complement.hpp"
 
 namespace softcut::hybrid {
@@ -70,6 +72,23 @@ void for_column_blocks(Eigen::Index n, Eigen::Index B, int threads,
     work();
   }
   if (error) std::rethrow_exception(error);
+}
+
+// Refuses, before K^non is assembled, a model whose assembly or K22 factor
+// would pass `max_bytes` (precompute_estimate.hpp). The factor estimate may
+// be off by a few tens of percent: past 1.5x the limit it is refused here;
+// Cholesky::factor checks the exact size after its own symbolic analysis.
+void check_estimate(const mesh::TetMesh& m, const Model& M, const Partition& p, double max_bytes) {
+  const auto mib = [](double b) { return (long long)(b / (1 << 20)); };
+  const auto refuse = [&](const char* what, double bytes) {
+    fail("hybrid precompute: ", what, " of the ", p.nonoperational_tets.size(), " nonoperational tets (",
+         M.nonop_nodes.size(), " free nodes) would take about ", mib(bytes), " MiB, more than the ", mib(max_bytes),
+         " MiB allowed (the sandbox's memory budget); use a coarser mesh, or run with --trust");
+  };
+  const PrecomputeEstimate counts = estimate_precompute(m, p, M.nonop_nodes, false);
+  if (counts.assembly_bytes > max_bytes) refuse("assembling the stiffness", counts.assembly_bytes);
+  const PrecomputeEstimate est = estimate_precompute(m, p, M.nonop_nodes, true);
+  if (est.factor_bytes > 1.5 * max_bytes) refuse("the Cholesky factor of K22", est.factor_bytes);
 }
 
 }  // namespace
@@ -139,27 +158,18 @@ Model precompute(const mesh::TetMesh& m, const std::vector<fem::Material>& tet_m
   const Eigen::Index n23 = 3 * Eigen::Index(M.nonop_nodes.size());
   const Eigen::Index B = opt.block_columns;
 
-  // Blocks of K^non.
-  Timer t;
-  Eigen::MatrixXd K_prime = Eigen::MatrixXd::Zero(ni3, ni3);
-  SparseMatrix K22;
-  if (!p.nonoperational_tets.empty()) {
-    const SparseMatrix Knon = fem::assemble_stiffness(m, tet_material, p.nonoperational_tets);
-    K22 = node_block(Knon, M.nonop_nodes, M.nonop_nodes);
-    M.K2I = node_block(Knon, M.nonop_nodes, p.interface);
-    M.KI2 = M.K2I.transpose();
-    K_prime = Eigen::MatrixXd(node_block(Knon, p.interface, p.interface));
-  } else {
-    M.K2I = SparseMatrix(n23, ni3);
-    M.KI2 = SparseMatrix(ni3, n23);
-  }
-  M.timings.assemble_ms = t.ms();
-
-  // Memory of each storage mode, before anything large is allocated.
+  // Memory of each storage mode and of the assembly, from counts alone,
+  // before anything large is allocated (the mode's blocks; K^non and its
+  // blocks; the K22 factor from the node graph's symbolic analysis).
+  // Solve temporaries: column blocks of n23 rows, B wide; factor mode solves
+  // no blocks (K' comes from one bordered factorization), only a few columns
+  // at a time later (a frame's update, a node's first touch). Counting B
+  // columns there refused a 2M-tet body as "needs 2009 MiB ... make the
+  // operational region's border smaller" when it had no border at all.
   const double temp = 8.0 * double(n23) * double(std::min<Eigen::Index>(B, std::max(ns3, ni3)));
   M.memory.dense_bytes = 8.0 * double(ns3 * ns3 + 2 * ns3 * ni3 + ni3 * ni3) + temp;
   M.memory.product_bytes = 8.0 * double(ns3 * ni3 + ni3 * ni3) + temp;
-  M.memory.factor_bytes = 8.0 * double(ni3 * ni3) + temp;
+  M.memory.factor_bytes = 8.0 * double(ni3 * ni3) + 8.0 * double(n23) * 3;
   M.memory.budget_bytes = opt.memory_budget_bytes;
   auto check_fits = [&](Storage s) {
     const double need = s == Storage::dense     ? M.memory.dense_bytes
@@ -173,11 +183,31 @@ Model precompute(const mesh::TetMesh& m, const std::vector<fem::Material>& tet_m
   };
   if (opt.storage != Storage::automatic) check_fits(opt.storage);
   else check_fits(Storage::factor);
+  if (std::isfinite(opt.max_bytes)) check_estimate(m, M, p, opt.max_bytes);
+  opt.stop.poll("hybrid precompute");
+
+  // Blocks of K^non.
+  Timer t;
+  Eigen::MatrixXd K_prime = Eigen::MatrixXd::Zero(ni3, ni3);
+  SparseMatrix K22;
+  if (!p.nonoperational_tets.empty()) {
+    const SparseMatrix Knon = fem::assemble_stiffness(m, tet_material, p.nonoperational_tets, 0, &opt.stop);
+    K22 = node_block(Knon, M.nonop_nodes, M.nonop_nodes);
+    M.K2I = node_block(Knon, M.nonop_nodes, p.interface);
+    M.KI2 = M.K2I.transpose();
+    K_prime = Eigen::MatrixXd(node_block(Knon, p.interface, p.interface));
+  } else {
+    M.K2I = SparseMatrix(n23, ni3);
+    M.KI2 = SparseMatrix(ni3, n23);
+  }
+  M.timings.assemble_ms = t.ms();
+  opt.stop.poll("hybrid precompute");
 
   t.reset();
   if (n23 > 0) M.K22.factor(K22, "hybrid precompute: K22 (free nonoperational nodes)", opt.max_bytes);
   M.timings.factor_ms = t.ms();
   M.memory.factor_nonzeros = M.K22.factor_nonzeros();
+  opt.stop.poll("hybrid precompute");
 
   // automatic: the cheaper full-surface update that fits (see the header).
   const bool product_fits = ns3 * ni3 > 0 && M.memory.product_bytes <= std::min(opt.memory_budget_bytes, opt.max_bytes);
@@ -205,6 +235,7 @@ Model precompute(const mesh::TetMesh& m, const std::vector<fem::Material>& tet_m
   }
   if (keep_Y && n23 > 0)
     for_column_blocks(ni3, B, block_threads, [&](Eigen::Index c0, Eigen::Index w, solve::SolveWorkspace& ws) {
+      opt.stop.poll("hybrid precompute (K22^-1 K2I)");
       const Eigen::MatrixXd Yb = M.K22.solve(Eigen::MatrixXd(M.K2I.middleCols(c0, w)), ws);
       K_prime.middleCols(c0, w).noalias() -= M.KI2 * Yb;  // (each block its own columns)
       Timer tp;
@@ -226,6 +257,7 @@ Model precompute(const mesh::TetMesh& m, const std::vector<fem::Material>& tet_m
     t.reset();
     M.Kstar_inv.resize(ns3, ns3);
     for_column_blocks(ns3, B, block_threads, [&](Eigen::Index c0, Eigen::Index w, solve::SolveWorkspace& ws) {
+      opt.stop.poll("hybrid precompute (K*^-1)");
       Eigen::MatrixXd E = Eigen::MatrixXd::Zero(n23, w);
       for (Eigen::Index k = 0; k < w; ++k) E(c0 + k, k) = 1.0;
       M.Kstar_inv.middleCols(c0, w) = M.K22.solve(E, ws).topRows(ns3);
@@ -252,6 +284,7 @@ Model precompute(const mesh::TetMesh& m, const std::vector<fem::Material>& tet_m
   }
   M.timings.Kstar_inv_Ps0_ms = t.ms();
 
+  opt.stop.poll("hybrid precompute");
   t.reset();
   build_operational(m, M);
   M.timings.operational_ms = t.ms();

@@ -36,6 +36,7 @@
 #include <string_view>
 #include <vector>
 
+#include "core/stop_flags.hpp"
 #include "fem/material.hpp"
 #include "hybrid/operational_system.hpp"
 #include "hybrid/partition.hpp"
@@ -63,6 +64,10 @@ struct PrecomputeOptions {
   // single-threaded BLAS): 1 or 2; 0: 2 when the thread policy has two idle
   // cores and a second block's temporary memory fits. The bits are the same either way.
   int block_threads = 0;
+  // Polled between pieces of work (assembly, column blocks): a stop request
+  // ends the precompute at once with its InterruptedError / TimeoutError.
+  // Not part of the cache key.
+  StopFlags stop;
 };
 
 // Table 3 rows, ms. Solves shared by two rows are booked where first needed.

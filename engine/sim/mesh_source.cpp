@@ -46,6 +46,14 @@ class Options {
       }
     }
   }
+  // An older spelling of option `name`, still read (not listed as known).
+  void alias(const char* old_name, const char* name) {
+    const auto it = left_.find(old_name);
+    if (it == left_.end()) return;
+    if (left_.count(name)) fail(what_, ": options '", old_name, "' and '", name, "' are the same option; give '", name, "' only");
+    left_[name] = it->second;
+    left_.erase(old_name);
+  }
   void finish() const {
     if (left_.empty()) return;
     std::string known;
@@ -86,7 +94,9 @@ void band_options(Options& o, mesh::BandOptions& b) {
   if (o.asks_for({"along", "across", "through", "target_tets", "target_nodes"})) b.target_tets = b.target_nodes = 0;
   o.vec("base_center", b.base_center);
   o.num("length", b.length), o.num("width", b.width), o.num("thickness", b.thickness);
-  o.num("flare", b.flare), o.num("twist_deg", b.twist_deg);
+  // `twist` (degrees), as `softcut mesh generate band --twist`; twist_deg is its old name.
+  o.alias("twist_deg", "twist");
+  o.num("flare", b.flare), o.num("twist", b.twist_deg);
   o.integer("along", b.along), o.integer("across", b.across), o.integer("through", b.through);
   common(o, b.target_tets, b.target_nodes, b.jitter, b.seed, b.label);
 }

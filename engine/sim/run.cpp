@@ -1,7 +1,11 @@
 #include "sim/run.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <exception>
+
+#include "core/error.hpp"
 
 #include "core/timer.hpp"
 #include "sim/outputs.hpp"
@@ -36,9 +40,30 @@ RunResult run(const Model& m, State& s, Recorder& rec, const RunHooks& hooks) {
     else return false;
     return true;
   };
+  // The frames left cannot be made before the deadline: stop now (see RunHooks::seconds_left).
+  constexpr double kSettle = 2.0, kMargin = 1.5;
+  double next_projection = kSettle;
+  auto foreseen_timeout = [&] {
+    const double elapsed = wall.seconds();
+    if (!std::isfinite(hooks.seconds_left) || elapsed < next_projection || r.frames < 2) return false;
+    next_projection = elapsed + 1.0;
+    const double per_frame = elapsed / r.frames, left = per_frame * (last - s.frame);
+    if (!(left > kMargin * (hooks.seconds_left - elapsed))) return false;
+    r.reason = ExitReason::timeout;
+    char when[64];
+    std::snprintf(when, sizeof when, left >= 7200 ? "%.1f h" : left >= 120 ? "%.0f min" : "%.0f s",
+                  left >= 7200 ? left / 3600 : left >= 120 ? left / 60 : left);
+    char ms[32];
+    std::snprintf(ms, sizeof ms, "%.2g", per_frame * 1e3);
+    r.message = cat("at ", ms, " ms per frame the ", last - s.frame,
+                    " frames left would take about ", when, ", past the wall-clock limit (--timeout) in ",
+                    std::round(std::max(0.0, hooks.seconds_left - elapsed)), " s: stopped now; lower fps or duration, "
+                    "stop earlier with --frames N, or raise --timeout");
+    return true;
+  };
   try {
     while (s.frame < last) {
-      if (stop_reason(r.reason)) break;
+      if (stop_reason(r.reason) || foreseen_timeout()) break;
       step(m, s);
       rec.record(m, s);
       r.frames++;

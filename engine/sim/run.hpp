@@ -2,6 +2,7 @@
 // The frame loop behind `softcut run`: step, record, call the script, report
 // progress, honour interruption (Ctrl-C) and script stop requests.
 #include <atomic>
+#include <cmath>
 #include <functional>
 #include <string>
 
@@ -34,13 +35,19 @@ struct RunHooks {
   // either flag is set (a script stopped inside on_frame) ends the run the
   // same way, not as an error.
   const std::atomic<bool>* timed_out = nullptr;
+  // Seconds left until that deadline when the loop starts (infinite: none).
+  // Once the frames made so far show that the rest cannot finish in time
+  // (projected at more than 1.5x what is left, after 2 s of frames), the run
+  // ends at once as a timeout, saying so, instead of computing until the
+  // deadline: 1e7 frames of a small box took hours.
+  double seconds_left = HUGE_VAL;
   int max_frames = -1;  // >= 0: stop after this many frames (CLI --frames)
 };
 
 struct RunResult {
   int frames = 0;             // frames completed and recorded
   ExitReason reason = ExitReason::completed;
-  std::string message;        // error text when reason == error
+  std::string message;        // error text when reason == error; why, for a timeout foreseen
   double wall_s = 0.0;
 };
 

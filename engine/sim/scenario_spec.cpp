@@ -33,13 +33,18 @@ void check_scenario_name(const std::string& name) {
 void check_spec(const ScenarioSpec& s) {
   check_scenario_name(s.name);
   const Timeline& tl = s.timeline;
+  const std::string tw = prefixed(!tl.where.empty() ? tl.where : s.source.empty() ? "" : s.source.filename().string(),
+                                  "timeline");
   if (!(tl.duration >= 0) || !std::isfinite(tl.duration))
-    fail("timeline: duration must be a finite number >= 0 s, got ", tl.duration);
+    fail(tw, ": duration must be a finite number >= 0 s, got ", tl.duration);
+  // 1 / fps is the time step: 5e-324 Hz made it infinite, and every frame's time NaN.
   if (!(tl.fps > 0) || !std::isfinite(tl.fps))
-    fail("timeline: fps must be > 0 Hz, got ", tl.fps);
-  if (tl.duration * tl.fps > 1e7)
-    fail(s.source.empty() ? std::string() : s.source.filename().string() + ": ", "timeline: ",
-         tl.duration * tl.fps, " frames (duration x frame rate) is too many; the limit is 10000000, "
+    fail(tw, ": fps must be > 0 Hz, got ", tl.fps, " (it must lie in [", Timeline::kMinFps, ", ", Timeline::kMaxFps, "])");
+  if (!(tl.fps >= Timeline::kMinFps && tl.fps <= Timeline::kMaxFps))
+    fail(tw, ": fps = ", tl.fps, " Hz is out of range: it must lie in [", Timeline::kMinFps, ", ", Timeline::kMaxFps,
+         "] (a frame at most every 1000 s, at least every 0.1 ms)");
+  if (tl.duration * tl.fps > Timeline::kMaxFrames)
+    fail(tw, ": ", tl.duration * tl.fps, " frames (duration x frame rate) is too many; the limit is 10000000, "
          "shorten the duration or lower the frame rate");
 
   for (const auto& m : s.materials) {
@@ -109,7 +114,8 @@ void check_spec(const ScenarioSpec& s) {
   if (!r.eye.allFinite() || !r.target.allFinite() || !(r.up.norm() > 0))
     fail("outputs.render: eye and target must be finite and up nonzero");
   if (!(r.elevation_deg > -90 && r.elevation_deg < 90))
-    fail("outputs.render: elevation_deg must lie in (-90, 90), got ", r.elevation_deg);
+    fail(prefixed(o.where, "output: render"), ": elevation must lie in (-90, 90) degrees, got ", r.elevation_deg,
+         " (at +-90 the camera looks along `up` and has no horizon; to look straight down use 89.9)");
   if (!std::isfinite(r.azimuth_deg) || !std::isfinite(r.orbit_deg_per_s))
     fail("outputs.render: azimuth_deg and orbit_deg_per_s must be finite");
   if (!r.background.allFinite() || r.background.minCoeff() < 0 || r.background.maxCoeff() > 1)

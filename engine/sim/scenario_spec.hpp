@@ -97,7 +97,10 @@ struct LoadSpec {
 
 struct Timeline {
   double duration = 1.0;     // s, >= 0
-  double fps = 30.0;  // Hz, > 0
+  double fps = 30.0;         // Hz, kMinFps .. kMaxFps
+  std::string where;         // "scenario.lua:3" (softcut.scenario{}; prefixes messages), may be empty
+  static constexpr double kMinFps = 1e-3, kMaxFps = 1e4;  // a frame at most every 1000 s, at least every 0.1 ms
+  static constexpr double kMaxFrames = 1e7;
   // Frames are i = 0 .. num_frames - 1 at t = i / fps, with
   // num_frames = floor(duration * fps + 1e-9) + 1 (t = 0 included).
 };
@@ -143,6 +146,7 @@ struct OutputSpec {
   bool vtu = false;                 // vtu/frame_000123.vtu + series.pvd
   int vtu_every = 1;                // every n-th frame
   RenderSettings render;            // stored for the renderer
+  std::string where;                // "scenario.lua:12" (s:output{}; prefixes messages), may be empty
 };
 
 // Cutter options (cut::CutOptions, docs/cutting.md).

@@ -52,6 +52,16 @@ void Cholesky::factor(const Eigen::SparseMatrix<double>& A, const std::string& w
   rows_ = int(A.rows());
 }
 
+double Cholesky::symbolic_nonzeros(const Eigen::SparseMatrix<double>& A) {
+  if (A.rows() == 0) return 0;
+  Llt llt;
+  llt.cholmod().print = 0;
+  llt.cholmod().final_asis = 0;  // as factor() asks
+  llt.cholmod().final_ll = 1;
+  llt.analyzePattern(A);
+  return double(llt.cholmod().lnz);
+}
+
 Eigen::MatrixXd Cholesky::solve(const Eigen::MatrixXd& B, SolveWorkspace& ws) const {
   if (!llt_) fail("Cholesky::solve called before factor()");
   if (B.rows() != rows_) fail("Cholesky::solve: right-hand sides with ", B.rows(), " rows for a ", rows_, "-row factor");

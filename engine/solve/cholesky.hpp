@@ -50,6 +50,11 @@ class Cholesky {
   explicit Cholesky(const Eigen::SparseMatrix<double>& A, const std::string& what = "matrix");
   void factor(const Eigen::SparseMatrix<double>& A, const std::string& what = "matrix",
               double max_bytes = std::numeric_limits<double>::infinity());
+  // Nonzeros of the factor factor() would make of a matrix with A's pattern
+  // (lower triangle read; values ignored): CHOLMOD's symbolic analysis only,
+  // with the same ordering methods. For estimates made before a matrix is
+  // assembled (hybrid/precompute_estimate.hpp).
+  static double symbolic_nonzeros(const Eigen::SparseMatrix<double>& A);
 
   // Every solve takes the caller's workspace: CHOLMOD's solve reads the
   // factor only and keeps its scratch and status in the workspace's common,

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 
@@ -62,9 +63,44 @@ void* budget_alloc(void* ud, void* ptr, std::size_t osize, std::size_t nsize) {
   return p;
 }
 
+void begin_call(lua_State* L, Runtime::Budget* b) {
+  set_running_state(L);
+  if (!(b->cpu_limit_s > 0)) return;
+  b->cpu_start_s = thread_cpu_seconds();
+  b->cpu_polls = 0;
+  b->cpu_timer = b->timer.arm(b->cpu_limit_s);
+}
+
+void end_call(Runtime::Budget* b) {
+  if (b->cpu_timer) b->timer.disarm();
+  b->cpu_timer = false;
+  set_running_state(nullptr);
+}
+
+namespace {
+
+// Past the call's CPU time: fatal. Woken early (engine work the clock
+// exempts ran meanwhile): the timer is set again for what is left.
+void check_cpu(lua_State* L, Runtime::Budget* b) {
+  const double used = thread_cpu_seconds() - b->cpu_start_s;
+  if (used >= b->cpu_limit_s) {
+    make_fatal(b, cat(user_where(L), ": CPU time limit of ", b->cpu_limit_s, " s per call exceeded (this call into "
+                      "the script ran ", std::round(used * 10) / 10, " s: a loop of costly work inside Lua's C code, "
+                      "on huge strings or tables?); run with --trust to lift the sandbox budgets"));
+  } else if (b->cpu_timer) {
+    b->cpu_timer = b->timer.arm(b->cpu_limit_s - used);
+  }
+}
+
+}  // namespace
+
 void count_hook(lua_State* L, lua_Debug*) {
   Runtime::Budget* b = budget_of(L);
-  b->instructions += kHookInterval;
+  // Called at once (count 1) by the CPU timer's signal or after a fatal stop,
+  // else every kHookInterval instructions.
+  const bool woken = lua_gethookcount(L) != kHookInterval;
+  b->instructions += woken ? 1 : kHookInterval;
+  set_running_state(L);  // a coroutine's hook runs on the coroutine
   if (!b->fatal) {
     if (b->interrupt && b->interrupt->load()) {
       make_fatal(b, user_where(L) + ": interrupted");
@@ -73,9 +109,12 @@ void count_hook(lua_State* L, lua_Debug*) {
                         " s was reached (--timeout SECONDS raises it)"));
     } else if (b->instruction_limit && b->instructions > b->instruction_limit) {
       make_fatal(b, budget_message(L, b, nullptr));
+    } else if (b->cpu_limit_s > 0 && (woken || (!b->cpu_timer && ++b->cpu_polls % 16 == 0))) {
+      check_cpu(L, b);
     }
   }
   if (b->fatal) raise_fatal(L);
+  if (woken) lua_sethook(L, count_hook, LUA_MASKCOUNT, kHookInterval);
 }
 
 int raise_fatal(lua_State* L) {
@@ -91,6 +130,85 @@ int call_original(lua_State* L, int nresults) {
   lua_insert(L, 1);
   lua_call(L, lua_gettop(L) - 1, nresults);
   return lua_gettop(L);
+}
+
+namespace {
+
+// Whether an error message starts with a position, "file:12: " (first line).
+bool has_position(const char* m, size_t n) {
+  for (size_t i = 0; i < n && m[i] != '\n'; ++i) {
+    if (m[i] != ':') continue;
+    size_t j = i + 1;
+    while (j < n && m[j] >= '0' && m[j] <= '9') ++j;
+    if (j > i + 1 && j < n && m[j] == ':') return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+int call_original_placed(lua_State* L, int nresults, const char* name) {
+  lua_pushvalue(L, lua_upvalueindex(1));
+  lua_insert(L, 1);
+  const int status = lua_pcall(L, lua_gettop(L) - 1, nresults, 0);
+  if (status == LUA_OK) return lua_gettop(L);
+  if (budget_of(L)->fatal) raise_fatal(L);
+  size_t n = 0;
+  const char* m = lua_type(L, -1) == LUA_TSTRING ? lua_tolstring(L, -1, &n) : nullptr;
+  if (status != LUA_ERRMEM && m && !has_position(m, n)) {
+    {
+      // The original raised with luaL_where of its caller, this wrapper (a C
+      // function: no line): the script's line instead, and the function's
+      // name where Lua could not find it ("bad argument #1 to '?'").
+      std::string msg(m, n);
+      const size_t q = msg.find(" to '?'");
+      if (name && q != std::string::npos) msg.replace(q, 7, cat(" to '", name, "'"));
+      msg.insert(0, user_prefix(L));
+      lua_pushlstring(L, msg.data(), msg.size());
+    }  // no C++ object alive across lua_error
+    lua_replace(L, -2);
+  }
+  return lua_error(L);
+}
+
+namespace {
+
+// Lua's parser is C code that no hook reaches, and some inputs take it
+// quadratic time (a 1e6-term `a or a or ...` parses for many minutes): the
+// text goes to it in pieces and the CPU time is checked between them.
+struct PieceReader {
+  const char* p;
+  size_t left;
+  const char* chunkname;
+  double start;  // CPU clock the limit counts from, s
+};
+
+constexpr size_t kPieceBytes = 4096;
+
+const char* read_piece(lua_State* L, void* ud, size_t* size) {
+  auto* r = static_cast<PieceReader*>(ud);
+  if (r->left == 0) return nullptr;
+  Runtime::Budget* b = budget_of(L);
+  if (b->cpu_limit_s > 0 && !b->fatal && thread_cpu_seconds() - r->start >= b->cpu_limit_s) {
+    std::string where = user_where(L);
+    if (where == "?") where = r->chunkname[0] == '@' || r->chunkname[0] == '=' ? r->chunkname + 1 : "load";
+    make_fatal(b, cat(where, ": CPU time limit of ", b->cpu_limit_s, " s per call exceeded while Lua parsed the chunk "
+                      "(a huge or deeply chained expression?); run with --trust to lift the sandbox budgets"));
+  }
+  if (b->fatal) raise_fatal(L);  // the parser's protected call returns it; the next instruction raises it again
+  const size_t k = std::min(r->left, kPieceBytes);
+  *size = k;
+  const char* piece = r->p;
+  r->p += k, r->left -= k;
+  return piece;
+}
+
+}  // namespace
+
+int load_text(lua_State* L, const char* text, size_t n, const char* chunkname, const char* mode) {
+  Runtime::Budget* b = budget_of(L);
+  PieceReader r{text, n, chunkname, b->calls_active > 0 ? b->cpu_start_s : thread_cpu_seconds()};
+  return lua_load(L, read_piece, &r, chunkname, mode);
 }
 
 void charge_or_raise(lua_State* L, double instructions, const char* what) {
@@ -113,7 +231,11 @@ namespace {
 // failure (first result false) while the budget is fatal, raises instead.
 int rethrowing_call(lua_State* L) {
   if (budget_of(L)->fatal) raise_fatal(L);  // nothing more runs, no handler, no __close
+  // coroutine.resume runs another state: back here, this one runs again (the
+  // CPU timer's signal must never reach a coroutine that may be freed).
+  lua_State* const running = running_state();
   call_original(L);
+  set_running_state(running);
   if (budget_of(L)->fatal && lua_gettop(L) >= 1 && lua_isboolean(L, 1) && !lua_toboolean(L, 1)) raise_fatal(L);
   return lua_gettop(L);
 }
@@ -149,7 +271,9 @@ int bounded_close(lua_State* L) {
   lua_pushcclosure(L, bounded_close_body, 1);
   lua_insert(L, 1);
   ++b->close_depth;
+  lua_State* const running = running_state();
   const int status = lua_pcall(L, n, LUA_MULTRET, 0);
+  set_running_state(running);
   --b->close_depth;
   if (status != LUA_OK) return lua_error(L);
   if (b->fatal && lua_isboolean(L, 1) && !lua_toboolean(L, 1)) raise_fatal(L);
@@ -282,10 +406,33 @@ double cost_of(lua_State* L, Cost c) {
   return 0;
 }
 
+// string.rep whose result would not fit in what is left of the memory
+// budget: refused at the script's line before Lua tries (its own refusals,
+// "resulting string too large" or out of memory, name no line).
+void refuse_huge_rep(lua_State* L) {
+  const Runtime::Budget* b = budget_of(L);
+  if (!b->limit || !lua_isstring(L, 1)) return;
+  size_t ls = 0, lsep = 0;
+  lua_tolstring(L, 1, &ls);
+  if (lua_isstring(L, 3)) lua_tolstring(L, 3, &lsep);
+  const double n = opt_num(L, 2, 0);
+  if (!(n > 0)) return;
+  const double bytes = n * double(ls) + (n - 1) * double(lsep);
+  const double left = double(b->limit) - double(std::min(b->limit, b->used + b->native));
+  if (!(bytes > left)) return;
+  char size[32];
+  std::snprintf(size, sizeof size, "%.3g", bytes);
+  luaL_error(L, "string.rep: memory budget of %d MiB exceeded: the result would take %s bytes, more than the %d MiB "
+                "left; build a smaller string, or run with --trust to lift the sandbox budgets",
+             int(b->limit >> 20), size, int(left / (1 << 20)));
+}
+
 int charged_call(lua_State* L) {
   const auto c = static_cast<Cost>(lua_tointeger(L, lua_upvalueindex(2)));
-  charge_or_raise(L, cost_of(L, c), lua_tostring(L, lua_upvalueindex(3)));
-  return call_original(L);
+  const char* name = lua_tostring(L, lua_upvalueindex(3));
+  if (c == Cost::rep) refuse_huge_rep(L);
+  charge_or_raise(L, cost_of(L, c), name);
+  return call_original_placed(L, LUA_MULTRET, name);
 }
 
 void wrap_charged(lua_State* L, const char* table, const char* name, Cost c) {
@@ -306,6 +453,11 @@ void wrap_charged(lua_State* L, const char* table, const char* name, Cost c) {
 // load(reader_function, ...): each piece the reader returns is parsed, so
 // each is charged like a source string.
 int charged_reader(lua_State* L) {
+  Runtime::Budget* b = budget_of(L);
+  if (b->cpu_limit_s > 0 && !b->fatal && thread_cpu_seconds() - b->cpu_start_s >= b->cpu_limit_s)
+    make_fatal(b, cat(user_where(L), ": CPU time limit of ", b->cpu_limit_s, " s per call exceeded while Lua parsed "
+                      "the chunk (a huge or deeply chained expression?); run with --trust to lift the sandbox budgets"));
+  if (b->fatal) raise_fatal(L);
   lua_pushvalue(L, lua_upvalueindex(1));
   lua_call(L, 0, 1);
   size_t n = 0;
@@ -322,7 +474,7 @@ int charged_load(lua_State* L) {
   } else {
     charge_or_raise(L, cost_of(L, Cost::load), "load");
   }
-  return call_original(L);
+  return call_original_placed(L, LUA_MULTRET, "load");
 }
 
 }  // namespace

@@ -17,7 +17,8 @@ namespace softcut::lua {
 
 namespace {
 
-// load(chunk [, name [, mode [, env]]]) with mode forced to text.
+// load(chunk [, name [, mode [, env]]]) with mode forced to text; a string
+// is parsed in pieces with the CPU time checked between them (load_text).
 int sandboxed_load(lua_State* L) {
   if (lua_type(L, 1) == LUA_TSTRING) {
     size_t n = 0;
@@ -25,6 +26,18 @@ int sandboxed_load(lua_State* L) {
     if (n > 0 && s[0] == LUA_SIGNATURE[0])
       return luaL_error(L, "load: binary chunks are refused in the sandbox (they can crash the "
                            "interpreter); load Lua source text, or run with --trust");
+    const char* chunkname = luaL_optstring(L, 2, s);  // as Lua's load names a string chunk
+    const int env = lua_gettop(L) >= 4 ? 4 : 0;
+    if (load_text(L, s, n, chunkname, "t") != LUA_OK) {
+      luaL_pushfail(L);
+      lua_insert(L, -2);
+      return 2;  // nil, message
+    }
+    if (env) {  // the first upvalue of a main chunk is its _ENV
+      lua_pushvalue(L, env);
+      if (!lua_setupvalue(L, -2, 1)) lua_pop(L, 1);
+    }
+    return 1;
   }
   const int top = lua_gettop(L);
   lua_pushvalue(L, lua_upvalueindex(1));
@@ -116,12 +129,7 @@ int guarded_pattern(lua_State* L) {
     w.steps = HUGE_VAL;
   }
   b->instructions += static_cast<long long>(std::min(w.steps, allowed) / kPatternStepsPerInstruction);
-  if (w.steps <= allowed) {
-    lua_pushvalue(L, lua_upvalueindex(1));
-    lua_insert(L, 1);
-    lua_call(L, lua_gettop(L) - 1, LUA_MULTRET);
-    return lua_gettop(L);
-  }
+  if (w.steps <= allowed) return call_original_placed(L, LUA_MULTRET, lua_tostring(L, lua_upvalueindex(3)));
   {
     const char* name = lua_tostring(L, lua_upvalueindex(3));
     std::string shown(p, std::min<size_t>(m, 60));

@@ -9,7 +9,9 @@
 #include <cstdio>
 #include <fstream>
 #include <sstream>
+#include <string>
 #include <thread>
+#include <vector>
 
 #include "cli_test_support.hpp"
 
@@ -273,5 +275,88 @@ return s
     CHECK(last_frame >= 20);
     CHECK(last_frame < 100000 - 1);
     CHECK(in_last == per_frame);
+  }
+
+  // Issue #38 item 17 and #40 items 7-8: mistakes a user makes, each run
+  // through the CLI; the message names the file:line and what to do, and no
+  // raw Lua wording or softcut's own frames are shown.
+  TEST_CASE("mistakes get a message with file:line and what to do, not Lua's raw wording") {
+    const std::string head = R"(local s = softcut.scenario{ name = "msg", duration = 0.2, fps = 10 }
+s:mesh{ generate = "box", options = { min = {0, 0, 0}, max = {0.1, 0.04, 0.04}, nx = 2, ny = 1, nz = 1 } }
+s:material{ tissue = "liver" }
+s:fix{ nodes = softcut.select.box{ min = {0, 0, 0}, max = {0, 0.04, 0.04} } }
+local tip = softcut.select.box{ min = {0.1, 0, 0}, max = {0.1, 0.04, 0.04} }
+)";
+    struct Case {
+      const char* what;
+      std::string tail;                 // line 6 on
+      std::vector<std::string> wanted;  // in the output
+      std::vector<std::string> unwanted;
+    };
+    const std::vector<Case> cases = {
+        {"a force whose length overflows", "s:load{ nodes = tip, force = {0, 0, -1e300} }\n",
+         {"s.lua:6: load: field 'force' (length 1e+300 N) reaches 1e+300 N", "bound"}, {"'to'", "ramp"}},
+        {"a force times its ramp", "s:load{ nodes = tip, force = {0, 0, -2}, ramp = softcut.ramp.linear{ t1 = 1, to = 1e7 } }\n",
+         {"s.lua:6: load: field 'force' (length 2 N) times field 'ramp' (up to 1e+07) reaches 2e+07 N"}, {}},
+        {"error({}) in on_frame", "s:on_frame(function(f) error({}) end)\n",
+         {"s.lua:6: error raised with table as its message", "error(\"what went wrong\")"}, {"table: 0x"}},
+        {"string.rep of 2^40", "local x = string.rep('x', 2^40)\n",
+         {"s.lua:6: string.rep: memory budget of 512 MiB exceeded: the result would take 1.1e+12 bytes", "--trust"},
+         {"resulting string too large"}},
+        {"load of a binary chunk", "local f = load(string.dump(function() end))\n",
+         {"s.lua:6: load: binary chunks are refused"}, {}},
+        {"a misspelled Scenario method", "s:grasp{ name = 'jaw', path = {0, 0, 0}, stiffness = 1 }\n",
+         {"s.lua:6: Scenario has no method 'grasp' (did you mean 'grasper'?)", "s.lua:6: in main chunk"},
+         {"attempt to call a nil value", "softcut/", "[C]"}},
+        {"a misspelled selection", "s:fix{ nodes = softcut.select.sphre{ center = {0, 0, 0}, radius = 1 } }\n",
+         {"s.lua:6: softcut.select has no function 'sphre' (did you mean 'sphere'?)"}, {"attempt to call"}},
+        {"a misspelled Frame method", "s:on_frame(function(f)\n  local d = f:max_displacment(tip)\nend)\n",
+         {"s.lua:7: Frame has no method 'max_displacment' (did you mean 'max_displacement'?)",
+          "s.lua:7: in function <s.lua:6>"},
+         {"attempt to call", "softcut/scenario.lua", "[C]"}},
+        {"elevation 90", "s:output{ render = { elevation = 90 } }\n",
+         {"s.lua:6: output: field 'render': field 'elevation' = 90 deg is out of range: must be < 90 deg"},
+         {"elevation_deg"}},
+        {"elevation 90 set after the checks", "s:output{ render = { elevation = 10 } }\ns._output.render.elevation = 90\n",
+         {"s.lua:6: output: render: elevation must lie in (-90, 90) degrees, got 90"}, {"elevation_deg"}},
+    };
+    const fs::path dir = softcut::test::scratch_dir("cli_run_messages");
+    for (const Case& c : cases) {
+      CAPTURE(c.what);
+      std::ofstream(dir / "s.lua") << head << c.tail << "return s\n";
+      const auto r = run_cli("run s.lua --no-render --out out", dir);
+      INFO(r.output);
+      CHECK(r.status == 1);
+      for (const auto& w : c.wanted) CHECK(contains(r.output, w));
+      for (const auto& u : c.unwanted) CHECK_FALSE(contains(r.output, u));
+    }
+  }
+
+  TEST_CASE("require of a binary module and a 300-deep require chain name the module and the file") {
+    const fs::path dir = softcut::test::scratch_dir("cli_run_require");
+    std::ofstream(dir / "bin.lua") << "\x1bLua\x54\x00 not really bytecode";
+    std::ofstream(dir / "s.lua") << "local m = require 'bin'\n";
+    const auto r = run_cli("run s.lua --no-render --out out", dir);
+    INFO(r.output);
+    CHECK(r.status == 1);
+    CHECK(contains(r.output, "s.lua:1: require 'bin': "));
+    CHECK(contains(r.output, (dir / "bin.lua").string() + " is a precompiled (binary) Lua chunk"));
+    for (int i = 1; i <= 300; ++i) std::ofstream(dir / ("m" + std::to_string(i) + ".lua")) << "return require 'm" << i + 1 << "'\n";
+    std::ofstream(dir / "m301.lua") << "return 1\n";
+    std::ofstream(dir / "chain.lua") << "local m = require 'm1'\n";
+    const auto c = run_cli("run chain.lua --no-render --out out", dir);
+    INFO(c.output);
+    CHECK(c.status == 1);
+    CHECK(contains(c.output, "m50.lua:1: require 'm51' (" + (dir / "m51.lua").string() + ")"));
+    CHECK(contains(c.output, "require each other 50 deep"));
+    CHECK_FALSE(contains(c.output, "stack overflow"));
+  }
+
+  TEST_CASE("softcut --help lists every mesh generator") {
+    const auto r = run_cli("--help");
+    CHECK(r.status == 0);
+    for (const char* kind : {"box", "cylinder", "tube", "band", "ligament", "upper_leg", "liver", "kidney",
+                             "knee_ligament", "volume"})
+      CHECK(contains(r.output, kind));
   }
 }

@@ -19,6 +19,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   // A generator is refused before it allocates; the default (2e6) would
   // spend seconds per input on native work.
   req.sandbox.max_tets = 5000;
+  // Work inside one instruction that no budget counts ends here, well
+  // before libFuzzer's 10 s timeout (the default, 10 s, would meet it).
+  req.sandbox.cpu_seconds = 1;
   fuzz::expect_clean([&] { lua::open_scenario(req)->spec(); });
   return 0;
 }

@@ -91,4 +91,24 @@ TEST_SUITE("lua/check") {
     const std::string e = misuse("local function add_load(n)\n  s:load{ nodes = n, normal = 'x' }\nend\nadd_load(tip)");
     CHECK(e.rfind("liver.lua:8: load: field 'normal' must be a finite number (N)", 0) == 0);
   }
+
+  TEST_CASE("a misspelled method or library function gets a did-you-mean, as fields do") {
+    CHECK(contains(misuse("s:grasp{ name = 'jaw', path = {0, 0, 0}, stiffness = 1 }"),
+                   "liver.lua:7: Scenario has no method 'grasp' (did you mean 'grasper'?)"));
+    CHECK(contains(misuse("s:fix{ nodes = softcut.select.sphre{ center = {0, 0, 0}, radius = 1 } }"),
+                   "liver.lua:7: softcut.select has no function 'sphre' (did you mean 'sphere'?)"));
+    CHECK(contains(misuse("local r = softcut.ramp.linaer{ t1 = 1 }"),
+                   "liver.lua:7: softcut.ramp has no function 'linaer' (did you mean 'linear'?)"));
+    CHECK(contains(misuse("local x = softcut.senario{ duration = 1 }"),
+                   "liver.lua:7: softcut has no function 'senario' (did you mean 'scenario'?)"));
+    CHECK(contains(misuse("local u = tip:unoin(tip)"), "liver.lua:7: Selection has no method 'unoin' (did you mean 'union'?)"));
+    CHECK(contains(misuse("s:on_frame(function(f)\n  local d = f:max_displacment(tip)\nend)"),
+                   "liver.lua:8: Frame has no method 'max_displacment' (did you mean 'max_displacement'?)"));
+    // Far from every name: the names are listed.
+    CHECK(contains(misuse("s:zzzzzzzz()"), "Scenario has no method 'zzzzzzzz' (valid: "));
+    // Reading a missing field is still nil (scripts test their own fields),
+    // and a user's own method typo is not blamed on softcut.
+    CHECK(misuse("s.count = (s.count or 0) + 1\nassert(s.description == nil and softcut.nothing == nil)") == "");
+    CHECK(contains(misuse("local t = {}\nlocal x = s.grasp\nt:grasp()"), "attempt to call a nil value (method 'grasp')"));
+  }
 }

@@ -2,6 +2,7 @@
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <map>
 #include <string>
 #include <utility>
@@ -121,5 +122,24 @@ TEST_SUITE("sim/mesh_source") {
     softcut::mesh::write_mesh(file.file, sim::load_mesh_source(box, diag).mesh);  // 4x4x4 cells: 384 tets
     CHECK(sim::load_mesh_source(file, diag, 384).mesh.num_tets() == 384);
     CHECK_THROWS_WITH_AS(sim::load_mesh_source(file, diag, 383), doctest::Contains("bar.msh has 384 tetrahedra"), Error);
+  }
+
+  TEST_CASE("the band's twist is `twist` (degrees) as on the command line, and twist_deg still reads") {
+    auto band = [](std::map<std::string, double> opts) {
+      sim::MeshSource src;
+      src.generator = "band";
+      src.options = std::move(opts);
+      src.options["along"] = 6, src.options["across"] = 2, src.options["through"] = 1;
+      softcut::Diagnostics diag;
+      return sim::load_mesh_source(src, diag).mesh;
+    };
+    const auto twisted = band({{"twist", 45}}), old = band({{"twist_deg", 45}}), straight = band({{"twist", 0}});
+    CHECK(twisted.nodes == old.nodes);
+    CHECK(twisted.nodes != straight.nodes);
+    const std::string both = softcut::test::error_of([&] { band({{"twist", 45}, {"twist_deg", 45}}); });
+    CHECK(both.find("options 'twist_deg' and 'twist' are the same option; give 'twist' only") != std::string::npos);
+    const auto names = sim::generator_options("band");
+    CHECK(std::find(names.begin(), names.end(), "twist") != names.end());
+    CHECK(std::find(names.begin(), names.end(), "twist_deg") == names.end());
   }
 }

@@ -41,6 +41,11 @@ TEST_SUITE("sim/scenario_spec") {
     s.timeline.fps = 100;
     s.timeline.duration = 1e5;  // exactly the frame limit
     CHECK_NOTHROW(check_spec(s));
+    s.timeline.duration = 1;
+    for (double fps : {Timeline::kMinFps, Timeline::kMaxFps}) {
+      s.timeline.fps = fps;
+      CHECK_NOTHROW(check_spec(s));
+    }
   }
 
   TEST_CASE("each out-of-range setting is an error naming it") {
@@ -60,7 +65,11 @@ TEST_SUITE("sim/scenario_spec") {
         {"eye", [](ScenarioSpec& s) { s.outputs.render.eye.x() = kNaN; }, "eye and target must be finite"},
         {"target", [](ScenarioSpec& s) { s.outputs.render.target.z() = kInf; }, "eye and target must be finite"},
         {"up", [](ScenarioSpec& s) { s.outputs.render.up.setZero(); }, "up nonzero"},
-        {"elevation", [](ScenarioSpec& s) { s.outputs.render.elevation_deg = 90; }, "elevation_deg must lie in (-90, 90)"},
+        {"elevation", [](ScenarioSpec& s) { s.outputs.render.elevation_deg = 90; }, "output: render: elevation must lie in (-90, 90) degrees, got 90"},
+        {"elevation where", [](ScenarioSpec& s) { s.outputs.where = "x.lua:9", s.outputs.render.elevation_deg = -90; }, "x.lua:9: output: render: elevation"},
+        {"denormal frame rate", [](ScenarioSpec& s) { s.timeline.fps = 5e-324; }, "fps = 4.94065645841e-324 Hz is out of range: it must lie in [0.001, 10000]"},
+        {"huge frame rate", [](ScenarioSpec& s) { s.timeline.fps = 2e4; s.timeline.duration = 0; }, "fps = 20000 Hz is out of range"},
+        {"timeline where", [](ScenarioSpec& s) { s.timeline.where = "x.lua:1", s.timeline.fps = 1e-4; }, "x.lua:1: timeline: fps"},
         {"azimuth", [](ScenarioSpec& s) { s.outputs.render.azimuth_deg = kNaN; }, "azimuth_deg and orbit_deg_per_s must be finite"},
         {"orbit", [](ScenarioSpec& s) { s.outputs.render.orbit_deg_per_s = kInf; }, "orbit_deg_per_s must be finite"},
         {"background", [](ScenarioSpec& s) { s.outputs.render.background.y() = 1.5; }, "background components must lie in [0, 1]"},
