@@ -168,16 +168,16 @@ TEST_SUITE("app/scenario_run") {
 
   TEST_CASE("the instruction budget applies per call: long runs are fine, an endless on_frame is not") {
     softcut::app::RunRequest req;
-    req.instruction_budget = 60'000;
+    req.instruction_budget = 150'000;  // the main chunk's checks take most of 100k
     const auto ok = write_scenario("runner_budget_ok", std::string(kBoxHead) +
-        "s:on_frame(function(f) local x = 0 for i = 1, 3000 do x = x + i end end)\nreturn s\n");
+        "s:on_frame(function(f) local x = 0 for i = 1, 10000 do x = x + i end end)\nreturn s\n");
     softcut::app::RunOutcome out;
-    CHECK(scenario_error(ok, &out, req) == "");  // 6 frames x ~12k instructions > 60k in total
+    CHECK(scenario_error(ok, &out, req) == "");  // 6 frames x ~40k instructions > 150k in total
     CHECK(out.result.frames == 6);
     const auto bad = write_scenario("runner_budget_bad", std::string(kBoxHead) +
         "s:on_frame(function(f)\n  while true do end\nend)\nreturn s\n");
     const std::string e = scenario_error(bad, nullptr, req);
-    CHECK(e.rfind(bad.string() + ":8: instruction budget of 60000 instructions exceeded", 0) == 0);
+    CHECK(e.rfind(bad.string() + ":8: instruction budget of 150000 instructions exceeded", 0) == 0);
   }
 
   TEST_CASE("output settings reach the engine: logged nodes, VTU series") {
