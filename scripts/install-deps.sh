@@ -7,7 +7,8 @@
 set -euo pipefail
 test_pkgs=()
 case "${1:-}" in
-  --test) test_pkgs=(slurmctld slurmd slurm-client) ;;  # pulls in munge; tests/app/sweep_slurm.sh
+  --test) test_pkgs=(slurmctld slurmd slurm-client  # pulls in munge; tests/app/sweep_slurm.sh
+                    calculix-ccx) ;;  # CalculiX: the independent truth of tests/fidelity (large deformation)
   "") ;;
   *) echo "install-deps: unknown option $1 (--test or nothing)" >&2; exit 2 ;;
 esac
