@@ -7,7 +7,7 @@
 #include "core/error.hpp"
 #include "core/output_budget.hpp"
 #include "core/watchdog.hpp"
-#include "gpu/egl_context.hpp"
+#include "gl/egl_context.hpp"
 #include "render/frame_writer.hpp"
 #include "scenario_script.hpp"  // lua/: the Lua implementation of sim::ScenarioScript
 #include "sim/model.hpp"
@@ -127,11 +127,11 @@ RunOutcome run_watched(const RunRequest& req, const OpenScript& open, const Watc
 
   // One EGL context for the GPU backend and rendering, made here (the engine
   // never creates one) and outliving the Model and the renderer.
-  std::unique_ptr<gpu::EglContext> context;
+  std::unique_ptr<gl::EglContext> context;
   if (sim::wants_gpu_context(spec)) {
     const bool required = spec.solver.backend == backend::Backend::gpu || spec.outputs.render.enabled;
     try {
-      context = std::make_unique<gpu::EglContext>();
+      context = std::make_unique<gl::EglContext>();
     } catch (const Error& e) {
       if (required) throw;
       out.warnings.push_back(cat("no OpenGL context (", first_line(e.what()), "); solver backend auto uses the CPU"));

@@ -24,7 +24,7 @@ struct FrameWriter::Impl {
     std::filesystem::path png;
   };
 
-  gpu::EglContext& ctx;
+  gl::EglContext& ctx;
   OutputBudget* budget = nullptr;  // bytes written, all outputs of the run (optional)
   const Mode mode;
   const size_t max_pending;
@@ -39,7 +39,7 @@ struct FrameWriter::Impl {
   int samples = 0;
   std::thread worker;
 
-  Impl(gpu::EglContext& c, Mode m, int pending, OutputBudget* b)
+  Impl(gl::EglContext& c, Mode m, int pending, OutputBudget* b)
       : ctx(c), budget(b), mode(m), max_pending(size_t(std::max(1, pending))) {
     if (mode == Mode::inline_draw) {
       renderer.emplace(ctx);
@@ -188,7 +188,7 @@ struct FrameWriter::Impl {
   }
 };
 
-FrameWriter::FrameWriter(gpu::EglContext& context, Mode mode, int max_pending, OutputBudget* budget)
+FrameWriter::FrameWriter(gl::EglContext& context, Mode mode, int max_pending, OutputBudget* budget)
     : impl_(std::make_unique<Impl>(context, mode, max_pending, budget)) {}
 FrameWriter::~FrameWriter() = default;
 

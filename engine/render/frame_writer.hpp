@@ -37,7 +37,7 @@ class FrameWriter {
   // `context` must outlive the writer. In worker mode it is detached from the
   // calling thread (made current again by whoever uses it next).
   // `budget` (optional, outlives the writer) bounds the bytes of all outputs.
-  FrameWriter(gpu::EglContext& context, Mode mode, int max_pending = 2, OutputBudget* budget = nullptr);
+  FrameWriter(gl::EglContext& context, Mode mode, int max_pending = 2, OutputBudget* budget = nullptr);
   // Stops after the frame in progress; frames still queued are dropped (no
   // partial files: every write is atomic). Call finish() to keep them.
   ~FrameWriter();

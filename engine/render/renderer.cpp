@@ -7,6 +7,7 @@
 
 #include "core/atomic_file.hpp"
 #include "core/timer.hpp"
+#include "gl/program.hpp"
 
 namespace softcut::render {
 namespace {
@@ -136,44 +137,6 @@ void main() {
 }
 )";
 
-GLuint compile(GLenum type, const char* src) {
-  GLuint sh = glCreateShader(type);
-  glShaderSource(sh, 1, &src, nullptr);
-  glCompileShader(sh);
-  GLint ok = 0;
-  glGetShaderiv(sh, GL_COMPILE_STATUS, &ok);
-  if (!ok) {
-    char log[4096];
-    glGetShaderInfoLog(sh, sizeof log, nullptr, log);
-    glDeleteShader(sh);
-    fail("render: a shader did not compile on this driver: ", log);
-  }
-  return sh;
-}
-
-// A program of a vertex, an optional geometry and a fragment shader.
-GLuint link(const char* vs, const char* fs, const char* gs = nullptr) {
-  const GLuint v = compile(GL_VERTEX_SHADER, vs), f = compile(GL_FRAGMENT_SHADER, fs);
-  const GLuint g = gs ? compile(GL_GEOMETRY_SHADER, gs) : 0;
-  GLuint p = glCreateProgram();
-  glAttachShader(p, v);
-  if (g) glAttachShader(p, g);
-  glAttachShader(p, f);
-  glLinkProgram(p);
-  glDeleteShader(v);
-  if (g) glDeleteShader(g);
-  glDeleteShader(f);
-  GLint ok = 0;
-  glGetProgramiv(p, GL_LINK_STATUS, &ok);
-  if (!ok) {
-    char log[4096];
-    glGetProgramInfoLog(p, sizeof log, nullptr, log);
-    glDeleteProgram(p);
-    fail("render: a shader program did not link on this driver: ", log);
-  }
-  return p;
-}
-
 // One vertex array with position, normal and colour buffers (attributes 0, 1, 2).
 struct Batch {
   GLuint vao = 0, buf[3] = {0, 0, 0};
@@ -228,8 +191,8 @@ FrameTimings& FrameTimings::operator+=(const FrameTimings& o) {
 }
 
 struct Renderer::Impl {
-  gpu::EglContext& ctx;
-  GLuint surface_prog = 0, line_prog = 0, point_prog = 0;
+  gl::EglContext& ctx;
+  gl::Program surface_prog, line_prog, point_prog;
   Batch tissue, inclusions, tools, wire, outline, lines, arrows, ipoints, mpoints;
   // Framebuffers: `ms` multisampled (when samples > 1), `single` the resolve
   // target and readback source (and draw target without MSAA).
@@ -239,11 +202,14 @@ struct Renderer::Impl {
   Diagnostics warnings;
   long frame = 0;
 
-  explicit Impl(gpu::EglContext& c) : ctx(c) {
+  explicit Impl(gl::EglContext& c) : ctx(c) {
     ctx.make_current();
-    surface_prog = link(kSurfaceVs, kSurfaceFs);
-    line_prog = link(kFlatVs, kFlatFs, kLineGs);
-    point_prog = link(kFlatVs, kFlatFs, kPointGs);
+    using gl::Stage;
+    surface_prog = gl::Program("render.surface", {{Stage::vertex, kSurfaceVs}, {Stage::fragment, kSurfaceFs}});
+    line_prog = gl::Program("render.line",
+                            {{Stage::vertex, kFlatVs}, {Stage::geometry, kLineGs}, {Stage::fragment, kFlatFs}});
+    point_prog = gl::Program("render.point",
+                             {{Stage::vertex, kFlatVs}, {Stage::geometry, kPointGs}, {Stage::fragment, kFlatFs}});
     for (Batch* b : {&tissue, &inclusions, &tools, &wire, &outline, &lines, &arrows, &ipoints, &mpoints}) b->create();
     check("renderer setup");
   }
@@ -254,12 +220,10 @@ struct Renderer::Impl {
     try {
       ctx.make_current();
     } catch (const Error&) {
+      for (gl::Program* p : {&surface_prog, &line_prog, &point_prog}) p->release();  // they go with the context
       return;
     }
     for (Batch* b : {&tissue, &inclusions, &tools, &wire, &outline, &lines, &arrows, &ipoints, &mpoints}) b->destroy();
-    glDeleteProgram(surface_prog);
-    glDeleteProgram(line_prog);
-    glDeleteProgram(point_prog);
     free_targets();
     ctx.take_messages();
   }
@@ -274,7 +238,7 @@ struct Renderer::Impl {
   // Throws on GL errors since the last check; keeps other messages as warnings.
   void check(const std::string& where) {
     std::string errors;
-    for (const gpu::DebugMessage& m : ctx.take_messages()) {
+    for (const gl::DebugMessage& m : ctx.take_messages()) {
       if (m.is_error()) errors += (errors.empty() ? "" : "; ") + m.describe();
       else warnings.warn(where, ": ", m.describe());
     }
@@ -311,21 +275,21 @@ struct Renderer::Impl {
     width = w, height = h, samples = s;
   }
 
-  void set_camera(GLuint prog, const Camera& cam) {
+  void set_camera(const gl::Program& prog, const Camera& cam) {
     const Eigen::Matrix4f view = cam.view.cast<float>(), proj = cam.projection.cast<float>();
-    glProgramUniformMatrix4fv(prog, glGetUniformLocation(prog, "u_view"), 1, GL_FALSE, view.data());
-    glProgramUniformMatrix4fv(prog, glGetUniformLocation(prog, "u_proj"), 1, GL_FALSE, proj.data());
+    glProgramUniformMatrix4fv(prog.id(), prog.uniform("u_view"), 1, GL_FALSE, view.data());
+    glProgramUniformMatrix4fv(prog.id(), prog.uniform("u_proj"), 1, GL_FALSE, proj.data());
   }
 
   void draw_flat(const Batch& b, GLenum mode, float size, bool on_top) {
     if (!b.count) return;
     if (on_top) glDisable(GL_DEPTH_TEST);
     else glEnable(GL_DEPTH_TEST);
-    const GLuint prog = mode == GL_POINTS ? point_prog : line_prog;
-    glUseProgram(prog);
-    glProgramUniform1f(prog, glGetUniformLocation(prog, "u_size"), size);
-    glProgramUniform2f(prog, glGetUniformLocation(prog, "u_viewport"), float(width), float(height));
-    glProgramUniform1i(prog, glGetUniformLocation(prog, "u_round"), mode == GL_POINTS);
+    const gl::Program& prog = mode == GL_POINTS ? point_prog : line_prog;
+    glUseProgram(prog.id());
+    glProgramUniform1f(prog.id(), prog.uniform("u_size"), size);
+    glProgramUniform2f(prog.id(), prog.uniform("u_viewport"), float(width), float(height));
+    glProgramUniform1i(prog.id(), prog.uniform("u_round"), mode == GL_POINTS);
     glBindVertexArray(b.vao);
     glDrawArrays(mode, 0, b.count);
   }
@@ -380,7 +344,7 @@ struct Renderer::Impl {
     // faint: blended over what is drawn, without depth test or polygon offset.
     auto draw_surface = [&](const Batch& b, bool faint) {
       if (!b.count) return;
-      glUseProgram(surface_prog);
+      glUseProgram(surface_prog.id());
       glEnable(GL_CULL_FACE);
       glCullFace(GL_BACK);
       glFrontFace(GL_CCW);
@@ -435,7 +399,7 @@ struct Renderer::Impl {
   }
 };
 
-Renderer::Renderer(gpu::EglContext& context) : impl_(std::make_unique<Impl>(context)) {}
+Renderer::Renderer(gl::EglContext& context) : impl_(std::make_unique<Impl>(context)) {}
 Renderer::~Renderer() = default;
 
 Image Renderer::draw(const Scene& scene, FrameTimings* timings) { return impl_->draw(scene, timings); }

@@ -13,7 +13,7 @@
 #include <memory>
 
 #include "core/error.hpp"
-#include "gpu/egl_context.hpp"
+#include "gl/egl_context.hpp"
 #include "render/image.hpp"
 #include "render/scene.hpp"
 
@@ -36,7 +36,7 @@ class Renderer {
  public:
   // Makes `context` current and builds the GL objects; the context must
   // outlive the renderer. Throws softcut::Error when a shader does not build.
-  explicit Renderer(gpu::EglContext& context);
+  explicit Renderer(gl::EglContext& context);
   ~Renderer();
   Renderer(const Renderer&) = delete;
   Renderer& operator=(const Renderer&) = delete;

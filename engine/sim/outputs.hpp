@@ -1,7 +1,9 @@
 #pragma once
-// Run outputs (DESIGN.md §5, docs/outputs.md, docs/summary-schema.md):
-// displacements.csv streamed to a temporary file and renamed at the end,
-// optional VTU per frame + series.pvd, summary.json; all atomic.
+// Run outputs (DESIGN.md §5, docs/outputs.md, docs/summary-schema.md): the
+// Recorder writes displacements.csv (streamed to a temporary file and renamed
+// at the end), optional VTU per frame + series.pvd, frames, summary.json; all
+// atomic. The folder's rules, the summary and the VTU export have their own
+// headers, included here for the Recorder's users.
 #include <Eigen/Core>
 #include <cstdio>
 #include <filesystem>
@@ -12,7 +14,10 @@
 
 #include "render/scene.hpp"
 #include "sim/model.hpp"
+#include "sim/output_folder.hpp"
 #include "sim/run.hpp"
+#include "sim/summary.hpp"
+#include "sim/vtu_export.hpp"
 
 namespace softcut {
 class OutputBudget;
@@ -70,22 +75,5 @@ class Recorder {
   render::SceneExtractor extractor_;
   bool finished_ = false;
 };
-
-// Removes from `dir` the files softcut writes there and nothing else:
-// displacements.csv(.partial), summary.json, series.pvd, contact_sheet.png,
-// frames/frame_NNNNNN.png, vtu/frame_NNNNNN.vtu and the temporary files of
-// their atomic writes; frames/ and vtu/ go when left empty. Links are
-// unlinked, never followed. Returns the number of files removed.
-int clear_earlier_outputs(const std::filesystem::path& dir);
-
-// summary.json text (schema in docs/summary-schema.md); `rec` adds the
-// rendering statistics when given.
-std::string summary_json(const Model& m, const State& s, const RunResult& r, const Recorder* rec = nullptr);
-
-// VTU (XML, ascii) of the current (possibly cut) mesh with point data
-// "displacement" (nnode x 3) and "node_set", cell data "label" and
-// "operational"; atomic.
-// Returns the bytes written.
-std::uintmax_t write_vtu(const std::filesystem::path& path, const Model& m, const State& s);
 
 }  // namespace softcut::sim

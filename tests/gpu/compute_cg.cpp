@@ -15,8 +15,8 @@
 
 namespace {
 
-softcut::gpu::EglContext& context() {
-  static softcut::gpu::EglContext ctx;  // one context for the suite (llvmpipe here)
+softcut::gl::EglContext& context() {
+  static softcut::gl::EglContext ctx;  // one context for the suite (llvmpipe here)
   return ctx;
 }
 

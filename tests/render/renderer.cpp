@@ -20,8 +20,8 @@ namespace {
 
 // One context and renderer for the whole suite, as the application has
 // (deliberately never destroyed: GL teardown at exit is not under test here).
-gpu::EglContext& shared_context() {
-  static auto* ctx = new gpu::EglContext();
+gl::EglContext& shared_context() {
+  static auto* ctx = new gl::EglContext();
   return *ctx;
 }
 render::Renderer& shared_renderer() {
