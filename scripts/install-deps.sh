@@ -3,11 +3,13 @@
 # Used by the README's first command and, with --test, by scripts/test.sh
 # (.ci/run). Safe to run twice.
 #   --test  also what only the test suite needs: a one-node Slurm cluster for
-#           the sweep test (installed with its services kept from starting)
+#           the sweep test (installed with its services kept from starting),
+#           meshio (an independent VTU reader the VTU writer's tests read back with)
 set -euo pipefail
 test_pkgs=()
 case "${1:-}" in
-  --test) test_pkgs=(slurmctld slurmd slurm-client) ;;  # pulls in munge; tests/app/sweep_slurm.sh
+  --test) test_pkgs=(slurmctld slurmd slurm-client  # pulls in munge; tests/app/sweep_slurm.sh
+                    python3-meshio) ;;  # tests/data/read_vtu_meshio.py: the VTU files read back by another reader
   "") ;;
   *) echo "install-deps: unknown option $1 (--test or nothing)" >&2; exit 2 ;;
 esac

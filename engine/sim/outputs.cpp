@@ -3,10 +3,13 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <pugixml.hpp>
+
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <exception>
+#include <sstream>
 #include <system_error>
 
 #include "core/atomic_file.hpp"
@@ -137,14 +140,25 @@ void Recorder::finish(const Model& m, const State& s, const RunResult& run_resul
     if (ec) fail("outputs: cannot rename ", csv_tmp_.string(), " to displacements.csv: ", ec.message());
   }
   if (m.spec.outputs.vtu) {
-    std::string pvd =
-        "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
-        "  <Collection>\n";
-    for (const auto& [frame, time] : vtu_frames_)
-      pvd += "    <DataSet timestep=\"" + num(time, "%.9g") + "\" part=\"0\" file=\"vtu/" + vtu_name(frame) + "\"/>\n";
-    pvd += "  </Collection>\n</VTKFile>\n";
-    if (budget_) budget_->charge(pvd.size(), "series.pvd");
-    write_file_atomic(dir_ / "series.pvd", pvd);
+    // ParaView's collection of the frames, by pugixml (names and numbers escaped as XML needs).
+    pugi::xml_document doc;
+    pugi::xml_node decl = doc.append_child(pugi::node_declaration);
+    decl.append_attribute("version") = "1.0";
+    pugi::xml_node vtk = doc.append_child("VTKFile");
+    vtk.append_attribute("type") = "Collection";
+    vtk.append_attribute("version") = "0.1";
+    vtk.append_attribute("byte_order") = "LittleEndian";
+    pugi::xml_node collection = vtk.append_child("Collection");
+    for (const auto& [frame, time] : vtu_frames_) {
+      pugi::xml_node d = collection.append_child("DataSet");
+      d.append_attribute("timestep") = num(time, "%.9g").c_str();
+      d.append_attribute("part") = 0;
+      d.append_attribute("file") = ("vtu/" + vtu_name(frame)).c_str();
+    }
+    std::ostringstream pvd;
+    doc.save(pvd, "  ", pugi::format_indent, pugi::encoding_utf8);
+    if (budget_) budget_->charge(pvd.str().size(), "series.pvd");
+    write_file_atomic(dir_ / "series.pvd", pvd.str());
   }
   if (rendered_ > 0 && m.spec.outputs.render.contact_sheet && r.reason != ExitReason::error) {
     // At most ~24 tiles: a quick look at the whole run.
