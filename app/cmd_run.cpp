@@ -19,8 +19,9 @@ namespace softcut::app {
 namespace {
 
 const char* kRunAbout =
-    "Runs a Lua scenario headless and writes DIR/displacements.csv and DIR/summary.json\n"
-    "(default DIR: renders/<scenario name>/), and its frames when it renders.";
+    "Runs a Lua scenario headless and writes DIR/displacements.csv, DIR/tools.csv and DIR/summary.json\n"
+    "(default DIR: renders/<scenario name>/), and its frames when it renders (with camera.json and\n"
+    "render_record.bin, which softcut render redraws the frames from).";
 
 const char* kRunFooter =
     "Ctrl-C (SIGINT) or SIGTERM stops the script at once (also inside pcall), finishes the current\n"
@@ -38,6 +39,7 @@ int cmd_run(const Args& args) {
   std::vector<std::string> files, sets;
   std::string out_dir, frames, backend, render_every, size, msaa, max_tets, timeout, max_output;
   bool quiet = false, trust = false, no_render = false, no_cache = false;
+  bool depth = false, labels = false, video = false, record = false, no_record = false;
   app.add_option("scenario", files, "the scenario file (SCENARIO.lua)")->type_name("SCENARIO.lua");
   app.add_option("--out", out_dir, "output folder")->type_name("DIR");
   o.add_list("--set", sets, "override a parameter the scenario declares with softcut.params{...}")->type_name("key=value");
@@ -50,6 +52,14 @@ int cmd_run(const Args& args) {
       ->type_name("WxH");
   app.add_option("--msaa", msaa, "multisample count of rendered frames (0: none; overrides the scenario's)")
       ->type_name("N");
+  app.add_flag("--depth", depth, "also frames/depth_NNNNNN.png (16-bit, mm x 10 along the view axis) and camera.json; "
+               "turns rendering on");
+  app.add_flag("--labels", labels, "also frames/labels_NNNNNN.png (an id per pixel: each material, the cut surface, "
+               "each tool; legend in camera.json); turns rendering on");
+  app.add_flag("--video", video, "also video.mp4 (H.264 through the ffmpeg program: sudo apt-get install ffmpeg); "
+               "turns rendering on");
+  app.add_flag("--record", record, "write render_record.bin for softcut render, however large");
+  app.add_flag("--no-record", no_record, "write no render_record.bin (default: when it stays under 256 MiB)");
   app.add_flag("-q,--quiet", quiet, "no progress output");
   app.add_option("--max-tets", max_tets, "sandbox: largest mesh the scenario may load or generate (default 2000000 tets)")
       ->type_name("N");
@@ -85,6 +95,9 @@ int cmd_run(const Args& args) {
   if (app.count("--max-output")) req.max_output = parse_bytes(max_output, "--max-output");
   req.trusted = trust;
   req.render = !no_render;
+  req.depth = depth, req.labels = labels, req.video = video;
+  if (record && no_record) usage_fail("softcut run: give --record or --no-record, not both");
+  if (record || no_record) req.record = record;
 
   Progress progress(quiet ? Progress::Mode::quiet : ::isatty(STDERR_FILENO) ? Progress::Mode::bar : Progress::Mode::lines);
   req.progress = [&](int frame, int n, double elapsed) { progress.update(frame, n, elapsed); };

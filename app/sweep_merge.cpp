@@ -85,6 +85,15 @@ SweepMerge merge_sweep(const fs::path& dir) {
       const std::string n = e.at("name").get<std::string>();
       if (std::find(expect_names.begin(), expect_names.end(), n) == expect_names.end()) expect_names.push_back(n);
     }
+  // Tool columns: every tool name, in the order runs first report them
+  // (summary.json "tools"; older summaries have none).
+  std::vector<std::string> tool_names;
+  for (const json& s : summaries)
+    for (const json& t : s.value("tools", json::array())) {
+      const std::string n = t.at("name").get<std::string>();
+      if (std::find(tool_names.begin(), tool_names.end(), n) == tool_names.end()) tool_names.push_back(n);
+    }
+  const char* const tool_fields[] = {"peak_force_n", "mean_force_n", "frames_engaged"};
   // A key named like a fixed column ("frames") gets the column "param.frames".
   const std::vector<std::string> fixed = {"id", "pass", "exit_reason", "frames", "last_time_s", "cut_events",
                                           "detached_pieces"};
@@ -93,6 +102,8 @@ SweepMerge merge_sweep(const fs::path& dir) {
     header.push_back(std::find(fixed.begin(), fixed.end(), k) == fixed.end() ? k : "param." + k);
   header.insert(header.end(), fixed.begin() + 1, fixed.end());
   for (const auto& n : expect_names) header.push_back("expect." + n);
+  for (const auto& n : tool_names)
+    for (const char* f : tool_fields) header.push_back("tool." + n + "." + f);
   auto line = [](const std::vector<std::string>& cells) {
     std::string l;
     for (size_t i = 0; i < cells.size(); ++i) l += (i ? "," : "") + csv_field(cells[i]);
@@ -127,11 +138,20 @@ SweepMerge merge_sweep(const fs::path& dir) {
         }
       cells.push_back(cell);
     }
+    json tools = json::array();
+    const json run_tools = s.value("tools", json::array());
+    for (const auto& n : tool_names) {
+      const json* found = nullptr;
+      for (const json& t : run_tools)
+        if (t.at("name") == n) found = &t;
+      for (const char* f : tool_fields) cells.push_back(found ? text_of(found->value(f, json())) : "");
+      if (found) tools.push_back(*found);
+    }
     m.csv += line(cells);
     rows.push_back({{"id", r.id}, {"params", params}, {"pass", pass}, {"exit_reason", run.at("exit_reason")},
                     {"message", run.value("message", json(""))}, {"frames", run.at("frames")},
                     {"last_time_s", run.value("last_time_s", json())}, {"cut_events", events},
-                    {"detached_pieces", pieces}, {"expectations", expectations},
+                    {"detached_pieces", pieces}, {"expectations", expectations}, {"tools", tools},
                     {"summary", r.id + "/summary.json"}});
   }
   const json out = {{"schema", "softcut-sweep/1"}, {"scenario", plan.scenario}, {"run_options", plan.run_options},

@@ -54,12 +54,14 @@ Model compile(const ScenarioSpec& spec, const backend::RunResources& resources) 
 
   const SelectContext ctx = context(m);
   m.tet_material.assign(m.mesh.num_tets(), fem::Material{});
-  for (const auto& a : spec.materials) {
+  m.tet_group.assign(m.mesh.num_tets(), int(spec.materials.size()));
+  for (std::size_t i = 0; i < spec.materials.size(); ++i) {
+    const MaterialAssignment& a = spec.materials[i];
     const std::string w = prefixed(a.where, "material '" + a.name + "'");
     const fem::Material mat = resolve_material(a);
     const std::vector<int> tets = select_tets(a.tets, ctx, w);
     if (tets.empty()) diag.warn(w, ": selects no tet");
-    for (int k : tets) m.tet_material[k] = mat;
+    for (int k : tets) m.tet_material[k] = mat, m.tet_group[k] = int(i);
   }
   for (const auto& a : spec.prestress) {  // after the materials: they do not reset it
     const std::string w = prefixed(a.where, "prestress '" + a.name + "'");

@@ -2,6 +2,7 @@
 
 #include <string>
 #include <system_error>
+#include <tuple>
 
 namespace softcut::sim {
 
@@ -51,11 +52,13 @@ int remove_softcut_files(const fs::path& dir, std::initializer_list<std::string_
 }  // namespace
 
 int clear_earlier_outputs(const fs::path& dir) {
-  int n = remove_softcut_files(dir, {"displacements.csv", "displacements.csv.partial", "summary.json", "series.pvd",
-                                     "contact_sheet.png"},
+  int n = remove_softcut_files(dir, {"displacements.csv", "displacements.csv.partial", "tools.csv", "tools.csv.partial",
+                                     "summary.json", "series.pvd", "contact_sheet.png", "camera.json", "video.mp4",
+                                     "render_record.bin", "render_record.bin.partial"},
                                {}, {});
-  for (const auto& [sub, ext] : {std::pair{"frames", ".png"}, std::pair{"vtu", ".vtu"}}) {
-    n += remove_softcut_files(dir / sub, {}, "frame_", ext);
+  for (const auto& [sub, prefix, ext] : {std::tuple{"frames", "frame_", ".png"}, std::tuple{"frames", "depth_", ".png"},
+                                         std::tuple{"frames", "labels_", ".png"}, std::tuple{"vtu", "frame_", ".vtu"}}) {
+    n += remove_softcut_files(dir / sub, {}, prefix, ext);
     std::error_code ec;
     if (fs::is_directory(fs::symlink_status(dir / sub, ec))) fs::remove(dir / sub, ec);  // only when now empty
   }

@@ -6,8 +6,9 @@
 namespace softcut::sim {
 
 // Removes from `dir` the files softcut writes there and nothing else:
-// displacements.csv(.partial), summary.json, series.pvd, contact_sheet.png,
-// frames/frame_NNNNNN.png, vtu/frame_NNNNNN.vtu and the temporary files of
+// displacements.csv(.partial), tools.csv(.partial), summary.json, series.pvd,
+// contact_sheet.png, camera.json, video.mp4, render_record.bin(.partial),
+// frames/{frame,depth,labels}_NNNNNN.png, vtu/frame_NNNNNN.vtu and the temporary files of
 // their atomic writes; frames/ and vtu/ go when left empty. Links are
 // unlinked, never followed. Returns the number of files removed.
 int clear_earlier_outputs(const std::filesystem::path& dir);

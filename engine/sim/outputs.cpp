@@ -1,13 +1,8 @@
 #include "sim/outputs.hpp"
 
-#include <fcntl.h>
-#include <unistd.h>
-
 #include <pugixml.hpp>
 
-#include <cerrno>
 #include <cstdio>
-#include <cstring>
 #include <exception>
 #include <sstream>
 #include <system_error>
@@ -17,7 +12,6 @@
 #include "core/error.hpp"
 #include "core/output_budget.hpp"
 #include "core/timer.hpp"
-#include "render/contact_sheet.hpp"
 #include "render/frame_writer.hpp"
 #include "sim/frame_scene.hpp"
 
@@ -42,7 +36,7 @@ std::string vtu_name(int frame) {
 }  // namespace
 
 Recorder::Recorder(const Model& m, fs::path dir, OutputBudget* budget)
-    : dir_(dir.empty() ? m.spec.outputs.dir : std::move(dir)), budget_(budget) {
+    : dir_(dir.empty() ? m.spec.outputs.dir : std::move(dir)), budget_(budget), spec_render_(m.spec.outputs.render) {
   if (dir_.empty()) dir_ = fs::path("renders") / m.spec.name;
   std::error_code ec;
   fs::create_directories(dir_, ec);
@@ -52,33 +46,25 @@ Recorder::Recorder(const Model& m, fs::path dir, OutputBudget* budget)
   // no stale frame, VTU or log is mistaken for this run's. Other files stay.
   clear_earlier_outputs(dir_);
   if (m.spec.outputs.vtu) make_folder_below(dir_, "vtu", "outputs");
-  if (m.spec.outputs.csv) {
-    csv_tmp_ = dir_ / "displacements.csv.partial";
-    // A stale one (an earlier run killed) or a planted link goes first: the
-    // file is then made new, never opened through a link.
-    fs::remove(csv_tmp_, ec);
-    const int fd = ::open(csv_tmp_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
-    if (fd < 0 || !(csv_ = ::fdopen(fd, "wb"))) {
-      const int err = errno;
-      if (fd >= 0) ::close(fd);
-      fail("outputs: cannot write ", csv_tmp_.string(), " (", std::strerror(err), ")");
-    }
-    write_csv("frame,time,node,ux,uy,uz\n");
-  }
+  if (m.spec.outputs.csv) csv_.emplace(dir_, "displacements.csv", "frame,time,node,ux,uy,uz\n", budget_);
+  if (!m.spec.tools.empty()) tools_.emplace(dir_, "tools.csv", kToolLogHeader, budget_);
+  if (wants_render_record(m)) record_ = std::make_unique<RenderRecordWriter>(dir_, render_record_meta(m), budget_);
+  const LabelLegend legend = label_legend(m);
+  if (m.spec.outputs.render.labels && legend.entries.size() > 255)
+    fail("outputs: label images hold 255 ids; this scenario needs ", legend.entries.size(),
+         " (materials, the cut surface and tools): use fewer s:material calls or tools, or no labels");
+  legend_ = legend_json(legend);
 }
 
-Recorder::~Recorder() {
-  if (!csv_) return;
-  std::fclose(csv_);
-  std::error_code ec;
-  fs::remove(csv_tmp_, ec);
+void Recorder::set_frame_writer(render::FrameWriter* w) {
+  writer_ = w;
+  frame_outputs_.reset();
+  if (!w) return;
+  const RenderSettings& rs = spec_render_;
+  frame_outputs_.emplace(dir_, FrameOutputOptions{rs.depth, rs.labels, legend_}, *w, budget_);
 }
 
-void Recorder::write_csv(std::string_view text) {
-  if (budget_) budget_->charge(text.size(), "displacements.csv");
-  if (std::fwrite(text.data(), 1, text.size(), csv_) != text.size())
-    fail("outputs: writing ", csv_tmp_.string(), " failed (disk full?)");
-}
+Recorder::~Recorder() = default;
 
 void Recorder::record(const Model& m, const State& s) {
   if (finished_) fail("outputs: record() after finish()");
@@ -93,23 +79,28 @@ void Recorder::record(const Model& m, const State& s) {
     for (int n : m.log_nodes) row(n);
     // Nodes made by cutting (ids after the rest mesh's), every frame they exist.
     for (int n = m.mesh.num_nodes(); n < s.displacement.rows(); ++n) row(n);
-    write_csv(rows);
+    csv_->write(rows);
   }
+  if (tools_) tools_->write(tool_log_rows(m, s));
+  tool_stats_.add(m, s);
   if (m.spec.outputs.vtu && s.frame % m.spec.outputs.vtu_every == 0) {
     const std::uintmax_t bytes = write_vtu(dir_ / "vtu" / vtu_name(s.frame), m, s);
     if (budget_) budget_->charge(bytes, "vtu/" + vtu_name(s.frame));
     vtu_frames_.emplace_back(s.frame, s.time);
   }
   const RenderSettings& rs = m.spec.outputs.render;
-  if (writer_ && rs.enabled && s.frame % rs.every == 0) {
-    if (rendered_ == 0) make_folder_below(dir_, "frames", "outputs");
+  if (rs.enabled && s.frame % rs.every == 0 && (frame_outputs_ || record_)) {
     Timer timer;
-    frame_pngs_.push_back(frame_png_path(dir_, s.frame));
-    writer_->submit(extractor_.extract(current_mesh(m, s), deformed_positions(m, s), scene_content(m, s),
-                                       render_settings(m, s)),
-                    frame_pngs_.back());
+    const mesh::TetMesh& mesh = current_mesh(m, s);
+    const Eigen::MatrixX3d x = deformed_positions(m, s);
+    const render::SceneContent content = scene_content(m, s);
+    const render::RenderSettings settings = render_settings(m, s);
+    if (record_) record_->add(s.frame, s.time, mesh, x, content, settings.camera);
+    if (frame_outputs_) {
+      frame_outputs_->submit(extractor_.extract(mesh, x, content, settings), s.frame, s.time);
+      rendered_++;
+    }
     render_ms_.add(timer.ms());
-    rendered_++;
   }
   frames_++;
 }
@@ -121,24 +112,15 @@ void Recorder::finish(const Model& m, const State& s, const RunResult& run_resul
   // disk) makes the run an error, but the summary is still written, saying so.
   RunResult r = run_result;
   std::exception_ptr render_failure;
-  if (writer_) try {
-      writer_->finish();
+  if (frame_outputs_) try {
+      frame_outputs_->finish(m.spec.outputs.render.contact_sheet && r.reason != ExitReason::error);
     } catch (const std::exception& e) {
       render_failure = std::current_exception();
       if (r.reason != ExitReason::error) r.reason = ExitReason::error, r.message = e.what();
     }
-  if (csv_) {
-    const bool ok = std::fflush(csv_) == 0 && !std::ferror(csv_);
-    std::fclose(csv_);
-    csv_ = nullptr;
-    std::error_code ec;
-    if (!ok) {
-      fs::remove(csv_tmp_, ec);
-      fail("outputs: writing ", csv_tmp_.string(), " failed (disk full?)");
-    }
-    fs::rename(csv_tmp_, dir_ / "displacements.csv", ec);
-    if (ec) fail("outputs: cannot rename ", csv_tmp_.string(), " to displacements.csv: ", ec.message());
-  }
+  if (record_) record_->finish();
+  if (csv_) csv_->finish();
+  if (tools_) tools_->finish();
   if (m.spec.outputs.vtu) {
     // ParaView's collection of the frames, by pugixml (names and numbers escaped as XML needs).
     pugi::xml_document doc;
@@ -159,16 +141,6 @@ void Recorder::finish(const Model& m, const State& s, const RunResult& run_resul
     doc.save(pvd, "  ", pugi::format_indent, pugi::encoding_utf8);
     if (budget_) budget_->charge(pvd.str().size(), "series.pvd");
     write_file_atomic(dir_ / "series.pvd", pvd.str());
-  }
-  if (rendered_ > 0 && m.spec.outputs.render.contact_sheet && r.reason != ExitReason::error) {
-    // At most ~24 tiles: a quick look at the whole run.
-    const size_t stride = size_t(std::max(1, (rendered_ + 23) / 24));
-    std::vector<fs::path> picked;
-    for (size_t i = 0; i < frame_pngs_.size(); i += stride) picked.push_back(frame_pngs_[i]);
-    render::write_png(dir_ / "contact_sheet.png", render::contact_sheet(picked));
-    std::error_code ec;
-    const std::uintmax_t bytes = fs::file_size(dir_ / "contact_sheet.png", ec);
-    if (budget_ && !ec) budget_->charge(bytes, "contact_sheet.png");
   }
   write_file_atomic(dir_ / "summary.json", summary_json(m, s, r, this));
   if (render_failure) std::rethrow_exception(render_failure);

@@ -62,7 +62,9 @@ void add_render_work(Json& outputs, const Recorder* rec) {
   outputs["render_mode"] = w->mode() == render::FrameWriter::Mode::worker ? "worker" : "inline";
   outputs["render_work_ms"] = {{"mean", jms(st.work.total_ms() / n)}, {"max", jms(st.max_work_ms)},
                                {"draw", jms((st.work.upload_ms + st.work.draw_ms + st.work.readback_ms) / n)},
-                               {"encode", jms(st.work.encode_ms / n)}, {"write", jms(st.work.write_ms / n)}};
+                               {"encode", jms(st.work.encode_ms / n)}, {"write", jms(st.work.write_ms / n)},
+                               {"depth_labels", jms(st.work.labels_ms() / n)}, {"video", jms(st.work.video_ms / n)}};
+  outputs["video"] = w->video_bytes() > 0 ? Json("video.mp4") : Json(nullptr);
 }
 
 // "expectations": one entry per Scenario:expect, in declaration order.
@@ -173,11 +175,18 @@ std::string summary_json(const Model& m, const State& s, const RunResult& r, con
       {"log_nodes", m.log_nodes.size()},
       {"csv", sp.outputs.csv ? Json("displacements.csv") : Json(nullptr)},
       {"pvd", sp.outputs.vtu ? Json("series.pvd") : Json(nullptr)},
+      {"tools_csv", rec && rec->writes_tool_log() ? Json("tools.csv") : Json(nullptr)},
       {"frames_rendered", rendered},
       {"render_ms",
        {{"mean", jms(rec && rec->frames_rendered() ? rec->render_frame_thread_ms().sum / rec->frames_rendered() : 0.0)},
         {"max", jms(rec ? rec->render_frame_thread_ms().max : 0.0)}}}};
+  outputs["camera"] = rec && rec->writes_camera() ? Json("camera.json") : Json(nullptr);
+  outputs["depth"] = rec && rec->writes_camera() && sp.outputs.render.depth;
+  outputs["labels"] = rec && rec->writes_camera() && sp.outputs.render.labels;
+  outputs["video"] = nullptr;
+  outputs["render_record"] = rec && rec->writes_render_record() ? Json(kRenderRecordFile) : Json(nullptr);
   add_render_work(outputs, rec);
+  j["tools"] = rec ? rec->tool_statistics().json() : Json::array();
   j["cutting"] = cutting_json(m, s);
   j["expectations"] = expectations_json(m, s);
   std::set<std::string> seen;

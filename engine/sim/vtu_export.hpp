@@ -2,7 +2,8 @@
 // A run's VTU export of one frame (vtu/frame_NNNNNN.vtu) through the one VTU
 // writer (mesh/io/vtu_writer.hpp): the current (possibly cut) mesh at rest
 // with point data "displacement" (nnode x 3, m) and "node_set", cell data
-// "label" and "operational".
+// "label", "operational" and "material" (the s:material call that set the
+// tet's material, by its index; the number of calls where none did).
 #include <cstdint>
 #include <filesystem>
 

@@ -72,7 +72,7 @@ TEST_SUITE("gl/program") {
     }
   }
 
-  TEST_CASE("a moved program keeps its object; the moved-from one holds none") {
+  TEST_CASE("a moved program keeps its object, and the moved-from one holds none") {
     context().make_current();
     gl::Program a("test.move", {{gl::Stage::vertex, kVs}, {gl::Stage::fragment, kFs}});
     const std::uint32_t id = a.id();

@@ -13,6 +13,7 @@
 #include "mesh/volume/label_volume.hpp"
 #include "mesh/volume/nrrd.hpp"
 #include "scenario_script.hpp"  // lua/
+#include "../fuzz/render_record_fuzz.hpp"
 
 namespace fs = std::filesystem;
 using softcut::hardening::put_file;
@@ -45,6 +46,8 @@ void feed(const std::string& target, const std::string& bytes, const fs::path& d
       opt.smooth_iterations = 1;
       softcut::mesh::mesh_label_volume(v, opt, diag);
     }
+  } else if (target == "render_record") {
+    softcut::fuzz::read_render_record(bytes);
   } else if (target == "lua") {
     softcut::lua::ScriptRequest req;
     req.scenario = put_file(dir / "scenario.lua", bytes);
@@ -63,7 +66,7 @@ TEST_SUITE("hardening/fuzz_regressions") {
   TEST_CASE("every saved fuzz finding reads cleanly or fails with softcut::Error") {
     const fs::path dir = softcut::test::scratch_dir("hardening_fuzz_regressions");
     int n = 0;
-    for (const std::string target : {"gmsh", "medit", "vtk", "vtu", "tetgen", "nrrd", "lua"})
+    for (const std::string target : {"gmsh", "medit", "vtk", "vtu", "tetgen", "nrrd", "lua", "render_record"})
       for (const fs::path& p : inputs(target)) {
         CAPTURE(p.string());
         ++n;

@@ -244,6 +244,6 @@ TEST_SUITE("sim/outputs") {
     CHECK(keys == std::vector<std::string>{"schema", "scenario", "versions", "command_line", "params", "mesh",
                                            "partition", "solver", "precompute_ms", "precompute_cache", "threads",
                                            "columns", "timeline", "run", "limits", "stage_ms", "springs", "cg",
-                                           "outputs", "cutting", "expectations", "warnings"});
+                                           "outputs", "tools", "cutting", "expectations", "warnings"});
   }
 }
