@@ -18,8 +18,9 @@ namespace softcut::app {
 namespace {
 
 const char* kRunAbout =
-    "Runs a Lua scenario headless and writes DIR/displacements.csv and DIR/summary.json\n"
-    "(default DIR: renders/<scenario name>/), and its frames when it renders.";
+    "Runs a Lua scenario headless and writes DIR/displacements.csv, DIR/tools.csv and DIR/summary.json\n"
+    "(default DIR: renders/<scenario name>/), and its frames when it renders (with camera.json and\n"
+    "render_record.bin, which softcut render redraws the frames from).";
 
 const char* kRunFooter =
     "Ctrl-C (SIGINT) or SIGTERM stops the script at once (also inside pcall), finishes the current\n"
@@ -36,10 +37,18 @@ int cmd_run(const Args& args) {
   CLI::App& app = o.app();
   std::vector<std::string> files;
   std::string out_dir;
-  bool quiet = false;
+  bool quiet = false, depth = false, labels = false, video = false, record = false, no_record = false;
   app.add_option("scenario", files, "the scenario file (SCENARIO.lua)")->type_name("SCENARIO.lua");
   app.add_option("--out", out_dir, "output folder")->type_name("DIR");
   o.needs("--out", "a folder");
+  app.add_flag("--depth", depth, "also frames/depth_NNNNNN.png (16-bit, mm x 10 along the view axis) and camera.json; "
+               "turns rendering on");
+  app.add_flag("--labels", labels, "also frames/labels_NNNNNN.png (an id per pixel: each material, the cut surface, "
+               "each tool; legend in camera.json); turns rendering on");
+  app.add_flag("--video", video, "also video.mp4 (H.264 through the ffmpeg program: sudo apt-get install ffmpeg); "
+               "turns rendering on");
+  app.add_flag("--record", record, "write render_record.bin for softcut render, however large");
+  app.add_flag("--no-record", no_record, "write no render_record.bin (default: when it stays under 256 MiB)");
   app.add_flag("-q,--quiet", quiet, "no progress output");
   RunOptions run(o, RunOptions::all);
   if (args.empty()) {
@@ -55,6 +64,9 @@ int cmd_run(const Args& args) {
   req.command_line = {"softcut", "run"};
   req.command_line.insert(req.command_line.end(), args.begin(), args.end());
   req.out_dir = out_dir;
+  req.depth = depth, req.labels = labels, req.video = video;
+  if (record && no_record) usage_fail("softcut run: give --record or --no-record, not both");
+  if (record || no_record) req.record = record;
 
   Progress progress(quiet ? Progress::Mode::quiet : ::isatty(STDERR_FILENO) ? Progress::Mode::bar : Progress::Mode::lines);
   req.progress = [&](int frame, int n, double elapsed) { progress.update(frame, n, elapsed); };

@@ -19,8 +19,10 @@ const char* kUsage =
     "\n"
     "commands:\n"
     "  run SCENARIO.lua [--out DIR] [--set key=value ...] [--frames N] [--backend B]\n"
-    "                   [--quiet] [--trust] [--no-render]\n"
+    "                   [--depth] [--labels] [--video] [--quiet] [--trust] [--no-render]\n"
     "                       run a Lua scenario headless; logs and frames under renders/<name>/\n"
+    "  render RUNDIR [--eye X,Y,Z --target X,Y,Z] [--fov D] [--size WxH] [--style S] [--video]\n"
+    "                       redraw a finished run's frames from its record, without simulating\n"
     "  check PATH... [-j N] [--only PAT] [--exclude PAT] [--set key=value ...] [--timeout S]\n"
     "                [--junit FILE] [--json FILE] [--record [--force]] [--backend B] [--out DIR]\n"
     "                [--max-output BYTES] [--trust]\n"
@@ -70,6 +72,7 @@ int main(int argc, char** argv) {
     if (cmd == "run") return cmd_run(args);
     if (cmd == "check") return cmd_check(args);
     if (cmd == "sweep") return cmd_sweep(args);
+    if (cmd == "render") return cmd_render(args);
     std::fprintf(stderr, "softcut: unknown command '%s' (see softcut --help)\n", cmd.c_str());
     return 2;
   } catch (const softcut::UsageError& e) {

@@ -9,7 +9,8 @@
 #include "core/output_budget.hpp"
 #include "core/stop_flags.hpp"
 #include "core/watchdog.hpp"
-#include "gpu/egl_context.hpp"
+#include "gl/egl_context.hpp"
+#include "render/video_encoder.hpp"
 #include "render/frame_writer.hpp"
 #include "scenario_script.hpp"  // lua/: the Lua implementation of sim::ScenarioScript
 #include "sim/model.hpp"
@@ -51,7 +52,8 @@ fs::path make_output_folder(const RunRequest& req, const std::string& name) {
 // the resolved and read-back images and the PNG encoder's copy.
 double render_bytes(const sim::RenderSettings& r) {
   const double pixels = double(r.width) * double(r.height);
-  return pixels * 8.0 * std::max(1, r.msaa_samples) + pixels * 4.0 * 3.0;
+  const double aux = r.depth || r.labels ? pixels * (4.0 + 1.0 + 4.0) * 2.0 : 0.0;  // label pass targets, read-backs
+  return pixels * 8.0 * std::max(1, r.msaa_samples) + pixels * 4.0 * 3.0 + aux;
 }
 
 // The command line's choices over the script's: what it renders and how
@@ -61,10 +63,15 @@ void apply_request(const RunRequest& req, sim::ScenarioSpec& spec) {
   spec.outputs.timeout_s = std::max(0.0, req.timeout_s);
   spec.outputs.max_bytes = req.max_output;
   if (req.render_every > 0) spec.outputs.render.enabled = true, spec.outputs.render.every = req.render_every;
-  if (!req.render) spec.outputs.render.enabled = false;
   if (req.width > 0) spec.outputs.render.width = req.width;
   if (req.height > 0) spec.outputs.render.height = req.height;
   if (req.msaa_samples >= 0) spec.outputs.render.msaa_samples = req.msaa_samples;
+  sim::RenderSettings& rs = spec.outputs.render;
+  if (req.depth) rs.depth = rs.enabled = true;
+  if (req.labels) rs.labels = rs.enabled = true;
+  if (req.video) rs.video = rs.enabled = true;
+  if (req.record) rs.record = *req.record ? sim::RenderSettings::Record::on : sim::RenderSettings::Record::off;
+  if (!req.render) rs.enabled = false;
   if (req.backend) spec.solver.backend = *req.backend;
   spec.solver.cache_dir = req.cache_dir;
   if (!req.trusted) {
@@ -129,11 +136,11 @@ RunOutcome run_watched(const RunRequest& req, const OpenScript& open, const Watc
 
   // One EGL context for the GPU backend and rendering, made here (the engine
   // never creates one) and outliving the Model and the renderer.
-  std::unique_ptr<gpu::EglContext> context;
+  std::unique_ptr<gl::EglContext> context;
   if (sim::wants_gpu_context(spec)) {
     const bool required = spec.solver.backend == backend::Backend::gpu || spec.outputs.render.enabled;
     try {
-      context = std::make_unique<gpu::EglContext>();
+      context = std::make_unique<gl::EglContext>();
     } catch (const Error& e) {
       if (required) throw;
       out.warnings.push_back(cat("no OpenGL context (", first_line(e.what()), "); solver backend auto uses the CPU"));
@@ -168,6 +175,10 @@ RunOutcome run_watched(const RunRequest& req, const OpenScript& open, const Watc
                                                        ? render::FrameWriter::Mode::inline_draw
                                                        : render::FrameWriter::Mode::worker,
                                                    2, &output);
+    const sim::RenderSettings& rs = spec.outputs.render;
+    if (rs.video)
+      frames->attach_video(std::make_unique<render::VideoEncoder>(
+          out.out_dir / "video.mp4", rs.width, rs.height, spec.timeline.fps / rs.every));
   }
   out.num_frames = model.num_frames;
   sim::State state = sim::make_state(model);
@@ -190,7 +201,11 @@ RunOutcome run_watched(const RunRequest& req, const OpenScript& open, const Watc
   if (out.frames_rendered) {
     out.render_ms = rec.render_frame_thread_ms().sum / out.frames_rendered;
     const render::FrameWriterStats st = frames->stats();  // one locked snapshot
-    out.render_work_ms = st.work.total_ms() / std::max(1, st.frames);
+    const double n = std::max(1, st.frames);
+    out.render_work_ms = st.work.total_ms() / n;
+    out.render_rgb_ms = st.work.rgb_ms() / n;
+    out.render_labels_ms = st.work.labels_ms() / n;
+    out.render_video_ms = st.work.video_ms / n;
   }
   out.warnings.insert(out.warnings.end(), model.warnings.begin(), model.warnings.end());
   out.warnings.insert(out.warnings.end(), state.warnings.begin(), state.warnings.end());

@@ -43,6 +43,9 @@ struct RunRequest {
                                                   // scenario renders none; 0: the scenario's choice
   int width = 0, height = 0;                      // --size WxH: overrides the render size; 0: the scenario's
   int msaa_samples = -1;                          // --msaa N: overrides the samples; -1: the scenario's
+  bool depth = false, labels = false;             // --depth, --labels: also those images (rendering on)
+  bool video = false;                             // --video: also video.mp4 (rendering on)
+  std::optional<bool> record;                     // --record / --no-record: render_record.bin; none: the scenario's
   bool render_inline = false;                     // draw on the frame thread even without the GPU solver (bench)
   long long instruction_budget = 200'000'000;     // sandbox: Lua VM instructions per call (main chunk, each on_frame)
   std::size_t memory_budget = 512u << 20;         // sandbox: Lua heap, bytes
@@ -73,6 +76,9 @@ struct RunOutcome {
   // Means per frame, ms: the simulation step, and per rendered frame the
   // frame loop's share of rendering and the drawing side (as in summary.json).
   double step_ms = 0, render_ms = 0, render_work_ms = 0;
+  // The drawing side's parts per rendered frame, ms: the colour image (upload,
+  // draw, read-back, PNG, write), the depth and label images, the video.
+  double render_rgb_ms = 0, render_labels_ms = 0, render_video_ms = 0;
   int frames_rendered = 0;
   std::vector<ExpectationResult> expectations;
   std::vector<std::string> warnings;

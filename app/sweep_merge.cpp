@@ -117,6 +117,25 @@ RunSummary parse_run_summary(const std::string& text, const std::string& file) {
         e.message = cut(R::text(*m, field_path(at, "message")), kMaxMergedMessage);
       s.expectations.push_back(std::move(e));
     }
+    if (const auto* list = R::find(j, "", "tools", false)) {  // older summaries have none
+      if (!list->is_array()) R::bad("tools", "is not a list");
+      if (list->size() > kMaxSummaryTools)
+        fail("'tools' lists ", list->size(), " tools, more than the ", kMaxSummaryTools, " a summary holds");
+      for (std::size_t i = 0; i < list->size(); ++i) {
+        const std::string at = field_path("tools", i);
+        RunSummary::Tool t;
+        t.name = R::text(*R::find((*list)[i], at, "name", true), field_path(at, "name"));
+        if (t.name.size() > kMaxExpectationName)
+          fail("'", field_path(at, "name"), "' is ", t.name.size(), " bytes long, more than ", kMaxExpectationName);
+        t.peak_force_n = R::number(*R::find((*list)[i], at, "peak_force_n", true), field_path(at, "peak_force_n"), true);
+        t.mean_force_n = R::number(*R::find((*list)[i], at, "mean_force_n", true), field_path(at, "mean_force_n"), true);
+        t.frames_engaged =
+            R::number(*R::find((*list)[i], at, "frames_engaged", true), field_path(at, "frames_engaged"), false);
+        t.entry = {{"name", t.name}, {"peak_force_n", t.peak_force_n}, {"mean_force_n", t.mean_force_n},
+                   {"frames_engaged", t.frames_engaged}};
+        s.tools.push_back(std::move(t));
+      }
+    }
   } catch (const Error& e) {
     fail(file, ": not a summary softcut wrote: ", e.what(), " (rerun the run)");
   }
@@ -171,6 +190,17 @@ SweepMerge merge_sweep(const fs::path& dir) {
   if (double(summaries.size()) * double(expect_names.size()) > double(kMaxMergeCells))
     fail((dir / "sweep_plan.json").string(), ": the table would hold ", summaries.size(), " runs x ",
          expect_names.size(), " expectation columns, more than ", kMaxMergeCells, " cells; merge fewer runs");
+  // Tool columns: every tool name, in the order runs first report them
+  // (summary.json "tools"; older summaries have none).
+  std::vector<std::string> tool_names;
+  std::unordered_map<std::string, std::size_t> tool_column;
+  for (const RunSummary& s : summaries)
+    for (const auto& t : s.tools)
+      if (tool_column.emplace(t.name, tool_names.size()).second) tool_names.push_back(t.name);
+  if (double(summaries.size()) * double(3 * tool_names.size()) > double(kMaxMergeCells))
+    fail((dir / "sweep_plan.json").string(), ": the table would hold ", summaries.size(), " runs x ",
+         3 * tool_names.size(), " tool columns, more than ", kMaxMergeCells, " cells; merge fewer runs");
+  const char* const tool_fields[] = {"peak_force_n", "mean_force_n", "frames_engaged"};
   // A key named like a fixed column ("frames") gets the column "param.frames".
   const std::vector<std::string> fixed = {"id", "pass", "exit_reason", "frames", "last_time_s", "cut_events",
                                           "detached_pieces"};
@@ -179,6 +209,8 @@ SweepMerge merge_sweep(const fs::path& dir) {
     header.push_back(std::find(fixed.begin(), fixed.end(), k) == fixed.end() ? k : "param." + k);
   header.insert(header.end(), fixed.begin() + 1, fixed.end());
   for (const auto& n : expect_names) header.push_back("expect." + n);
+  for (const auto& n : tool_names)
+    for (const char* f : tool_fields) header.push_back("tool." + n + "." + f);
   auto line = [](const std::vector<std::string>& cells) {
     std::string l;
     for (size_t i = 0; i < cells.size(); ++i) l += (i ? "," : "") + csv_field(cells[i]);
@@ -215,11 +247,20 @@ SweepMerge merge_sweep(const fs::path& dir) {
       expectations.push_back({{"name", e->name}, {"value", e->value}, {"pass", e->pass}, {"reached", e->reached},
                               {"message", e->message}});
     }
+    json tools = json::array();
+    std::vector<const RunSummary::Tool*> tool_of(tool_names.size(), nullptr);
+    for (const auto& t : s.tools)
+      if (!tool_of[tool_column.at(t.name)]) tool_of[tool_column.at(t.name)] = &t;
+    for (const RunSummary::Tool* t : tool_of) {
+      for (const nlohmann::json* v : {&t->peak_force_n, &t->mean_force_n, &t->frames_engaged})
+        cells.push_back(t ? text_of(*v) : "");
+      if (t) tools.emplace_back(t->entry);
+    }
     m.csv += line(cells);
     const json row = {{"id", r.id}, {"params", params}, {"pass", pass}, {"exit_reason", s.exit_reason},
                       {"message", s.message}, {"frames", s.frames}, {"last_time_s", s.last_time_s},
                       {"cut_events", s.cut_events}, {"detached_pieces", s.detached_pieces},
-                      {"expectations", expectations}, {"summary", r.id + "/summary.json"}};
+                      {"expectations", expectations}, {"tools", tools}, {"summary", r.id + "/summary.json"}};
     // Indented as a member of the document's "rows" list (JSON text holds no
     // raw line break inside a string: every one is structure).
     rows_text += i ? ",\n  " : "  ";

@@ -25,6 +25,8 @@ constexpr std::size_t kMaxMergeCells = 10000000;
 // Longest expectation name kept (longer: an error), and message kept (longer: cut).
 constexpr std::size_t kMaxExpectationName = 1000;
 constexpr std::size_t kMaxMergedMessage = 1000;
+// Most tools a summary may list (a scenario has a handful).
+constexpr std::size_t kMaxSummaryTools = 1000;
 
 // What merge reads of a run's summary.json.
 struct RunSummary {
@@ -39,6 +41,13 @@ struct RunSummary {
     std::string message;
   };
   std::vector<Expectation> expectations;
+  // Per tool (summary.json "tools"; sweep.csv's tool.<name>.* columns).
+  struct Tool {
+    std::string name;
+    nlohmann::json peak_force_n, mean_force_n, frames_engaged;  // numbers (forces may be null)
+    nlohmann::json entry;  // the three with the name, for sweep.json
+  };
+  std::vector<Tool> tools;
 };
 
 // Reads one summary's text (`file` names it in messages). Throws

@@ -20,7 +20,7 @@ const std::vector<Benchmark>& benchmarks() {
       {"hybrid", "hybrid condensed model vs monolithic (paper Tables 2-5)", bench_hybrid},
       {"assembly", "stiffness assembly vs triplets; CHOLMOD and CG solve times by tet count", bench_assembly},
       {"gpu", "compute-shader SpMV bandwidth and CG iteration time vs CPU by system size", bench_gpu},
-      {"render", "off-screen frame cost (extract, draw, read back, PNG) against the simulated frame", bench_render},
+      {"render", "off-screen frame cost (colour, depth and labels, video) against the simulated frame; softcut render against the run", bench_render},
       {"springs", "implicit grasper springs per frame: explicit vs implicit with and without the compliance cache",
        bench_springs},
       {"cut", "cutting in the operational region: cut, rebuild and warm/cold frame vs region size (paper Fig. 8)", bench_cut},

@@ -27,7 +27,7 @@
 #include "fem/dof_map.hpp"
 #include "fem/whole_mesh.hpp"
 #include "gpu/compute_cg.hpp"
-#include "gpu/egl_context.hpp"
+#include "gl/egl_context.hpp"
 #include "gpu/operational_gpu_solver.hpp"
 #include "hybrid/update.hpp"
 #include "bench/box_problem.hpp"
@@ -86,7 +86,7 @@ bool changed_mesh(const cut::CutRecord& r) {
   return !r.new_nodes.empty() || !r.changed_tets.empty() || r.nodes_snapped > 0 || r.faces_separated > 0;
 }
 
-SizeResult run_size(int cells, int target, int steps, gpu::EglContext* context) {
+SizeResult run_size(int cells, int target, int steps, gl::EglContext* context) {
   SizeResult r;
   r.target = target, r.cells = cells, r.steps = steps;
   BoxProblem box = box_problem({{cells, cells, cells}, Eigen::Vector3d::Ones(), 0.15, 2});  // z = 0 held
@@ -311,7 +311,7 @@ int bench_cut(const Args& args) {
                    "warm-started from the mapped field) on the EGL device");
   o.app().add_option("--json", json_path, "also write the results as JSON")->type_name("FILE");
   if (!o.parse(args)) return 0;
-  std::optional<gpu::EglContext> context;
+  std::optional<gl::EglContext> context;
   if (use_gpu) context.emplace();
   const int cells = quick ? 8 : 15, steps = 10;
   const std::vector<int> targets = quick ? std::vector<int>{300, 800} : std::vector<int>{500, 1000, 2000, 5000, 8000};

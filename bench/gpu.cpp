@@ -50,7 +50,7 @@ int bench_gpu(const Args& args) {
   if (!o.parse(args)) return 0;
   if (cells.empty()) cells = {4, 8, 12, 16, 24};
 
-  gpu::EglContext context;
+  gl::EglContext context;
   std::printf("device: %s\n", context.info().summary().c_str());
   gpu::ComputeCgOptions opt;
   opt.fp64 = fp64;

@@ -25,7 +25,7 @@
 #include "fem/whole_mesh.hpp"
 #include "gpu/compute_cg.hpp"
 #include "gpu/dense_product.hpp"
-#include "gpu/egl_context.hpp"
+#include "gl/egl_context.hpp"
 #include "gpu/operational_gpu_solver.hpp"
 #include "hybrid/precompute_cache.hpp"
 #include "hybrid/update.hpp"
@@ -124,7 +124,7 @@ struct Result {
   std::string table_row, precompute_row, update_row, poke_rows, gpu_row;
 };
 
-Result run_model(const ModelEntry& e, bool quick, Storage storage, gpu::EglContext* context) {
+Result run_model(const ModelEntry& e, bool quick, Storage storage, gl::EglContext* context) {
   const BenchModel b = e.make();
   const std::string& name = e.name;
   const mesh::TetMesh& m = b.mesh;
@@ -478,7 +478,7 @@ int bench_hybrid(const Args& args) {
     const std::vector<fem::Material> mat(size_t(w.mesh.num_tets()), fem::Material{3e3, 0.45});
     const Model warm = precompute(w.mesh, mat, make_partition(w.mesh, w.op_mask, w.fixed), {});
   }
-  std::optional<gpu::EglContext> context;
+  std::optional<gl::EglContext> context;
   std::string tg;
   if (use_gpu) {
     context.emplace();

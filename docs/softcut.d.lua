@@ -67,13 +67,16 @@ local Frame = {}
 ---@field msaa? integer multisampling samples (0: off)
 ---@field wireframe? boolean draw tet edges
 ---@field show_interface? boolean draw the interface nodes (the border of the operational region)
----@field show_forces? boolean draw manipulated nodes and their force lines
----@field show_loads? boolean draw each acting load (s:load) as an arrow along its total force ending at its nodes' centroid, the largest a tenth of the model's size
+---@field show_forces? boolean draw the nodes tools act on and their force lines (default: with style debug)
+---@field show_loads? boolean draw each acting load (s:load) as an arrow along its total force ending at its nodes' centroid, the largest a tenth of the model's size (default: with style debug)
 ---@field background? number[] RGB in [0, 1]
----@field style? string clinical: tissue coloured by material (each distinct E, nu in order of first use, so a lesion shows); paper: the paper's colours (operational light grey, nonoperational dark blue)
----@field tissue_colors? number[][] clinical style: RGB in [0, 1] per material group, cycled (default: parenchyma red-brown, a pale lesion tone, ...)
+---@field style? string clinical: tissue coloured by material (s:material call order, or its color), instruments as instruments; paper: the paper's colours (operational light grey, nonoperational dark blue); debug: clinical plus the nodes tools act on, force lines and load arrows
+---@field tissue_colors? number[][] clinical style: RGB in [0, 1] per material in s:material call order, cycled (default: parenchyma red-brown, a pale lesion tone, ...); a material's own color wins
 ---@field cut_color? number[] RGB in [0, 1] of cut faces (clinical: a cut face is its tissue's colour tinted 40 % toward it, so the cut shows what it exposed)
----@field show_inclusions? boolean clinical style: boundaries between materials inside the organ (a lesion) drawn faintly through the surface, as an ultrasound overlay would show them
+---@field show_inclusions? boolean clinical style: boundaries between materials inside the organ (a lesion) drawn faintly through the surface, as if seen under the capsule
+---@field depth? boolean also frames/depth_NNNNNN.png: 16-bit distance along the view axis, mm x 10 (0: background), and camera.json (docs/rendering.md)
+---@field labels? boolean also frames/labels_NNNNNN.png: 8-bit id per pixel (background, each material, the cut surface, each tool; legend in camera.json)
+---@field record? boolean write render_record.bin for `softcut render` (default: when it stays under 256 MiB)
 
 softcut = {}
 softcut.select = {}
@@ -123,6 +126,7 @@ function Scenario:mesh(args) end
 ---@field poisson? number Poisson's ratio nu
 ---@field model? string the law: linear (the paper's small-strain elasticity), corotational (linear elasticity in each tet's rotated frame: exact under large rotations, moderate strains), neohookean (compressible neo-Hooke as CalculiX's NEO HOOKE, for large stretch). Nonlinear laws act in the operational region (the condensed region is linear) or, with s:solver{ whole_body = true }, everywhere; docs/fidelity.md
 ---@field density? number mass density, for gravity (default: the preset's, else 1000) (kg/m^3)
+---@field color? number[] rendered colour, RGB in [0, 1] (default: the palette's colour of this call's place in s:material call order)
 ---Assigns a material to a set of tets (all tets when no region field is given); later calls override earlier ones. Give a tissue preset, E and nu, or both (explicit values override the preset's).
 ---@param args Scenario_material_args
 function Scenario:material(args) end
@@ -230,9 +234,23 @@ function Scenario:cutting(args) end
 ---@field vtu? boolean write vtu/frame_NNNNNN.vtu and series.pvd
 ---@field vtu_every? integer VTU every n-th frame
 ---@field render? Render render frames off-screen (camera, size)
+---@field video? boolean also video.mp4 of the frames (H.264 at fps / render.every, through the ffmpeg program); turns rendering on
 ---What the run writes besides summary.json: logged nodes in displacements.csv, ParaView VTU/PVD, rendered frames.
 ---@param args Scenario_output_args
 function Scenario:output(args) end
+
+---@class Scenario_camera_args
+---@field path? Path|number[] eye position over time (m)
+---@field target? Path|number[] point looked at (a point or a path; with `path`) (m)
+---@field follow? string name of a tool defined before (its shaft: the tool's `shaft`, else its approach)
+---@field distance? number follow: eye behind the tip along the shaft (m)
+---@field offset? number follow: eye off the shaft's axis toward `up` (m)
+---@field lead? number follow: look this far beyond the tip (m)
+---@field up? number[] camera up direction
+---@field fov? number vertical field of view (default: render's) (deg)
+---A camera that moves (instead of render's fixed or orbiting one): on a path looking at a point or along another path, or following a tool like an endoscope on its port: `distance` behind its tip along its shaft, `offset` off the shaft toward `up`, looking at the tip.
+---@param args Scenario_camera_args
+function Scenario:camera(args) end
 
 ---@class Scenario_solver_args
 ---@field tolerance? number relative CG residual

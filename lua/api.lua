@@ -65,19 +65,25 @@ api.structs = {
       F("msaa", "integer", "multisampling samples (0: off)", { ge = 0, le = 16, default = 4 }),
       F("wireframe", "boolean", "draw tet edges", { default = false }),
       F("show_interface", "boolean", "draw the interface nodes (the border of the operational region)", { default = false }),
-      F("show_forces", "boolean", "draw manipulated nodes and their force lines", { default = true }),
+      F("show_forces", "boolean", "draw the nodes tools act on and their force lines (default: with style debug)"),
       F("show_loads", "boolean", "draw each acting load (s:load) as an arrow along its total force ending at its "
-        .. "nodes' centroid, the largest a tenth of the model's size", { default = false }),
+        .. "nodes' centroid, the largest a tenth of the model's size (default: with style debug)"),
       F("background", "vec3", "RGB in [0, 1]", { default = { 0.2, 0.22, 0.26 } }),
-      F("style", "string", "clinical: tissue coloured by material (each distinct E, nu in order of first use, so a "
-        .. "lesion shows); paper: the paper's colours (operational light grey, nonoperational dark blue)",
-        { values = { "clinical", "paper" }, default = "clinical" }),
-      F("tissue_colors", "vec3[]", "clinical style: RGB in [0, 1] per material group, cycled (default: "
-        .. "parenchyma red-brown, a pale lesion tone, ...)"),
+      F("style", "string", "clinical: tissue coloured by material (s:material call order, or its color), "
+        .. "instruments as instruments; paper: the paper's colours (operational light grey, nonoperational dark "
+        .. "blue); debug: clinical plus the nodes tools act on, force lines and load arrows",
+        { values = { "clinical", "paper", "debug" }, default = "clinical" }),
+      F("tissue_colors", "vec3[]", "clinical style: RGB in [0, 1] per material in s:material call order, cycled "
+        .. "(default: parenchyma red-brown, a pale lesion tone, ...); a material's own color wins"),
       F("cut_color", "vec3", "RGB in [0, 1] of cut faces (clinical: a cut face is its tissue's colour tinted 40 % "
         .. "toward it, so the cut shows what it exposed)", { default = { 0.72, 0.16, 0.24 } }),
       F("show_inclusions", "boolean", "clinical style: boundaries between materials inside the organ (a lesion) "
-        .. "drawn faintly through the surface, as an ultrasound overlay would show them", { default = true }) } },
+        .. "drawn faintly through the surface, as if seen under the capsule", { default = true }),
+      F("depth", "boolean", "also frames/depth_NNNNNN.png: 16-bit distance along the view axis, mm x 10 "
+        .. "(0: background), and camera.json (docs/rendering.md)", { default = false }),
+      F("labels", "boolean", "also frames/labels_NNNNNN.png: 8-bit id per pixel (background, each material, the "
+        .. "cut surface, each tool; legend in camera.json)", { default = false }),
+      F("record", "boolean", "write render_record.bin for `softcut render` (default: when it stays under 256 MiB)") } },
 }
 
 api.functions = {
@@ -128,7 +134,9 @@ api.functions = {
         .. "operational region (the condensed region is linear) or, with s:solver{ whole_body = true }, everywhere; "
         .. "docs/fidelity.md", { values = { "linear", "corotational", "neohookean" }, default = "linear" }),
       F("density", "number", "mass density, for gravity (default: the preset's, else 1000)",
-        { unit = "kg/m^3", gt = 0, le = 1e5 })),
+        { unit = "kg/m^3", gt = 0, le = 1e5 }),
+      F("color", "vec3", "rendered colour, RGB in [0, 1] (default: the palette's colour of this call's place in "
+        .. "s:material call order)")),
     example = 's:material{ label = 2, tissue = "liver" }\ns:material{ sphere = { center = {0, 0, 0}, radius = 0.01 }, young = 2e4, poisson = 0.45 }\ns:material{ tissue = "liver", model = "corotational" }' },
   { name = "Scenario:prestress", summary = "Gives a set of tets an initial strain eps0 (paper Sec. 5; all tets "
       .. "when no region field is given); later calls override earlier ones on shared tets. The stress is "
@@ -236,8 +244,23 @@ api.functions = {
       F("csv", "boolean", "write displacements.csv", { default = true }),
       F("vtu", "boolean", "write vtu/frame_NNNNNN.vtu and series.pvd", { default = false }),
       F("vtu_every", "integer", "VTU every n-th frame", { ge = 1, default = 1 }),
-      F("render", "Render", "render frames off-screen (camera, size)") },
+      F("render", "Render", "render frames off-screen (camera, size)"),
+      F("video", "boolean", "also video.mp4 of the frames (H.264 at fps / render.every, through the ffmpeg program); "
+        .. "turns rendering on", { default = false }) },
     example = 's:output{ log = softcut.select.surface(), vtu = true, render = { width = 640, height = 480 } }' },
+  { name = "Scenario:camera", summary = "A camera that moves (instead of render's fixed or orbiting one): on a "
+      .. "path looking at a point or along another path, or following a tool like an endoscope on its port: "
+      .. "`distance` behind its tip along its shaft, `offset` off the shaft toward `up`, looking at the tip.",
+    one_of = { { "path", "follow" } }, fields = {
+      F("path", "Path", "eye position over time", { unit = "m" }),
+      F("target", "Path", "point looked at (a point or a path; with `path`)", { unit = "m" }),
+      F("follow", "string", "name of a tool defined before (its shaft: the tool's `shaft`, else its approach)"),
+      F("distance", "number", "follow: eye behind the tip along the shaft", { unit = "m", gt = 0, default = 0.06 }),
+      F("offset", "number", "follow: eye off the shaft's axis toward `up`", { unit = "m", ge = 0, default = 0.01 }),
+      F("lead", "number", "follow: look this far beyond the tip", { unit = "m", default = 0 }),
+      F("up", "vec3", "camera up direction", { default = { 0, 0, 1 } }),
+      F("fov", "number", "vertical field of view (default: render's)", { unit = "deg", gt = 1, lt = 179 }) },
+    example = 's:camera{ path = softcut.path.polyline{ times = {0, 2}, points = {{0.2, -0.2, 0.15}, {0.1, -0.25, 0.1}} },\n          target = {0.05, 0.02, 0.03} }\ns:camera{ follow = "jaw", distance = 0.05, fov = 60 }' },
   { name = "Scenario:solver", summary = "Solver knobs (rarely needed).", fields = {
       F("tolerance", "number", "relative CG residual", { gt = 0, lt = 1, default = 1e-10 }),
       F("max_iterations", "integer", "CG iteration cap (0: automatic)", { ge = 0, default = 0 }),

@@ -106,7 +106,7 @@ function Scenario:material(args)
   end
   local r = region(self, "material", a)
   self._materials[#self._materials + 1] = { name = a.name or ("material" .. (#self._materials + 1)), where = r.where,
-    region = r, tissue = a.tissue, young = a.young, poisson = a.poisson, model = a.model, density = a.density }
+    region = r, tissue = a.tissue, young = a.young, poisson = a.poisson, model = a.model, density = a.density, color = a.color }
 end
 
 function Scenario:prestress(args)
@@ -225,7 +225,30 @@ function Scenario:output(args)
   editable(self, "output")
   local a = check.args("Scenario:output", args)
   if a.log then resolve(self, "output", a.log, "the log") end
-  self._output = { log = a.log, csv = a.csv, vtu = a.vtu, vtu_every = a.vtu_every, render = a.render, where = check.where() }
+  self._output = { log = a.log, csv = a.csv, vtu = a.vtu, vtu_every = a.vtu_every, render = a.render, video = a.video,
+                   where = check.where() }
+end
+
+function Scenario:camera(args)
+  editable(self, "camera")
+  local a = check.args("Scenario:camera", args)
+  if self._camera then check.fail("camera", "already set at %s", self._camera.where) end
+  if a.path and not a.target then check.fail("camera", "a camera on a path needs a target (a point or a path)") end
+  if a.follow and a.target then check.fail("camera", "a camera following a tool looks at its tip: drop target (or use lead)") end
+  if a.follow then
+    local known = {}
+    for _, t in ipairs(self._tools) do
+      if t.name == a.follow then known = nil break end
+      known[#known + 1] = t.name
+    end
+    if known then
+      check.fail("camera", "follows tool '%s', which is not defined yet%s (define the tool before s:camera)", a.follow,
+        check.suggest(a.follow, known))
+    end
+  end
+  self._camera = { kind = a.path and "path" or "follow", eye = a.path and M.as_path(a.path) or nil,
+                   target = a.target and M.as_path(a.target) or nil, follow = a.follow, distance = a.distance,
+                   offset = a.offset, lead = a.lead, up = a.up, fov = a.fov, where = check.where() }
 end
 
 function Scenario:solver(args)

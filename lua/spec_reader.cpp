@@ -85,6 +85,8 @@ sim::ScenarioSpec spec_from_table(lua_State* L, int s, const fs::path& source) {
     a.poisson = get_number(L, m, "poisson", -2.0);
     if (has_field(L, m, "model")) a.model = fem::parse_material_model(get_string(L, m, "model"));
     a.density = get_number(L, m, "density", 0.0);
+    a.has_color = has_field(L, m, "color");
+    a.color = get_vec3(L, m, "color", Eigen::Vector3d::Zero());
     spec.materials.push_back(a);
   });
 
@@ -230,16 +232,45 @@ sim::ScenarioSpec spec_from_table(lua_State* L, int s, const fs::path& source) {
       rs.msaa_samples = get_int(L, r, "msaa", rs.msaa_samples);
       rs.wireframe = get_bool(L, r, "wireframe", false);
       rs.show_interface = get_bool(L, r, "show_interface", rs.show_interface);
-      rs.show_forces = get_bool(L, r, "show_forces", true);
-      rs.show_loads = get_bool(L, r, "show_loads", false);
+      const std::string style = get_string(L, r, "style", "clinical");
+      rs.style = style == "paper"   ? sim::RenderSettings::Style::paper
+                 : style == "debug" ? sim::RenderSettings::Style::debug
+                                    : sim::RenderSettings::Style::clinical;
+      const bool debug = rs.style == sim::RenderSettings::Style::debug;
+      rs.show_forces = get_bool(L, r, "show_forces", debug);
+      rs.show_loads = get_bool(L, r, "show_loads", debug);
       rs.background = get_vec3(L, r, "background", rs.background);
-      rs.style = get_string(L, r, "style", "clinical") == "paper" ? sim::RenderSettings::Style::paper
-                                                                 : sim::RenderSettings::Style::clinical;
       rs.tissue_colors = get_vec3s(L, r, "tissue_colors");
       rs.cut_color = get_vec3(L, r, "cut_color", rs.cut_color);
       rs.show_inclusions = get_bool(L, r, "show_inclusions", rs.show_inclusions);
+      rs.depth = get_bool(L, r, "depth", false);
+      rs.labels = get_bool(L, r, "labels", false);
+      if (has_field(L, r, "record"))
+        rs.record = get_bool(L, r, "record", true) ? sim::RenderSettings::Record::on : sim::RenderSettings::Record::off;
     }
     lua_pop(L, 1);
+    if (get_bool(L, o, "video", false)) out.render.enabled = out.render.video = true;
+  }
+  lua_pop(L, 1);
+
+  if (push_field(L, s, "_camera") == LUA_TTABLE) {
+    const int c = lua_gettop(L);
+    sim::CameraSpec& cam = spec.outputs.camera;
+    cam.where = get_string(L, c, "where");
+    cam.kind = get_string(L, c, "kind") == "follow" ? sim::CameraSpec::Kind::follow : sim::CameraSpec::Kind::path;
+    if (push_field(L, c, "eye") == LUA_TTABLE) cam.eye = to_path(L, -1);
+    lua_pop(L, 1);
+    if (push_field(L, c, "target") == LUA_TTABLE) {
+      cam.target_path = to_path(L, -1);
+      cam.target_moves = true;
+    }
+    lua_pop(L, 1);
+    cam.follow = get_string(L, c, "follow");
+    cam.distance = get_number(L, c, "distance", cam.distance);
+    cam.offset = get_number(L, c, "offset", cam.offset);
+    cam.lead = get_number(L, c, "lead", cam.lead);
+    cam.up = get_vec3(L, c, "up", cam.up);
+    cam.fov_deg = get_number(L, c, "fov", 0.0);
   }
   lua_pop(L, 1);
 

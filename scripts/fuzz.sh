@@ -5,7 +5,7 @@
 # crashing input is left in build-fuzz/findings/<target>/ (copy it to
 # tests/fuzz/regressions/<target>/ and add a doctest case, see docs/hardening.md).
 #   scripts/fuzz.sh                      # every target, 60 s each
-#   scripts/fuzz.sh --seconds 20 gmsh    # one target (names: gmsh medit vtk vtu tetgen nrrd lua junit reflog sweep_table sweep_plan summary)
+#   scripts/fuzz.sh --seconds 20 gmsh    # one target (names: gmsh medit vtk vtu tetgen nrrd lua junit reflog sweep_table sweep_plan summary render_record)
 #   scripts/fuzz.sh --build-only
 #   scripts/fuzz.sh --seconds 30 --jobs 2   # two targets at a time (CI: scripts/test.sh)
 #   scripts/fuzz.sh --runs 1000000 --seconds 7200 nrrd   # stop at 1e6 executions (or the time)
@@ -14,7 +14,7 @@
 #   scripts/fuzz.sh --seconds 3600
 set -euo pipefail
 cd "$(dirname "$0")/.."
-all=(gmsh medit vtk vtu tetgen nrrd lua junit reflog sweep_table sweep_plan summary)
+all=(gmsh medit vtk vtu tetgen nrrd lua junit reflog sweep_table sweep_plan summary render_record)
 seconds=60
 runs=-1
 max_len=65536

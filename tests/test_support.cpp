@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <cstdlib>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -40,6 +41,45 @@ nlohmann::ordered_json read_json(const std::filesystem::path& file) {
 }
 
 std::filesystem::path data_dir() { return SOFTCUT_TEST_DATA; }
+
+ForeignArrays read_vtu_with_meshio(const std::filesystem::path& vtu) {
+  // Debian's interpreter, where python3-meshio installs (a python3 earlier
+  // on PATH, e.g. pyenv's, would not see it).
+  const std::string python = std::filesystem::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
+  const auto out = scratch_dir("meshio") / (vtu.stem().string() + ".txt");
+  const std::string cmd = python + " '" + (data_dir() / "read_vtu_meshio.py").string() + "' '" + vtu.string() +
+                          "' > '" + out.string() + "' 2>&1";
+  const int rc = std::system(cmd.c_str());
+  const std::string text = slurp(out);
+  if (rc != 0) {
+    if (text.find("No module named 'meshio'") != std::string::npos)
+      throw std::runtime_error("python3-meshio is not installed: run scripts/install-deps.sh --test "
+                               "(or apt-get install python3-meshio)");
+    throw std::runtime_error("meshio could not read " + vtu.string() + ": " + text);
+  }
+  ForeignArrays r;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) {
+    std::istringstream words(line);
+    std::string name, kind;
+    words >> name;
+    if (name == "cell_blocks") {
+      std::string t;
+      words >> r.cell_blocks >> t >> r.tetra_blocks;
+      continue;
+    }
+    std::size_t n = 0;
+    words >> kind >> n;
+    std::vector<double>& v = r.arrays[name];
+    for (std::size_t i = 0; i < n; ++i) {
+      std::string w;
+      words >> w;
+      v.push_back(kind == "f" ? std::strtod(w.c_str(), nullptr) : double(std::stoll(w)));  // strtod reads C99 hex floats
+    }
+    if (v.size() != n) throw std::runtime_error("meshio dump: array " + name + " cut short");
+  }
+  return r;
+}
 
 std::filesystem::path scratch_dir(const std::string& name) {
   auto dir = std::filesystem::temp_directory_path() / ("softcut-test-" + std::to_string(::getpid())) / name;

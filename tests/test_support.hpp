@@ -2,7 +2,9 @@
 // Shared helpers for the doctest suites.
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <map>
 #include <string>
+#include <vector>
 
 #include "core/error.hpp"
 
@@ -32,6 +34,17 @@ std::string slurp(const std::filesystem::path& file);
 // stricter reader would see.
 nlohmann::ordered_json parse_json(const std::string& text);
 nlohmann::ordered_json read_json(const std::filesystem::path& file);
+
+// An independent reader's view of a .vtu file: tests/data/read_vtu_meshio.py
+// run by Debian's python3 with python3-meshio (scripts/install-deps.sh
+// --test), by array name ("points", "tetra", "point.<name>", "cell.<name>"),
+// floats as their exact bits. Throws std::runtime_error saying what to
+// install when python3 or meshio is missing, or quoting the reader's error.
+struct ForeignArrays {
+  std::map<std::string, std::vector<double>> arrays;
+  int cell_blocks = 0, tetra_blocks = 0;
+};
+ForeignArrays read_vtu_with_meshio(const std::filesystem::path& vtu);
 
 // Test data folder (tests/data) and a fresh, empty scratch folder per name.
 std::filesystem::path data_dir();

@@ -6,7 +6,7 @@
 #include "core/timer.hpp"
 #include "fem/dof_map.hpp"
 #include "gpu/dense_product.hpp"
-#include "gpu/egl_context.hpp"
+#include "gl/egl_context.hpp"
 #include "gpu/operational_gpu_solver.hpp"
 #include "hybrid/loads.hpp"
 #include "hybrid/precompute.hpp"
@@ -27,7 +27,7 @@ struct HybridRunState final : SolverRunState {
 class HybridSolver final : public Solver {
  public:
   HybridSolver(const mesh::TetMesh& m, const std::vector<fem::Material>& tet_material, const hybrid::Partition& p,
-               const SolverSpec& spec, bool need_interior, BackendChoice choice, gpu::EglContext* context,
+               const SolverSpec& spec, bool need_interior, BackendChoice choice, gl::EglContext* context,
                const StopFlags& stop)
       : spec_(spec), need_interior_(need_interior), choice_(std::move(choice)) {
     hybrid::PrecomputeOptions opt;
@@ -275,7 +275,7 @@ class HybridSolver final : public Solver {
   BackendChoice choice_;
   // Backend gpu: the application's context (outlives the Model) and the
   // compiled kernels every run shares; whether stage 5 runs on the device.
-  gpu::EglContext* context_ = nullptr;
+  gl::EglContext* context_ = nullptr;
   std::shared_ptr<const gpu::CgKernels> kernels_;
   bool device_product_ = false;  // a large dense K*^-1 P*
   double gpu_ms_ = 0;            // kernel compile time
@@ -288,7 +288,7 @@ class HybridSolver final : public Solver {
 
 std::unique_ptr<Solver> make_hybrid_solver(const mesh::TetMesh& m, const std::vector<fem::Material>& tet_material,
                                            const hybrid::Partition& partition, const SolverSpec& spec,
-                                           bool need_interior, BackendChoice choice, gpu::EglContext* context,
+                                           bool need_interior, BackendChoice choice, gl::EglContext* context,
                                            const StopFlags& stop) {
   return std::make_unique<HybridSolver>(m, tet_material, partition, spec, need_interior, std::move(choice), context,
                                         stop);

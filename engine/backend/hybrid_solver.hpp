@@ -15,7 +15,7 @@ namespace softcut::backend {
 // context: the application's, for choice.backend == gpu (outlives the solver).
 std::unique_ptr<Solver> make_hybrid_solver(const mesh::TetMesh& m, const std::vector<fem::Material>& tet_material,
                                            const hybrid::Partition& partition, const SolverSpec& spec,
-                                           bool need_interior, BackendChoice choice, gpu::EglContext* context,
+                                           bool need_interior, BackendChoice choice, gl::EglContext* context,
                                            const StopFlags& stop = {});
 
 }  // namespace softcut::backend

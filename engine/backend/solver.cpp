@@ -2,7 +2,7 @@
 
 #include "backend/hybrid_solver.hpp"
 #include "backend/monolithic_solver.hpp"
-#include "gpu/egl_context.hpp"
+#include "gl/egl_context.hpp"
 
 namespace softcut::backend {
 
@@ -12,7 +12,7 @@ void check_solve_residual(double r, const char* what) {
          "): the system is singular or nearly so; is a part of the body held only by a node or an edge?");
 }
 
-BackendChoice choose_backend(const SolverSpec& spec, const gpu::ContextInfo* info) {
+BackendChoice choose_backend(const SolverSpec& spec, const gl::ContextInfo* info) {
   BackendChoice c;
   c.requested = spec.backend;
   if (info) c.device = info->renderer + (info->software ? ", software" : "");

@@ -31,7 +31,7 @@ namespace softcut::backend {
 // here; it must outlive the Model (the GPU solver keeps it) and be current on
 // the stepping thread.
 struct RunResources {
-  gpu::EglContext* context = nullptr;
+  gl::EglContext* context = nullptr;
   StopFlags stop;  // Ctrl-C and the watchdog, polled by the precompute (core/stop_flags.hpp)
 };
 
@@ -55,7 +55,7 @@ struct BackendChoice {
 // context): automatic -> direct (see the reason in solver.cpp), with stage 5
 // on a hardware GPU's device; gpu -> the device even when it is software
 // (llvmpipe), an Error when there is no context or no compute shaders.
-BackendChoice choose_backend(const SolverSpec& spec, const gpu::ContextInfo* context);
+BackendChoice choose_backend(const SolverSpec& spec, const gl::ContextInfo* context);
 
 // Every solve is checked: a relative residual ||b - A x|| / ||b|| above
 // kMaxRelativeResidual (or NaN) is an error naming `what`, never a result (a

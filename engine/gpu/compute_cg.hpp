@@ -17,8 +17,9 @@
 #include <cstddef>
 #include <memory>
 
+#include "gl/egl_context.hpp"
 #include "gpu/block_system.hpp"
-#include "gpu/egl_context.hpp"
+#include "gpu/device_system.hpp"
 #include "solve/cg.hpp"
 
 namespace softcut::gpu {
@@ -40,30 +41,21 @@ struct ComputeCgReport {
   std::size_t uploaded_bytes = 0; // matrix bytes sent by the last set_system()
 };
 
-// What the last set_system() did to the device copy of the matrix.
-struct SystemUpload {
-  std::size_t sent_bytes = 0;   // host -> device
-  std::size_t moved_bytes = 0;  // device -> device (kept rows copied to their new place)
-  std::size_t full_bytes = 0;   // what a full upload of the new system sends
-  bool incremental = false;     // kept the shared rows of a changed pattern
-  bool reallocated = false;     // some device buffer was (re)allocated
-};
-
 // The CG kernels of one precision, compiled in one context: fixed data,
 // shared by every ComputeCg made from them (a Model compiles them once; each
-// run gets its own buffers). Uniforms are program state, so a ComputeCg sets
-// its sizes before every dispatch.
+// run gets its own buffers). A kernel holds no run's data: each dispatch
+// passes its system's sizes (ComputeProgram::dispatch).
 struct CgKernels;
 // Throws softcut::Error when the context has no compute shaders (or no fp64
 // when asked).
-std::shared_ptr<const CgKernels> compile_cg_kernels(EglContext& context, bool fp64);
+std::shared_ptr<const CgKernels> compile_cg_kernels(gl::EglContext& context, bool fp64);
 
 class ComputeCg {
  public:
   // Compiles its own kernels in `context` (made current); throws as compile_cg_kernels.
-  ComputeCg(EglContext& context, ComputeCgOptions options = {});
+  ComputeCg(gl::EglContext& context, ComputeCgOptions options = {});
   // Uses shared kernels of the precision options.fp64.
-  ComputeCg(EglContext& context, std::shared_ptr<const CgKernels> kernels, ComputeCgOptions options);
+  ComputeCg(gl::EglContext& context, std::shared_ptr<const CgKernels> kernels, ComputeCgOptions options);
   ~ComputeCg();
   ComputeCg(const ComputeCg&) = delete;
   ComputeCg& operator=(const ComputeCg&) = delete;
@@ -105,7 +97,7 @@ class ComputeCg {
   struct Impl;
   std::unique_ptr<Impl> impl_;
   ComputeCgOptions opt_;
-  EglContext& context_;
+  gl::EglContext& context_;
 };
 
 }  // namespace softcut::gpu

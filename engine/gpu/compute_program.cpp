@@ -3,65 +3,27 @@
 #define GL_GLEXT_PROTOTYPES 1
 #include <GL/glcorearb.h>
 
+#include <algorithm>
 #include <utility>
-#include <vector>
 
 #include "core/error.hpp"
 
 namespace softcut::gpu {
 
-ComputeProgram::ComputeProgram(const std::string& name, const std::string& source) {
-  const GLuint shader = glCreateShader(GL_COMPUTE_SHADER);
-  const char* src = source.c_str();
-  glShaderSource(shader, 1, &src, nullptr);
-  glCompileShader(shader);
-  GLint ok = 0;
-  glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
-  if (!ok) {
-    GLint len = 0;
-    glGetShaderiv(shader, GL_INFO_LOG_LENGTH, &len);
-    std::string log(size_t(std::max(len, 1)), '\0');
-    glGetShaderInfoLog(shader, len, nullptr, log.data());
-    glDeleteShader(shader);
-    fail("compute shader '", name, "' does not compile: ", log);
+ComputeProgram::ComputeProgram(const std::string& name, const std::string& source)
+    : program_(name, {{gl::Stage::compute, source.c_str()}}) {}
+
+void ComputeProgram::dispatch(std::uint32_t groups, std::initializer_list<UniformValue> uniforms) const {
+  // Every uniform the kernel reads is set here, from this call's values:
+  // nothing an earlier dispatch (another run's) left on the program is used.
+  for (const gl::UniformInfo& u : program_.uniforms()) {
+    const UniformValue* given = nullptr;
+    for (const UniformValue& v : uniforms)
+      if (u.name == v.name) given = &v;
+    if (!given) fail("compute kernel '", program_.name(), "': dispatched without a value for its uniform '", u.name, "'");
+    glProgramUniform1ui(program_.id(), u.location, given->value);
   }
-  id_ = glCreateProgram();
-  glAttachShader(id_, shader);
-  glLinkProgram(id_);
-  glDeleteShader(shader);
-  glGetProgramiv(id_, GL_LINK_STATUS, &ok);
-  if (!ok) {
-    GLint len = 0;
-    glGetProgramiv(id_, GL_INFO_LOG_LENGTH, &len);
-    std::string log(size_t(std::max(len, 1)), '\0');
-    glGetProgramInfoLog(id_, len, nullptr, log.data());
-    glDeleteProgram(id_);
-    id_ = 0;
-    fail("compute program '", name, "' does not link: ", log);
-  }
-}
-
-ComputeProgram::~ComputeProgram() {
-  if (id_) glDeleteProgram(id_);
-}
-
-ComputeProgram::ComputeProgram(ComputeProgram&& o) noexcept : id_(std::exchange(o.id_, 0)) {}
-
-ComputeProgram& ComputeProgram::operator=(ComputeProgram&& o) noexcept {
-  if (this != &o) {
-    if (id_) glDeleteProgram(id_);
-    id_ = std::exchange(o.id_, 0);
-  }
-  return *this;
-}
-
-void ComputeProgram::set_uint(const char* uniform, std::uint32_t value) const {
-  const GLint loc = glGetUniformLocation(id_, uniform);
-  if (loc >= 0) glProgramUniform1ui(id_, loc, value);
-}
-
-void ComputeProgram::dispatch(std::uint32_t groups) const {
-  glUseProgram(id_);
+  glUseProgram(program_.id());
   glDispatchCompute(std::max<std::uint32_t>(groups, 1), 1, 1);
 }
 

@@ -1,33 +1,43 @@
 #pragma once
-// RAII wrappers for compute work in the application's EGL context: a compiled
-// compute program and a shader storage buffer. The context must be current.
+// Compute work in the application's EGL context: a compute kernel (a
+// gl::Program of one compute shader) and a shader storage buffer. The
+// context must be current.
 #include <cstddef>
 #include <cstdint>
+#include <initializer_list>
 #include <string>
+
+#include "gl/program.hpp"
 
 namespace softcut::gpu {
 
+// A value for one uint uniform of a kernel, given with each dispatch.
+struct UniformValue {
+  const char* name;
+  std::uint32_t value;
+};
+
+// A compiled kernel. It holds no per-use state: every dispatch gives a value
+// for each uniform the kernel reads (an omission is an error), so no value
+// carries over from an earlier dispatch, and kernels compiled once (a
+// Model's) serve any number of runs, each with its own sizes and buffers.
 class ComputeProgram {
  public:
   ComputeProgram() = default;
   // Compiles and links; throws softcut::Error with the driver's log and `name`.
   ComputeProgram(const std::string& name, const std::string& source);
-  ~ComputeProgram();
-  ComputeProgram(ComputeProgram&& o) noexcept;
-  ComputeProgram& operator=(ComputeProgram&& o) noexcept;
-  ComputeProgram(const ComputeProgram&) = delete;
-  ComputeProgram& operator=(const ComputeProgram&) = delete;
 
-  std::uint32_t id() const { return id_; }
+  std::uint32_t id() const { return program_.id(); }
   // Forgets the program without deleting it (for a destructor that finds its
   // context current on another thread: the context frees it with itself).
-  void release() noexcept { id_ = 0; }
-  void set_uint(const char* uniform, std::uint32_t value) const;
-  // Binds the program and dispatches `groups` work groups along x.
-  void dispatch(std::uint32_t groups) const;
+  void release() noexcept { program_.release(); }
+  // Sets `uniforms` (every active uniform of the kernel, each once; throws
+  // naming a missing or unknown one), binds the program and dispatches
+  // `groups` work groups along x.
+  void dispatch(std::uint32_t groups, std::initializer_list<UniformValue> uniforms = {}) const;
 
  private:
-  std::uint32_t id_ = 0;
+  gl::Program program_;
 };
 
 class StorageBuffer {

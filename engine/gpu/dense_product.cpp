@@ -29,7 +29,7 @@ void main() {
 
 }  // namespace
 
-DeviceDenseProduct::DeviceDenseProduct(EglContext& context, const Eigen::MatrixXd& matrix)
+DeviceDenseProduct::DeviceDenseProduct(gl::EglContext& context, const Eigen::MatrixXd& matrix)
     : context_(context), rows_(int(matrix.rows())), cols_(int(matrix.cols())) {
   context_.make_current();
   if (!context_.info().compute)
@@ -39,8 +39,6 @@ DeviceDenseProduct::DeviceDenseProduct(EglContext& context, const Eigen::MatrixX
   matrix_.upload(rm.data(), sizeof(double) * size_t(rm.size()));
   x_.upload(nullptr, sizeof(double) * size_t(cols_));
   y_.upload(nullptr, sizeof(double) * size_t(rows_));
-  program_.set_uint("rows", unsigned(rows_));
-  program_.set_uint("cols", unsigned(cols_));
 }
 
 DeviceDenseProduct::~DeviceDenseProduct() {
@@ -64,7 +62,7 @@ void DeviceDenseProduct::apply(const Eigen::VectorXd& x, Eigen::VectorXd& y) {
   x_.bind(1);
   y_.bind(2);
   storage_barrier();
-  program_.dispatch((unsigned(rows_) + kGroup - 1) / kGroup);
+  program_.dispatch((unsigned(rows_) + kGroup - 1) / kGroup, {{"rows", unsigned(rows_)}, {"cols", unsigned(cols_)}});
   storage_barrier();
   y_.download(y.data(), sizeof(double) * size_t(rows_));
 }

@@ -9,7 +9,7 @@
 #include <memory>
 
 #include "gpu/compute_program.hpp"
-#include "gpu/egl_context.hpp"
+#include "gl/egl_context.hpp"
 #include "hybrid/nonoperational_product.hpp"
 
 namespace softcut::gpu {
@@ -18,7 +18,7 @@ class DeviceDenseProduct : public hybrid::NonoperationalProduct {
  public:
   // Throws softcut::Error when the context has no compute shaders or no
   // double-precision support.
-  DeviceDenseProduct(EglContext& context, const Eigen::MatrixXd& matrix);
+  DeviceDenseProduct(gl::EglContext& context, const Eigen::MatrixXd& matrix);
   ~DeviceDenseProduct() override;
   std::string name() const override { return "gpu-fp64"; }
   void apply(const Eigen::VectorXd& x, Eigen::VectorXd& y) override;
@@ -31,7 +31,7 @@ class DeviceDenseProduct : public hybrid::NonoperationalProduct {
   static constexpr double kWorthwhileEntries = 4e6;
 
  private:
-  EglContext& context_;
+  gl::EglContext& context_;
   ComputeProgram program_;
   StorageBuffer matrix_, x_, y_;
   int rows_ = 0, cols_ = 0;

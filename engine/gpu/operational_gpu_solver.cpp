@@ -4,9 +4,9 @@
 
 namespace softcut::gpu {
 
-OperationalGpuSolver::OperationalGpuSolver(EglContext& context, ComputeCgOptions options) : cg_(context, options) {}
+OperationalGpuSolver::OperationalGpuSolver(gl::EglContext& context, ComputeCgOptions options) : cg_(context, options) {}
 
-OperationalGpuSolver::OperationalGpuSolver(EglContext& context, std::shared_ptr<const CgKernels> kernels,
+OperationalGpuSolver::OperationalGpuSolver(gl::EglContext& context, std::shared_ptr<const CgKernels> kernels,
                                            ComputeCgOptions options)
     : cg_(context, std::move(kernels), options) {}
 

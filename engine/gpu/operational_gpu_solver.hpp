@@ -10,9 +10,9 @@ namespace softcut::gpu {
 
 class OperationalGpuSolver : public hybrid::OperationalSolver {
  public:
-  OperationalGpuSolver(EglContext& context, ComputeCgOptions options = {});
+  OperationalGpuSolver(gl::EglContext& context, ComputeCgOptions options = {});
   // One per run, sharing the Model's compiled kernels (of precision options.fp64).
-  OperationalGpuSolver(EglContext& context, std::shared_ptr<const CgKernels> kernels, ComputeCgOptions options);
+  OperationalGpuSolver(gl::EglContext& context, std::shared_ptr<const CgKernels> kernels, ComputeCgOptions options);
   std::string name() const override { return cg_.options().fp64 ? "gpu-fp64" : "gpu"; }
   // Re-uploads (only what changed) when the system's generation changes;
   // throws softcut::Error when the tolerance is not reached.

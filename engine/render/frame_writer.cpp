@@ -15,20 +15,23 @@
 #include "core/output_budget.hpp"
 #include "core/error.hpp"
 #include "core/timer.hpp"
+#include "render/gray_png.hpp"
 
 namespace softcut::render {
 
 struct FrameWriter::Impl {
   struct Job {
     Scene scene;
-    std::filesystem::path png;
+    FramePaths paths;
   };
 
-  gpu::EglContext& ctx;
+  gl::EglContext& ctx;
   OutputBudget* budget = nullptr;  // bytes written, all outputs of the run (optional)
   const Mode mode;
   const size_t max_pending;
   std::optional<Renderer> renderer;  // inline mode; the worker keeps its own
+  std::unique_ptr<VideoEncoder> video;  // used by whoever draws; finished by finish()
+  std::uintmax_t video_bytes = 0;
 
   mutable std::mutex mutex;
   std::condition_variable changed;  // queue, busy or failure changed
@@ -39,7 +42,7 @@ struct FrameWriter::Impl {
   int samples = 0;
   std::thread worker;
 
-  Impl(gpu::EglContext& c, Mode m, int pending, OutputBudget* b)
+  Impl(gl::EglContext& c, Mode m, int pending, OutputBudget* b)
       : ctx(c), budget(b), mode(m), max_pending(size_t(std::max(1, pending))) {
     if (mode == Mode::inline_draw) {
       renderer.emplace(ctx);
@@ -82,21 +85,40 @@ struct FrameWriter::Impl {
     worker.join();
   }
 
-  // Draws, encodes and writes one frame; returns its timings.
-  static FrameTimings write_frame(Renderer& r, const Job& job, OutputBudget* budget) {
+  // Draws, encodes and writes one frame (its depth and label images and its
+  // video frame too, when asked); returns its timings.
+  static FrameTimings write_frame(Renderer& r, const Job& job, OutputBudget* budget, VideoEncoder* video) {
+    const FramePaths& p = job.paths;
     try {
       FrameTimings t;
-      const Image img = r.draw(job.scene, &t);
+      LabelImages aux;
+      const bool want_aux = !p.depth.empty() || !p.labels.empty();
+      const Image img = r.draw(job.scene, &t, want_aux ? &aux : nullptr);
       Timer timer;
       const std::string png = encode_png(img);
       t.encode_ms = timer.ms();
       timer.reset();
-      if (budget) budget->charge(png.size(), job.png.filename().string());
-      write_file_atomic(job.png, png);
+      if (budget) budget->charge(png.size(), p.rgb.filename().string());
+      write_file_atomic(p.rgb, png);
       t.write_ms = timer.ms();
+      for (const auto& [path, depth] : {std::pair{&p.depth, true}, std::pair{&p.labels, false}}) {
+        if (path->empty()) continue;
+        timer.reset();
+        const std::string gray = depth ? encode_png(depth_image(aux)) : encode_png(label_image(aux));
+        t.labels_encode_ms += timer.ms();
+        timer.reset();
+        if (budget) budget->charge(gray.size(), path->filename().string());
+        write_file_atomic(*path, gray);
+        t.labels_write_ms += timer.ms();
+      }
+      if (video) {
+        timer.reset();
+        video->add(img);
+        t.video_ms = timer.ms();
+      }
       return t;
     } catch (const Error& e) {
-      fail("frame ", job.png.string(), ": ", e.what());
+      fail("frame ", p.rgb.string(), ": ", e.what());
     }
   }
 
@@ -134,7 +156,7 @@ struct FrameWriter::Impl {
       std::exception_ptr error;
       FrameTimings t;
       try {
-        t = write_frame(*r, job, budget);
+        t = write_frame(*r, job, budget, video.get());
       } catch (...) {
         error = std::current_exception();
       }
@@ -160,10 +182,10 @@ struct FrameWriter::Impl {
     std::rethrow_exception(e);
   }
 
-  void submit(Scene scene, std::filesystem::path png) {
+  void submit(Scene scene, FramePaths paths) {
     if (mode == Mode::inline_draw) {
       Timer timer;
-      const FrameTimings t = write_frame(*renderer, Job{std::move(scene), std::move(png)}, budget);
+      const FrameTimings t = write_frame(*renderer, Job{std::move(scene), std::move(paths)}, budget, video.get());
       stats.wait_ms += timer.ms();
       account(t, renderer->samples());
       return;
@@ -173,26 +195,44 @@ struct FrameWriter::Impl {
     changed.wait(lock, [&] { return failure || queue.size() < max_pending; });
     stats.wait_ms += timer.ms();
     rethrow_failure(lock);
-    queue.push_back(Job{std::move(scene), std::move(png)});
+    queue.push_back(Job{std::move(scene), std::move(paths)});
     lock.unlock();
     changed.notify_all();
   }
 
   void finish() {
-    if (mode == Mode::inline_draw) return;
-    Timer timer;
-    std::unique_lock lock(mutex);
-    changed.wait(lock, [&] { return failure || (queue.empty() && !busy); });
-    stats.wait_ms += timer.ms();
-    rethrow_failure(lock);
+    if (mode == Mode::worker) {
+      Timer timer;
+      std::unique_lock lock(mutex);
+      changed.wait(lock, [&] { return failure || (queue.empty() && !busy); });
+      stats.wait_ms += timer.ms();
+      rethrow_failure(lock);
+    }
+    // Every frame is in the video now (the worker is idle): end it.
+    if (video) {
+      std::unique_ptr<VideoEncoder> v = std::move(video);
+      video_bytes = v->finish();
+      if (budget) budget->charge(video_bytes, v->path().filename().string());
+    }
   }
 };
 
-FrameWriter::FrameWriter(gpu::EglContext& context, Mode mode, int max_pending, OutputBudget* budget)
+FrameWriter::FrameWriter(gl::EglContext& context, Mode mode, int max_pending, OutputBudget* budget)
     : impl_(std::make_unique<Impl>(context, mode, max_pending, budget)) {}
 FrameWriter::~FrameWriter() = default;
 
-void FrameWriter::submit(Scene scene, std::filesystem::path png) { impl_->submit(std::move(scene), std::move(png)); }
+void FrameWriter::submit(Scene scene, std::filesystem::path png) {
+  impl_->submit(std::move(scene), FramePaths{std::move(png), {}, {}});
+}
+void FrameWriter::submit(Scene scene, FramePaths paths) { impl_->submit(std::move(scene), std::move(paths)); }
+
+void FrameWriter::attach_video(std::unique_ptr<VideoEncoder> video) {
+  // Before the next frame is queued: the worker reads `video` only while it draws a queued frame.
+  impl_->finish();
+  impl_->video = std::move(video);
+}
+
+std::uintmax_t FrameWriter::video_bytes() const { return impl_->video_bytes; }
 void FrameWriter::finish() { impl_->finish(); }
 FrameWriter::Mode FrameWriter::mode() const { return impl_->mode; }
 

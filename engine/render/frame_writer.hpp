@@ -17,6 +17,7 @@
 
 #include "render/renderer.hpp"
 #include "render/scene.hpp"
+#include "render/video_encoder.hpp"
 
 namespace softcut {
 class OutputBudget;
@@ -30,6 +31,12 @@ struct FrameWriterStats {
   double wait_ms = 0;       // caller blocked on a full queue (or drawing, inline), summed
 };
 
+// Where one frame's images go: the colour PNG, and optionally its depth
+// and label PNGs (gray_png.hpp; empty path: not made).
+struct FramePaths {
+  std::filesystem::path rgb, depth, labels;
+};
+
 class FrameWriter {
  public:
   enum class Mode { inline_draw, worker };
@@ -37,7 +44,7 @@ class FrameWriter {
   // `context` must outlive the writer. In worker mode it is detached from the
   // calling thread (made current again by whoever uses it next).
   // `budget` (optional, outlives the writer) bounds the bytes of all outputs.
-  FrameWriter(gpu::EglContext& context, Mode mode, int max_pending = 2, OutputBudget* budget = nullptr);
+  FrameWriter(gl::EglContext& context, Mode mode, int max_pending = 2, OutputBudget* budget = nullptr);
   // Stops after the frame in progress; frames still queued are dropped (no
   // partial files: every write is atomic). Call finish() to keep them.
   ~FrameWriter();
@@ -46,8 +53,16 @@ class FrameWriter {
 
   // Queues the scene for `png` (inline: draws and writes it now).
   void submit(Scene scene, std::filesystem::path png);
-  // Waits until every submitted frame is written; rethrows the first failure.
+  // The same with depth and label images when their paths are given.
+  void submit(Scene scene, FramePaths paths);
+  // Every frame submitted from now on also goes to `video`, from the thread
+  // that draws (the worker: encoding stays off the simulation's thread).
+  void attach_video(std::unique_ptr<VideoEncoder> video);
+  // Waits until every submitted frame is written, then finishes the video;
+  // rethrows the first failure.
   void finish();
+  // The video's bytes after finish() (0: none).
+  std::uintmax_t video_bytes() const;
 
   Mode mode() const;
   FrameWriterStats stats() const;  // consistent snapshot (after finish(): final)

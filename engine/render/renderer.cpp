@@ -7,6 +7,7 @@
 
 #include "core/atomic_file.hpp"
 #include "core/timer.hpp"
+#include "gl/program.hpp"
 
 namespace softcut::render {
 namespace {
@@ -31,10 +32,14 @@ void main() {
 
 // Blinn-Phong in eye space: a head light at the eye (nothing the camera sees
 // is unlit) plus a dimmer fill from the upper left; both faces lit.
+// u_wet: a wound's glossy highlight (sharper, brighter); u_faint: an
+// inclusion seen through the tissue, fading toward its silhouette.
 constexpr const char* kSurfaceFs = R"(#version 450 core
 in vec3 v_pos;
 in vec3 v_normal;
 in vec4 v_color;
+uniform int u_wet;
+uniform int u_faint;
 out vec4 o_color;
 const vec3 kFill = normalize(vec3(-0.6, 0.7, 0.4));
 void main() {
@@ -43,10 +48,13 @@ void main() {
   vec3 v = normalize(-v_pos);
   float d_head = max(dot(n, v), 0.0);
   float d_fill = max(dot(n, kFill), 0.0);
-  float s_head = pow(d_head, 40.0);
-  float s_fill = pow(max(dot(n, normalize(kFill + v)), 0.0), 40.0);
-  vec3 c = v_color.rgb * (0.20 + 0.70 * d_head + 0.25 * d_fill) + vec3(0.22 * s_head + 0.08 * s_fill);
-  o_color = vec4(min(c, vec3(1.0)), v_color.a);
+  float shine = u_wet != 0 ? 90.0 : 40.0, gloss = u_wet != 0 ? 0.45 : 0.22;
+  float s_head = pow(d_head, shine);
+  float s_fill = pow(max(dot(n, normalize(kFill + v)), 0.0), shine);
+  vec3 c = v_color.rgb * (0.20 + 0.70 * d_head + 0.25 * d_fill) + vec3(gloss * s_head + 0.35 * gloss * s_fill);
+  float a = v_color.a;
+  if (u_faint != 0) a *= mix(0.15, 1.0, d_head * d_head);  // soft toward its silhouette: under a layer, not on it
+  o_color = vec4(min(c, vec3(1.0)), a);
 }
 )";
 
@@ -119,6 +127,34 @@ void main() {
 }
 )";
 
+// The label pass: each fragment's distance along the view axis and its
+// triangle's label id, into a float and an unsigned-integer target.
+constexpr const char* kLabelVs = R"(#version 450 core
+layout(location = 0) in vec3 a_pos;
+layout(location = 3) in uint a_label;
+uniform mat4 u_view;
+uniform mat4 u_proj;
+out float v_depth;
+flat out uint v_label;
+void main() {
+  vec4 p = u_view * vec4(a_pos, 1.0);
+  v_depth = -p.z;
+  v_label = a_label;
+  gl_Position = u_proj * p;
+}
+)";
+
+constexpr const char* kLabelFs = R"(#version 450 core
+in float v_depth;
+flat in uint v_label;
+layout(location = 0) out float o_depth;
+layout(location = 1) out uint o_label;
+void main() {
+  o_depth = v_depth;
+  o_label = v_label;
+}
+)";
+
 // Points are round with a dark rim; lines use the colour as is.
 constexpr const char* kFlatFs = R"(#version 450 core
 in vec4 g_color;
@@ -136,63 +172,29 @@ void main() {
 }
 )";
 
-GLuint compile(GLenum type, const char* src) {
-  GLuint sh = glCreateShader(type);
-  glShaderSource(sh, 1, &src, nullptr);
-  glCompileShader(sh);
-  GLint ok = 0;
-  glGetShaderiv(sh, GL_COMPILE_STATUS, &ok);
-  if (!ok) {
-    char log[4096];
-    glGetShaderInfoLog(sh, sizeof log, nullptr, log);
-    glDeleteShader(sh);
-    fail("render: a shader did not compile on this driver: ", log);
-  }
-  return sh;
-}
-
-// A program of a vertex, an optional geometry and a fragment shader.
-GLuint link(const char* vs, const char* fs, const char* gs = nullptr) {
-  const GLuint v = compile(GL_VERTEX_SHADER, vs), f = compile(GL_FRAGMENT_SHADER, fs);
-  const GLuint g = gs ? compile(GL_GEOMETRY_SHADER, gs) : 0;
-  GLuint p = glCreateProgram();
-  glAttachShader(p, v);
-  if (g) glAttachShader(p, g);
-  glAttachShader(p, f);
-  glLinkProgram(p);
-  glDeleteShader(v);
-  if (g) glDeleteShader(g);
-  glDeleteShader(f);
-  GLint ok = 0;
-  glGetProgramiv(p, GL_LINK_STATUS, &ok);
-  if (!ok) {
-    char log[4096];
-    glGetProgramInfoLog(p, sizeof log, nullptr, log);
-    glDeleteProgram(p);
-    fail("render: a shader program did not link on this driver: ", log);
-  }
-  return p;
-}
-
-// One vertex array with position, normal and colour buffers (attributes 0, 1, 2).
+// One vertex array with position, normal, colour and label buffers
+// (attributes 0, 1, 2, 3; the label an integer attribute).
 struct Batch {
-  GLuint vao = 0, buf[3] = {0, 0, 0};
+  GLuint vao = 0, buf[4] = {0, 0, 0, 0};
   GLsizei count = 0;
 
   void create() {
     glCreateVertexArrays(1, &vao);
-    glCreateBuffers(3, buf);
+    glCreateBuffers(4, buf);
     const GLint sizes[3] = {3, 3, 4};
     for (GLuint a = 0; a < 3; ++a) {
       glVertexArrayVertexBuffer(vao, a, buf[a], 0, GLsizei(sizes[a] * sizeof(float)));
       glVertexArrayAttribFormat(vao, a, sizes[a], GL_FLOAT, GL_FALSE, 0);
       glVertexArrayAttribBinding(vao, a, a);
     }
+    glVertexArrayVertexBuffer(vao, 3, buf[3], 0, GLsizei(sizeof(std::uint32_t)));
+    glVertexArrayAttribIFormat(vao, 3, 1, GL_UNSIGNED_INT, 0);
+    glVertexArrayAttribBinding(vao, 3, 3);
     glEnableVertexArrayAttrib(vao, 0);
     glEnableVertexArrayAttrib(vao, 2);
   }
   void destroy() {
-    glDeleteBuffers(3, buf);
+    glDeleteBuffers(4, buf);
     glDeleteVertexArrays(1, &vao);
   }
   template <class V>
@@ -206,6 +208,13 @@ struct Batch {
     upload(buf[2], t.colors);
     glEnableVertexArrayAttrib(vao, 1);
     count = GLsizei(t.positions.size());
+  }
+  // The label ids, for the label pass (after set() of the same triangles).
+  void set_labels(const Triangles& t) {
+    if (t.labels.size() != t.positions.size()) fail("render: triangles with ", t.labels.size(), " labels for ",
+                                                    t.positions.size(), " corners");
+    upload(buf[3], t.labels);
+    glEnableVertexArrayAttrib(vao, 3);
   }
   void set(const Primitives& p) {
     upload(buf[0], p.positions);
@@ -224,27 +233,40 @@ FrameTimings& FrameTimings::operator+=(const FrameTimings& o) {
   readback_ms += o.readback_ms;
   encode_ms += o.encode_ms;
   write_ms += o.write_ms;
+  labels_draw_ms += o.labels_draw_ms;
+  labels_encode_ms += o.labels_encode_ms;
+  labels_write_ms += o.labels_write_ms;
+  video_ms += o.video_ms;
   return *this;
 }
 
 struct Renderer::Impl {
-  gpu::EglContext& ctx;
-  GLuint surface_prog = 0, line_prog = 0, point_prog = 0;
-  Batch tissue, inclusions, tools, wire, outline, lines, arrows, ipoints, mpoints;
+  gl::EglContext& ctx;
+  gl::Program surface_prog, line_prog, point_prog, label_prog;
+  Batch tissue, wound, inclusions, tools, wire, outline, lines, arrows, ipoints, mpoints;
   // Framebuffers: `ms` multisampled (when samples > 1), `single` the resolve
   // target and readback source (and draw target without MSAA).
   GLuint ms_fbo = 0, ms_color = 0, ms_depth = 0, fbo = 0, color = 0, depth = 0;
   int width = 0, height = 0, samples = -1;
+  // The label pass's single-sample targets: distance (R32F), label (R8UI), depth.
+  GLuint aux_fbo = 0, aux_dist = 0, aux_label = 0, aux_depth = 0;
+  int aux_width = 0, aux_height = 0;
   std::vector<std::uint8_t> readback;
+  std::vector<float> readback_depth;
   Diagnostics warnings;
   long frame = 0;
 
-  explicit Impl(gpu::EglContext& c) : ctx(c) {
+  explicit Impl(gl::EglContext& c) : ctx(c) {
     ctx.make_current();
-    surface_prog = link(kSurfaceVs, kSurfaceFs);
-    line_prog = link(kFlatVs, kFlatFs, kLineGs);
-    point_prog = link(kFlatVs, kFlatFs, kPointGs);
-    for (Batch* b : {&tissue, &inclusions, &tools, &wire, &outline, &lines, &arrows, &ipoints, &mpoints}) b->create();
+    using gl::Stage;
+    surface_prog = gl::Program("render.surface", {{Stage::vertex, kSurfaceVs}, {Stage::fragment, kSurfaceFs}});
+    line_prog = gl::Program("render.line",
+                            {{Stage::vertex, kFlatVs}, {Stage::geometry, kLineGs}, {Stage::fragment, kFlatFs}});
+    point_prog = gl::Program("render.point",
+                             {{Stage::vertex, kFlatVs}, {Stage::geometry, kPointGs}, {Stage::fragment, kFlatFs}});
+    label_prog = gl::Program("render.labels", {{Stage::vertex, kLabelVs}, {Stage::fragment, kLabelFs}});
+    for (Batch* b : {&tissue, &wound, &inclusions, &tools, &wire, &outline, &lines, &arrows, &ipoints, &mpoints})
+      b->create();
     check("renderer setup");
   }
 
@@ -254,14 +276,98 @@ struct Renderer::Impl {
     try {
       ctx.make_current();
     } catch (const Error&) {
+      for (gl::Program* p : {&surface_prog, &line_prog, &point_prog, &label_prog}) p->release();  // they go with the context
       return;
     }
-    for (Batch* b : {&tissue, &inclusions, &tools, &wire, &outline, &lines, &arrows, &ipoints, &mpoints}) b->destroy();
-    glDeleteProgram(surface_prog);
-    glDeleteProgram(line_prog);
-    glDeleteProgram(point_prog);
+    for (Batch* b : {&tissue, &wound, &inclusions, &tools, &wire, &outline, &lines, &arrows, &ipoints, &mpoints})
+      b->destroy();
     free_targets();
+    free_aux_targets();
     ctx.take_messages();
+  }
+
+  void free_aux_targets() {
+    glDeleteFramebuffers(1, &aux_fbo);
+    const GLuint rbs[3] = {aux_dist, aux_label, aux_depth};
+    glDeleteRenderbuffers(3, rbs);
+    aux_fbo = aux_dist = aux_label = aux_depth = 0;
+    aux_width = aux_height = 0;
+  }
+
+  void ensure_aux_targets(int w, int h) {
+    if (w == aux_width && h == aux_height) return;
+    free_aux_targets();
+    glCreateRenderbuffers(1, &aux_dist);
+    glNamedRenderbufferStorage(aux_dist, GL_R32F, w, h);
+    glCreateRenderbuffers(1, &aux_label);
+    glNamedRenderbufferStorage(aux_label, GL_R8UI, w, h);
+    glCreateRenderbuffers(1, &aux_depth);
+    glNamedRenderbufferStorage(aux_depth, GL_DEPTH_COMPONENT24, w, h);
+    glCreateFramebuffers(1, &aux_fbo);
+    glNamedFramebufferRenderbuffer(aux_fbo, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, aux_dist);
+    glNamedFramebufferRenderbuffer(aux_fbo, GL_COLOR_ATTACHMENT1, GL_RENDERBUFFER, aux_label);
+    glNamedFramebufferRenderbuffer(aux_fbo, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, aux_depth);
+    const GLenum bufs[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+    glNamedFramebufferDrawBuffers(aux_fbo, 2, bufs);
+    if (glCheckNamedFramebufferStatus(aux_fbo, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+      fail("render: the driver cannot make a ", w, " x ", h, " depth and label framebuffer");
+    aux_width = w, aux_height = h;
+  }
+
+  // Depth and labels of the tissue and tools: no multisampling, no blending,
+  // back faces culled as in the colour pass, so a pixel holds the surface its
+  // centre's ray meets first.
+  void draw_labels(const Scene& scene, LabelImages& out, FrameTimings* t) {
+    Timer timer;
+    tissue.set_labels(scene.tissue);
+    wound.set_labels(scene.wound);
+    tools.set_labels(scene.tools);
+    ensure_aux_targets(width, height);
+    glBindFramebuffer(GL_FRAMEBUFFER, aux_fbo);
+    glViewport(0, 0, width, height);
+    const GLfloat zero_f[4] = {0, 0, 0, 0};
+    const GLuint zero_u[4] = {0, 0, 0, 0};
+    glClearNamedFramebufferfv(aux_fbo, GL_COLOR, 0, zero_f);
+    glClearNamedFramebufferuiv(aux_fbo, GL_COLOR, 1, zero_u);
+    glClearDepth(1.0);
+    glDepthMask(GL_TRUE);
+    glClear(GL_DEPTH_BUFFER_BIT);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glDisable(GL_BLEND);
+    glDisable(GL_POLYGON_OFFSET_FILL);
+    glDisable(GL_MULTISAMPLE);
+    glEnable(GL_CULL_FACE);
+    glCullFace(GL_BACK);
+    glFrontFace(GL_CCW);
+    set_camera(label_prog, scene.camera);
+    glUseProgram(label_prog.id());
+    for (const Batch* b : {&tissue, &wound, &tools})
+      if (b->count) {
+        glBindVertexArray(b->vao);
+        glDrawArrays(GL_TRIANGLES, 0, b->count);
+      }
+    glBindVertexArray(0);
+    glDisable(GL_CULL_FACE);
+    out.width = width, out.height = height;
+    const size_t n = size_t(width) * size_t(height);
+    readback_depth.resize(n);
+    readback.resize(std::max(readback.size(), n));
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, aux_fbo);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glReadBuffer(GL_COLOR_ATTACHMENT0);
+    glReadPixels(0, 0, width, height, GL_RED, GL_FLOAT, readback_depth.data());
+    glReadBuffer(GL_COLOR_ATTACHMENT1);
+    glReadPixels(0, 0, width, height, GL_RED_INTEGER, GL_UNSIGNED_BYTE, readback.data());
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    out.depth.resize(n);
+    out.labels.resize(n);
+    const size_t row = size_t(width);
+    for (int y = 0; y < height; ++y) {  // GL rows run bottom-up
+      std::copy_n(readback_depth.data() + size_t(height - 1 - y) * row, row, out.depth.data() + size_t(y) * row);
+      std::copy_n(readback.data() + size_t(height - 1 - y) * row, row, out.labels.data() + size_t(y) * row);
+    }
+    if (t) t->labels_draw_ms = timer.ms();
   }
 
   void free_targets() {
@@ -274,7 +380,7 @@ struct Renderer::Impl {
   // Throws on GL errors since the last check; keeps other messages as warnings.
   void check(const std::string& where) {
     std::string errors;
-    for (const gpu::DebugMessage& m : ctx.take_messages()) {
+    for (const gl::DebugMessage& m : ctx.take_messages()) {
       if (m.is_error()) errors += (errors.empty() ? "" : "; ") + m.describe();
       else warnings.warn(where, ": ", m.describe());
     }
@@ -311,32 +417,33 @@ struct Renderer::Impl {
     width = w, height = h, samples = s;
   }
 
-  void set_camera(GLuint prog, const Camera& cam) {
+  void set_camera(const gl::Program& prog, const Camera& cam) {
     const Eigen::Matrix4f view = cam.view.cast<float>(), proj = cam.projection.cast<float>();
-    glProgramUniformMatrix4fv(prog, glGetUniformLocation(prog, "u_view"), 1, GL_FALSE, view.data());
-    glProgramUniformMatrix4fv(prog, glGetUniformLocation(prog, "u_proj"), 1, GL_FALSE, proj.data());
+    glProgramUniformMatrix4fv(prog.id(), prog.uniform("u_view"), 1, GL_FALSE, view.data());
+    glProgramUniformMatrix4fv(prog.id(), prog.uniform("u_proj"), 1, GL_FALSE, proj.data());
   }
 
   void draw_flat(const Batch& b, GLenum mode, float size, bool on_top) {
     if (!b.count) return;
     if (on_top) glDisable(GL_DEPTH_TEST);
     else glEnable(GL_DEPTH_TEST);
-    const GLuint prog = mode == GL_POINTS ? point_prog : line_prog;
-    glUseProgram(prog);
-    glProgramUniform1f(prog, glGetUniformLocation(prog, "u_size"), size);
-    glProgramUniform2f(prog, glGetUniformLocation(prog, "u_viewport"), float(width), float(height));
-    glProgramUniform1i(prog, glGetUniformLocation(prog, "u_round"), mode == GL_POINTS);
+    const gl::Program& prog = mode == GL_POINTS ? point_prog : line_prog;
+    glUseProgram(prog.id());
+    glProgramUniform1f(prog.id(), prog.uniform("u_size"), size);
+    glProgramUniform2f(prog.id(), prog.uniform("u_viewport"), float(width), float(height));
+    glProgramUniform1i(prog.id(), prog.uniform("u_round"), mode == GL_POINTS);
     glBindVertexArray(b.vao);
     glDrawArrays(mode, 0, b.count);
   }
 
-  Image draw(const Scene& scene, FrameTimings* t) {
+  Image draw(const Scene& scene, FrameTimings* t, LabelImages* aux) {
     ctx.make_current();
     ++frame;
     const std::string where = cat("frame ", frame);
     Timer timer;
     ensure_targets(scene.width, scene.height, scene.msaa_samples);
     tissue.set(scene.tissue);
+    wound.set(scene.wound);
     inclusions.set(scene.inclusions);
     tools.set(scene.tools);
     wire.set(scene.wire);
@@ -378,9 +485,11 @@ struct Renderer::Impl {
     // through tissue); then the tools, depth-tested against the tissue: an
     // instrument is never covered by an inclusion, a point or a line.
     // faint: blended over what is drawn, without depth test or polygon offset.
-    auto draw_surface = [&](const Batch& b, bool faint) {
+    auto draw_surface = [&](const Batch& b, bool faint, bool wet = false) {
       if (!b.count) return;
-      glUseProgram(surface_prog);
+      glUseProgram(surface_prog.id());
+      glProgramUniform1i(surface_prog.id(), surface_prog.uniform("u_wet"), wet);
+      glProgramUniform1i(surface_prog.id(), surface_prog.uniform("u_faint"), faint);
       glEnable(GL_CULL_FACE);
       glCullFace(GL_BACK);
       glFrontFace(GL_CCW);
@@ -401,6 +510,7 @@ struct Renderer::Impl {
       glEnable(GL_DEPTH_TEST);
     };
     draw_surface(tissue, false);
+    draw_surface(wound, false, true);
     draw_surface(inclusions, true);
     draw_flat(wire, GL_LINES, scene.wire.size_px, scene.wire.on_top);
     draw_flat(outline, GL_LINES, scene.outline.size_px, scene.outline.on_top);
@@ -430,15 +540,19 @@ struct Renderer::Impl {
     for (int y = 0; y < height; ++y)  // GL rows run bottom-up, PNG rows top-down
       std::copy_n(readback.data() + size_t(height - 1 - y) * row, row, img.rgba.data() + size_t(y) * row);
     if (t) t->readback_ms = timer.ms();
+    if (aux) draw_labels(scene, *aux, t);
     check(where);
     return img;
   }
 };
 
-Renderer::Renderer(gpu::EglContext& context) : impl_(std::make_unique<Impl>(context)) {}
+Renderer::Renderer(gl::EglContext& context) : impl_(std::make_unique<Impl>(context)) {}
 Renderer::~Renderer() = default;
 
-Image Renderer::draw(const Scene& scene, FrameTimings* timings) { return impl_->draw(scene, timings); }
+Image Renderer::draw(const Scene& scene, FrameTimings* timings) { return impl_->draw(scene, timings, nullptr); }
+Image Renderer::draw(const Scene& scene, FrameTimings* timings, LabelImages* aux) {
+  return impl_->draw(scene, timings, aux);
+}
 
 FrameTimings Renderer::render_png(const mesh::TetMesh& mesh, const Eigen::MatrixX3d& positions,
                                   const SceneContent& content, const RenderSettings& settings,
@@ -447,7 +561,7 @@ FrameTimings Renderer::render_png(const mesh::TetMesh& mesh, const Eigen::Matrix
   Timer timer;
   const Scene scene = extract_scene(mesh, positions, content, settings);
   t.extract_ms = timer.ms();
-  const Image img = impl_->draw(scene, &t);
+  const Image img = impl_->draw(scene, &t, nullptr);
   timer.reset();
   const std::string png = encode_png(img);
   t.encode_ms = timer.ms();

@@ -9,11 +9,13 @@
 // culled) lit by Blinn-Phong with a head light and a fill light; wireframe
 // lines over a polygon-offset fill; points and force lines,
 // optionally on top of everything; glReadPixels, rows flipped to top-down.
+#include <cstdint>
 #include <filesystem>
 #include <memory>
+#include <vector>
 
 #include "core/error.hpp"
-#include "gpu/egl_context.hpp"
+#include "gl/egl_context.hpp"
 #include "render/image.hpp"
 #include "render/scene.hpp"
 
@@ -27,16 +29,31 @@ struct FrameTimings {
   double readback_ms = 0;  // glReadPixels and row flip
   double encode_ms = 0;    // PNG encoding
   double write_ms = 0;     // atomic file write
+  // Depth and label images (when asked): their pass (draw and read-back),
+  // their PNG encoding and their files' writes; the video: handing the frame to ffmpeg.
+  double labels_draw_ms = 0, labels_encode_ms = 0, labels_write_ms = 0;
+  double video_ms = 0;
 
-  double total_ms() const { return extract_ms + upload_ms + draw_ms + readback_ms + encode_ms + write_ms; }
+  double rgb_ms() const { return upload_ms + draw_ms + readback_ms + encode_ms + write_ms; }
+  double labels_ms() const { return labels_draw_ms + labels_encode_ms + labels_write_ms; }
+  double total_ms() const { return extract_ms + rgb_ms() + labels_ms() + video_ms; }
   FrameTimings& operator+=(const FrameTimings& o);
+};
+
+// What each pixel shows, from a pass without multisampling (so nothing is
+// averaged across an edge: a pixel is the surface its centre's ray meets
+// first). Rows top to bottom, like Image.
+struct LabelImages {
+  int width = 0, height = 0;
+  std::vector<float> depth;            // distance along the view axis, m (eye-space -z); 0: background
+  std::vector<std::uint8_t> labels;    // Triangles::labels of that surface; 0: background
 };
 
 class Renderer {
  public:
   // Makes `context` current and builds the GL objects; the context must
   // outlive the renderer. Throws softcut::Error when a shader does not build.
-  explicit Renderer(gpu::EglContext& context);
+  explicit Renderer(gl::EglContext& context);
   ~Renderer();
   Renderer(const Renderer&) = delete;
   Renderer& operator=(const Renderer&) = delete;
@@ -45,6 +62,9 @@ class Renderer {
   // first. A GL error during the frame throws softcut::Error with the driver's
   // message; other driver messages go to warnings().
   Image draw(const Scene& scene, FrameTimings* timings = nullptr);
+  // The same, and with `aux` the depth and label images of the tissue and
+  // tools (inclusions, lines and points are not in them) from a second pass.
+  Image draw(const Scene& scene, FrameTimings* timings, LabelImages* aux);
 
   // extract_scene + draw + write_png(path) in one call; returns the timings.
   FrameTimings render_png(const mesh::TetMesh& mesh, const Eigen::MatrixX3d& positions, const SceneContent& content,

@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
+#include <map>
 #include <numbers>
 
 #include "mesh/surface.hpp"
@@ -45,6 +47,8 @@ void check_content(const mesh::TetMesh& m, const Eigen::MatrixX3d& x, const Scen
   for (size_t i = 0; i < c.interface_nodes.size(); ++i)
     if (c.interface_nodes[i] < 0 || c.interface_nodes[i] >= nnode)
       fail("render: interface node ", i, " has id ", c.interface_nodes[i], ", outside the mesh's 0..", nnode - 1);
+  if (!c.tool_labels.empty() && c.tool_labels.size() != c.tools.size())
+    fail("render: ", c.tool_labels.size(), " tool labels for ", c.tools.size(), " tools (one per tool, or none)");
   for (size_t i = 0; i < c.manipulated.size(); ++i) {
     const ManipulatedNode& mn = c.manipulated[i];
     if (mn.node < 0 || mn.node >= nnode)
@@ -92,6 +96,9 @@ struct SceneExtractor::Topology {
   bool have_edges = false;
   mesh::Surface inner;  // boundaries between tissue groups; on demand
   bool have_inner = false;
+  std::vector<double> inner_depth;  // per node of `inner`: rest distance to the outer surface, m (with inner)
+  int common_group = 0;             // the commonest tissue group (the parenchyma around inclusions)
+  std::vector<char> on_cut;         // (nnode) node of a cut face
   int builds = 0;
 
   bool matches(const mesh::TetMesh& m, const SceneContent& c) const {
@@ -125,6 +132,10 @@ struct SceneExtractor::Topology {
     std::vector<int> fill(start.begin(), start.end() - 1);
     for (int f = 0; f < nface; ++f)
       for (int k = 0; k < 3; ++k) adj[size_t(fill[size_t(surf.faces(f, k))]++)] = f;
+    on_cut.assign(size_t(nnode), 0);
+    for (int f = 0; f < nface; ++f)
+      if (kind[size_t(f)] == kCut)
+        for (int k = 0; k < 3; ++k) on_cut[size_t(surf.faces(f, k))] = 1;
     edges.clear();
     rim.clear();
     have_edges = false;
@@ -158,7 +169,24 @@ struct SceneExtractor::Topology {
   }
   // The inner boundaries between tissue groups (mesh::group_boundaries), on demand.
   const mesh::Surface& inner_faces(const mesh::TetMesh& m) {
-    if (!have_inner) inner = mesh::group_boundaries(m, tet_group);
+    if (have_inner) return inner;
+    inner = mesh::group_boundaries(m, tet_group);
+    // How deep each inclusion node lies below the outer surface (rest shape):
+    // deeper parts show fainter, as through the capsule and the tissue above.
+    inner_depth.assign(size_t(m.num_nodes()), 0.0);
+    for (Eigen::Index f = 0; f < inner.faces.rows(); ++f)
+      for (int k = 0; k < 3; ++k) {
+        const int v = inner.faces(f, k);
+        if (inner_depth[size_t(v)] > 0) continue;
+        double best = std::numeric_limits<double>::infinity();
+        for (int w : surf.nodes) best = std::min(best, (m.nodes.row(v) - m.nodes.row(w)).squaredNorm());
+        inner_depth[size_t(v)] = std::sqrt(best) + 1e-300;
+      }
+    std::map<int, long> count;
+    for (int g : tet_group) ++count[g];
+    long most = -1;
+    for (const auto& [g, n] : count)
+      if (n > most) most = n, common_group = g;
     have_inner = true;
     return inner;
   }
@@ -222,7 +250,23 @@ Scene SceneExtractor::extract(const mesh::TetMesh& m, const Eigen::MatrixX3d& x,
     const int g = content.tet_group.empty() ? 0 : content.tet_group[size_t(surf.face_tet(f))];
     const Rgba& tissue = pal.tissue[size_t(g) % pal.tissue.size()];
     if (k != kCut) return tissue;
-    return Rgba((1.0f - pal.cut_tint) * tissue + pal.cut_tint * pal.cut);
+    Rgba wound = pal.wound_shade * ((1.0f - pal.cut_tint) * tissue + pal.cut_tint * pal.cut);
+    wound[3] = 1.0f;
+    return wound;
+  };
+  const bool clinical = settings.style != Style::paper;
+  // The wound colour a face's tissue shows when cut.
+  auto face_color_of_cut = [&](int f) -> Rgba {
+    const int g = content.tet_group.empty() ? 0 : content.tet_group[size_t(surf.face_tet(f))];
+    const Rgba& tissue = pal.tissue[size_t(g) % pal.tissue.size()];
+    return pal.wound_shade * ((1.0f - pal.cut_tint) * tissue + pal.cut_tint * pal.cut);
+  };
+
+  // A face's id in the label image: its tissue group's, or the cut's.
+  auto face_label = [&](int f) -> std::uint32_t {
+    if (topo.kind[size_t(f)] == kCut && content.cut_label) return content.cut_label;
+    const int g = content.tet_group.empty() ? 0 : content.tet_group[size_t(surf.face_tet(f))];
+    return size_t(g) < content.group_labels.size() ? content.group_labels[size_t(g)] : std::uint32_t(1 + g);
   };
 
   // Shading normals: per corner, the area-weighted mean of the normals of the
@@ -257,12 +301,33 @@ Scene SceneExtractor::extract(const mesh::TetMesh& m, const Eigen::MatrixX3d& x,
       const double len = sum.norm();
       n[k] = len > 0 ? Eigen::Vector3d(sum / len) : Eigen::Vector3d::UnitZ();  // degenerate face
     }
-    scene.tissue.add(p[0], p[1], p[2], n[0], n[1], n[2], face_color(f));
+    const Rgba color = face_color(f);
+    if (clinical && topo.kind[size_t(f)] == kCut) {
+      scene.wound.label = face_label(f);
+      scene.wound.add(p[0], p[1], p[2], n[0], n[1], n[2], color);
+      continue;
+    }
+    scene.tissue.label = face_label(f);
+    if (clinical && topo.count[kCut] > 0) {
+      // The incision's margin: the outer surface darkens toward the wound
+      // at the corners it shares with cut faces.
+      Rgba c[3];
+      for (int k = 0; k < 3; ++k) {
+        c[k] = color;
+        if (topo.on_cut[size_t(surf.faces(f, k))]) {
+          c[k] = (1.0f - pal.margin_tint) * color + pal.margin_tint * face_color_of_cut(f);
+          c[k][3] = 1.0f;
+        }
+      }
+      scene.tissue.add(p[0], p[1], p[2], n[0], n[1], n[2], c[0], c[1], c[2]);
+    } else {
+      scene.tissue.add(p[0], p[1], p[2], n[0], n[1], n[2], color);
+    }
   }
 
   // The incision's outline (depth-tested: the tissue is drawn pushed back,
   // so a line on its surface wins), present only once something was cut.
-  scene.outline.size_px = settings.line_width_px;
+  scene.outline.size_px = clinical ? 1.5f * settings.line_width_px : settings.line_width_px;
   if (settings.incision_outline && topo.count[kCut] > 0)
     for (const auto& [a, b] : topo_->rim_edges()) {
       scene.outline.add(x.row(a).transpose(), pal.outline);
@@ -271,21 +336,30 @@ Scene SceneExtractor::extract(const mesh::TetMesh& m, const Eigen::MatrixX3d& x,
 
   // Inclusions (a lesion) seen through the tissue: their boundary faces in
   // their tissue colour, faint, with per-node normals smoothed over them.
-  if (settings.style == Style::clinical && settings.show_inclusions && !content.tet_group.empty()) {
+  if (clinical && settings.show_inclusions && !content.tet_group.empty()) {
     const mesh::Surface& inner = topo_->inner_faces(m);
     const Eigen::MatrixX3d node_normal = mesh::vertex_normals(m, inner, x);
+    const double size = (m.nodes.colwise().maxCoeff() - m.nodes.colwise().minCoeff()).norm();
+    const double fade_length = std::max(1e-12, double(pal.inclusion_depth) * size);
+    const Rgba& around = pal.tissue[size_t(topo_->common_group) % pal.tissue.size()];
     scene.inclusions.reserve(int(inner.faces.rows()));
     for (Eigen::Index f = 0; f < inner.faces.rows(); ++f) {
-      Rgba color = pal.tissue[size_t(content.tet_group[size_t(inner.face_tet(f))]) % pal.tissue.size()];
-      color[3] = pal.inclusion_alpha;
+      // Seen through the tissue above it: 40 % of the way toward the
+      // tissue's colour, fainter the deeper it lies.
+      const Rgba own = pal.tissue[size_t(content.tet_group[size_t(inner.face_tet(f))]) % pal.tissue.size()];
+      const Rgba base = 0.6f * own + 0.4f * around;
       Eigen::Vector3d p[3], n[3];
+      Rgba c[3];
       for (int k = 0; k < 3; ++k) {
         const int v = inner.faces(f, k);
         if (!x.row(v).allFinite()) fail("render: the position of node ", v, " is not finite");
         p[k] = x.row(v);
         n[k] = node_normal.row(v).squaredNorm() > 0 ? Eigen::Vector3d(node_normal.row(v)) : Eigen::Vector3d::UnitZ();
+        const double fade = std::exp(-topo_->inner_depth[size_t(v)] / fade_length * 1.2);
+        c[k] = base;
+        c[k][3] = float(pal.inclusion_alpha * (0.3 + 0.7 * fade));
       }
-      scene.inclusions.add(p[0], p[1], p[2], n[0], n[1], n[2], color);
+      scene.inclusions.add(p[0], p[1], p[2], n[0], n[1], n[2], c[0], c[1], c[2]);
     }
   }
 
@@ -313,6 +387,7 @@ Scene SceneExtractor::extract(const mesh::TetMesh& m, const Eigen::MatrixX3d& x,
   scene.force_lines.size_px = settings.line_width_px;
   scene.force_lines.on_top = true;
   for (const ManipulatedNode& mn : content.manipulated) {
+    if (!settings.show_forces) break;
     if (!x.row(mn.node).allFinite()) fail("render: the position of manipulated node ", mn.node, " is not finite");
     scene.manipulated_points.add(x.row(mn.node).transpose(), pal.manipulated);
     scene.force_lines.add(x.row(mn.node).transpose(), pal.manipulated);
@@ -323,7 +398,7 @@ Scene SceneExtractor::extract(const mesh::TetMesh& m, const Eigen::MatrixX3d& x,
   // long at 25 degrees, in a plane holding the shaft.
   scene.arrows.size_px = settings.line_width_px;
   scene.arrows.on_top = true;
-  for (size_t i = 0; i < content.arrows.size(); ++i) {
+  for (size_t i = 0; i < content.arrows.size() && settings.show_loads; ++i) {
     const Arrow& a = content.arrows[i];
     if (!a.from.allFinite() || !a.to.allFinite()) fail("render: arrow ", i, " has a non-finite end");
     const Eigen::Vector3d d = a.to - a.from;
@@ -339,8 +414,9 @@ Scene SceneExtractor::extract(const mesh::TetMesh& m, const Eigen::MatrixX3d& x,
   }
 
   for (size_t i = 0; i < content.tools.size(); ++i) {
+    scene.tools.label = i < content.tool_labels.size() ? content.tool_labels[i] : 0;
     try {
-      add_tool(scene.tools, content.tools[i], settings.tool_segments, pal.tool);
+      add_tool(scene.tools, content.tools[i], settings.tool_segments, pal.tool, pal.tool_dark);
     } catch (const Error& e) {
       fail("render: tool ", i, ": ", e.what());
     }
@@ -352,8 +428,8 @@ Scene SceneExtractor::extract(const mesh::TetMesh& m, const Eigen::MatrixX3d& x,
   frame.reserve(surf.nodes.size());
   for (int v : surf.nodes) frame.push_back(m.node(v));
   scene.camera = resolve_camera(settings.camera, settings.width, settings.height, frame,
-                                {&scene.tissue.positions, &scene.tools.positions, &scene.force_lines.positions,
-                                 &scene.interface_points.positions});
+                                {&scene.tissue.positions, &scene.wound.positions, &scene.tools.positions,
+                                 &scene.force_lines.positions, &scene.interface_points.positions});
   return scene;
 }
 

@@ -22,13 +22,20 @@ struct Palette {
   Rgba operational{0.80f, 0.80f, 0.78f, 1.0f};
   Rgba nonoperational{0.12f, 0.20f, 0.55f, 1.0f};
   Rgba cut{0.72f, 0.16f, 0.24f, 1.0f};
-  float cut_tint = 0.4f;  // clinical: how far a cut face's tissue colour goes toward `cut`, 0..1
-  Rgba outline{0.45f, 0.05f, 0.10f, 1.0f};  // the incision's rim on the surface
+  float cut_tint = 0.55f;   // clinical: how far a cut face's tissue colour goes toward `cut`, 0..1 ...
+  float wound_shade = 0.6f; // ... and then darkened by this factor (drawn wet: a wound, not a slice)
+  float margin_tint = 0.45f;  // clinical: the outer surface at the incision's edge goes this far toward the wound
+  Rgba outline{0.30f, 0.03f, 0.06f, 1.0f};  // the incision's rim on the surface
   Rgba arrow{1.00f, 0.55f, 0.10f, 1.0f};    // load arrows
   Rgba manipulated{0.10f, 0.85f, 0.20f, 1.0f};
   Rgba interface_nodes{1.00f, 0.78f, 0.10f, 1.0f};
-  Rgba tool{0.70f, 0.72f, 0.76f, 1.0f};
-  float inclusion_alpha = 0.45f;  // clinical: opacity of inclusions seen through the tissue, (0, 1]
+  Rgba tool{0.70f, 0.72f, 0.76f, 1.0f};       // steel: jaws, blades, probe tips
+  Rgba tool_dark{0.15f, 0.16f, 0.18f, 1.0f};  // shafts and handles
+  float inclusion_alpha = 0.4f;   // clinical: opacity of inclusions seen through the tissue, (0, 1] ...
+  // ... fading with their depth d below the outer surface, by
+  // 0.3 + 0.7 exp(-1.2 d / (inclusion_depth x the model's size)), and 40 %
+  // of the way toward the colour of the tissue around them.
+  float inclusion_depth = 0.08f;
   Rgba background{0.20f, 0.22f, 0.26f, 1.0f};
   // Clinical style, per tissue group: parenchyma red-brown, then a pale
   // lesion/fat tone, then further tissues.
@@ -49,6 +56,8 @@ struct RenderSettings {
   bool show_inclusions = true;     // clinical: tissue-group boundaries inside the organ (a lesion) seen
                                    // faintly through the surface, as an ultrasound overlay would show them
   bool show_interface = true;      // interface ("common") nodes as points
+  bool show_forces = true;         // manipulated nodes and their force lines (SceneContent::manipulated)
+  bool show_loads = true;          // load arrows (SceneContent::arrows)
   bool interface_on_top = true;    // ... visible through the surface (they are mostly inside)
   double crease_angle_deg = 40.0;  // normals are smoothed across edges flatter than this; 0: flat
   int tool_segments = 24;          // facets around a tool's sphere or cylinder, >= 6, even
@@ -79,6 +88,12 @@ struct SceneContent {
   std::vector<ManipulatedNode> manipulated;
   std::vector<Arrow> arrows;  // loads
   std::vector<ToolShape> tools;
+  // Ids in the label image (Renderer::draw's LabelImages; 0 is the
+  // background): per tissue group (empty: 1 + group), for cut faces (0: their
+  // group's), per tool (empty: 0).
+  std::vector<std::uint32_t> group_labels;
+  std::uint32_t cut_label = 0;
+  std::vector<std::uint32_t> tool_labels;
 };
 
 // --- the extracted scene ------------------------------------------------------
@@ -86,7 +101,8 @@ struct SceneContent {
 struct Scene {
   int width = 0, height = 0, msaa_samples = 0;
   Rgba background;
-  Triangles tissue;  // boundary faces of the tet mesh, one triangle each
+  Triangles tissue;  // boundary faces of the tet mesh, one triangle each (clinical: but the cut faces)
+  Triangles wound;   // clinical: the cut faces, drawn wet
   Triangles tools;
   // Inner boundaries between tissue groups, each face once, wound outward
   // from the inclusion (the tet not of the commonest group), in its colour

@@ -79,12 +79,27 @@ void add_box(Triangles& out, const Eigen::Vector3d& c, const Eigen::Vector3d (&a
     }
 }
 
+// A closed hexahedron from its 8 corners: c[0..3] one end's face, c[4..7]
+// the other end's, both counter-clockwise seen from the first end's outside
+// (flat shading, 12 triangles).
+void add_hexahedron(Triangles& out, const Eigen::Vector3d (&c)[8], const Rgba& color) {
+  const int faces[6][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4}, {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}};
+  for (const auto& f : faces) {
+    out.add_flat(c[f[0]], c[f[1]], c[f[2]], color);
+    out.add_flat(c[f[0]], c[f[2]], c[f[3]], color);
+  }
+}
+
 }  // namespace
 
 int sphere_triangles(int segments) { return 2 * segments * (segments / 2 - 1); }
 int cylinder_triangles(int segments) { return 4 * segments; }
 
 int add_tool(Triangles& out, const ToolShape& tool, int segments, const Rgba& color) {
+  return add_tool(out, tool, segments, color, color);
+}
+
+int add_tool(Triangles& out, const ToolShape& tool, int segments, const Rgba& steel, const Rgba& dark) {
   if (segments < 6 || segments % 2) fail("render: tool_segments = ", segments, " must be even and >= 6");
   const int before = out.count();
   if (const auto* p = std::get_if<ProbeShape>(&tool)) {
@@ -92,8 +107,8 @@ int add_tool(Triangles& out, const ToolShape& tool, int segments, const Rgba& co
     positive(p->length, "probe length");
     if (!p->tip.allFinite()) fail("probe tip is not finite");
     const Eigen::Vector3d w = unit(p->axis, "probe axis");
-    add_sphere(out, p->tip, p->radius, segments, color);
-    add_cylinder(out, p->tip, w, p->length, 0.5 * p->radius, segments, color);
+    add_sphere(out, p->tip, p->radius, segments, steel);
+    add_cylinder(out, p->tip, w, p->length, 0.5 * p->radius, segments, dark);
   } else if (const auto* g = std::get_if<GrasperShape>(&tool)) {
     positive(g->jaw_length, "grasper jaw_length");
     positive(g->jaw_width, "grasper jaw_width");
@@ -101,27 +116,50 @@ int add_tool(Triangles& out, const ToolShape& tool, int segments, const Rgba& co
     if (!g->pivot.allFinite() || !std::isfinite(g->opening_deg)) fail("grasper pivot or opening_deg is not finite");
     const Eigen::Vector3d w = unit(g->axis, "grasper axis");
     const Eigen::Vector3d hinge = unit(g->hinge - g->hinge.dot(w) * w, "grasper hinge (normal to the axis)");
-    const double half = 0.5 * g->opening_deg * kPi / 180.0;
+    const double half = 0.5 * g->opening_deg * kPi / 180.0, thick = g->jaw_width / 3.0;
     for (int side : {1, -1}) {
       const Eigen::Vector3d d = std::cos(half) * w + side * std::sin(half) * hinge.cross(w);
-      const Eigen::Vector3d axes[3] = {d, hinge, d.cross(hinge)};
-      // Each jaw lies on the side it opens to (axes[2] points to the other
-      // jaw), so closed jaws touch along the axis instead of overlapping.
-      const Eigen::Vector3d centre = g->pivot + 0.5 * g->jaw_length * d - side * (g->jaw_width / 6.0) * axes[2];
-      add_box(out, centre, axes, Eigen::Vector3d(0.5 * g->jaw_length, 0.5 * g->jaw_width, g->jaw_width / 6.0),
-              color);
+      // Each jaw lies on the side it opens to (`out` points away from the
+      // other jaw), so closed jaws touch along the axis instead of overlapping.
+      const Eigen::Vector3d out_dir = side * d.cross(hinge).normalized() * -1.0;
+      const Eigen::Vector3d base = g->pivot, tip = g->pivot + g->jaw_length * d;
+      const double wb = 0.5 * g->jaw_width, wt = 0.25 * g->jaw_width;
+      Eigen::Vector3d c[8] = {base - wb * hinge, base + wb * hinge, base + wb * hinge + thick * out_dir,
+                              base - wb * hinge + thick * out_dir, tip - wt * hinge, tip + wt * hinge,
+                              tip + wt * hinge + thick * out_dir, tip - wt * hinge + thick * out_dir};
+      // Outward: the base face's winding must face away from the tip.
+      if ((c[1] - c[0]).cross(c[3] - c[0]).dot(d) < 0) {
+        std::swap(c[1], c[3]);
+        std::swap(c[5], c[7]);
+      }
+      add_hexahedron(out, c, steel);
     }
-    add_cylinder(out, g->pivot, -w, g->shaft_length, 0.5 * g->jaw_width, segments, color);
+    // The clevis: a short cylinder across the hinge at the pivot.
+    add_cylinder(out, g->pivot - 0.5 * g->jaw_width * hinge, hinge, g->jaw_width, 0.5 * g->jaw_width, segments, steel);
+    add_cylinder(out, g->pivot, -w, g->shaft_length, 0.5 * g->jaw_width, segments, dark);
   } else if (const auto* s = std::get_if<ScalpelShape>(&tool)) {
     positive(s->handle_radius, "scalpel handle_radius");
     if (!s->edge_a.allFinite() || !s->edge_b.allFinite() || !s->spine.allFinite())
       fail("scalpel blade corners are not finite");
-    if ((s->edge_b - s->edge_a).cross(s->spine - s->edge_a).norm() == 0.0)
-      fail("scalpel blade is degenerate: edge_a, edge_b and spine are collinear");
+    const Eigen::Vector3d plane = (s->edge_b - s->edge_a).cross(s->spine - s->edge_a);
+    if (plane.norm() == 0.0) fail("scalpel blade is degenerate: edge_a, edge_b and spine are collinear");
     const Eigen::Vector3d w = unit(s->handle_end - s->spine, "scalpel handle (handle_end - spine)");
-    out.add_flat(s->edge_a, s->edge_b, s->spine, color);  // both sides, so each is lit from the front
-    out.add_flat(s->edge_a, s->spine, s->edge_b, color);
-    add_cylinder(out, s->spine, w, (s->handle_end - s->spine).norm(), s->handle_radius, segments, color);
+    // The blade: a thin tetrahedron, sharp along the edge, its spine
+    // thickened across the blade's plane.
+    const Eigen::Vector3d n = plane.normalized();
+    const double th = 0.5 * s->handle_radius;
+    const Eigen::Vector3d sp = s->spine + 0.5 * th * n, sm = s->spine - 0.5 * th * n;
+    out.add_flat(s->edge_a, s->edge_b, sp, steel);
+    out.add_flat(s->edge_b, s->edge_a, sm, steel);
+    out.add_flat(s->edge_a, sp, sm, steel);
+    out.add_flat(s->edge_b, sm, sp, steel);
+    // The handle: a flat bar, wide in the blade's plane.
+    const Eigen::Vector3d across = (n.cross(w)).norm() > 1e-9 ? Eigen::Vector3d(n.cross(w).normalized())
+                                                               : Eigen::Vector3d(w.unitOrthogonal());
+    const Eigen::Vector3d thick_dir = w.cross(across);
+    const double len = (s->handle_end - s->spine).norm(), hw = 1.5 * s->handle_radius, ht = 0.6 * s->handle_radius;
+    const Eigen::Vector3d axes[3] = {w, across, thick_dir};
+    add_box(out, s->spine + 0.5 * len * w, axes, Eigen::Vector3d(0.5 * len, hw, ht), dark);
   }
   return out.count() - before;
 }

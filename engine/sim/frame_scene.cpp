@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cstdio>
 
+#include "core/error.hpp"
 #include "sim/step.hpp"
 
 
@@ -24,21 +25,19 @@ render::SceneContent scene_content(const Model& m, const State& s) {
   render::SceneContent c;
   c.operational = s.cut ? s.cut->operational_tet : m.partition.operational_tet;
   if (s.cut) c.cut_faces = s.cut->cut_face;
-  if (rs.show_interface) c.interface_nodes = m.partition.interface;
-  if (rs.style == RenderSettings::Style::clinical) {
-    // Tissue groups: distinct (E, nu) in order of first use (a few), so each
-    // material, a lesion's included, has its colour; split tets keep theirs.
-    const std::vector<fem::Material>& mat = s.cut ? s.cut->tet_material : m.tet_material;
-    std::vector<std::pair<double, double>> seen;
-    c.tet_group.resize(mat.size());
-    for (size_t t = 0; t < mat.size(); ++t) {
-      const std::pair<double, double> key{mat[t].young, mat[t].poisson};
-      auto it = std::find(seen.begin(), seen.end(), key);
-      if (it == seen.end()) it = seen.insert(seen.end(), key);
-      c.tet_group[t] = int(it - seen.begin());
-    }
-  }
-  if (rs.show_loads) {
+  // Markers go into every scene (a re-render may show them); the settings
+  // say which are drawn.
+  c.interface_nodes = m.partition.interface;
+  // Tissue groups: the s:material call that set each tet's material (split
+  // tets keep their parent's), for the colours and the label image.
+  const std::vector<fem::Material>& mat = s.cut ? s.cut->tet_material : m.tet_material;
+  c.tet_group.resize(mat.size());
+  for (size_t t = 0; t < mat.size(); ++t)
+    c.tet_group[t] = m.tet_group[size_t(s.cut ? s.cut->origin_tet[t] : int(t))];
+  const LabelLegend legend = label_legend(m);
+  c.group_labels = legend.group;
+  c.cut_label = legend.cut;
+  {
     // One arrow per acting load, ending at the centroid of its nodes along
     // its total force; the largest is a tenth of the rest shape's diagonal
     // long, the others in proportion.
@@ -66,8 +65,8 @@ render::SceneContent scene_content(const Model& m, const State& s) {
     const tools::ToolState& ts = s.tools[k];
     // Drawn only while it acts: not before active_from, not after active_until.
     if (!spec.enabled || s.time < spec.active_from || s.time > spec.active_until) continue;
-    if (rs.show_forces)
-      for (int n : ts.nodes) c.manipulated.push_back({n, ts.tip});
+    c.tool_labels.push_back(k < legend.tool.size() ? legend.tool[k] : 0);
+    for (int n : ts.nodes) c.manipulated.push_back({n, ts.tip});
     const Eigen::Vector3d shaft = shaft_axis(spec, ts, rs.up);
     if (spec.kind == tools::ToolSpec::Kind::scalpel) {
       // Blade behind its edge toward the shaft (against the pressing
@@ -119,27 +118,98 @@ render::SceneContent scene_content(const Model& m, const State& s) {
   return c;
 }
 
-render::RenderSettings render_settings(const Model& m, const State& s) {
-  const RenderSettings& r = m.spec.outputs.render;
+std::vector<Eigen::Vector3d> tissue_palette(const ScenarioSpec& spec) {
+  // The engine's default palette (parenchyma red-brown, a pale lesion tone, ...).
+  const render::Palette defaults;
+  const std::vector<Eigen::Vector3d>& given = spec.outputs.render.tissue_colors;
+  std::vector<Eigen::Vector3d> out;
+  for (size_t g = 0; g <= spec.materials.size(); ++g) {
+    if (g < spec.materials.size() && spec.materials[g].has_color) {
+      out.push_back(spec.materials[g].color);
+    } else if (!given.empty()) {
+      out.push_back(given[g % given.size()]);
+    } else {
+      const render::Rgba& d = defaults.tissue[g % defaults.tissue.size()];
+      out.emplace_back(d[0], d[1], d[2]);
+    }
+  }
+  return out;
+}
+
+render::RenderSettings render_settings(const RenderSettings& r, const std::vector<Eigen::Vector3d>& palette,
+                                       const render::CameraSettings& camera) {
   render::RenderSettings o;
   o.width = r.width, o.height = r.height;
   o.msaa_samples = r.msaa_samples;
   o.wireframe = r.wireframe;
   o.show_interface = r.show_interface;
+  o.show_forces = r.show_forces;
+  o.show_loads = r.show_loads;
   o.show_inclusions = r.show_inclusions;
   o.palette.cut = {float(r.cut_color.x()), float(r.cut_color.y()), float(r.cut_color.z()), 1.0f};
   o.palette.background = {float(r.background.x()), float(r.background.y()), float(r.background.z()), 1.0f};
   o.style = r.style == RenderSettings::Style::paper ? render::Style::paper : render::Style::clinical;
-  if (!r.tissue_colors.empty()) {
+  if (!palette.empty()) {
     o.palette.tissue.clear();
-    for (const Eigen::Vector3d& c : r.tissue_colors) o.palette.tissue.push_back({float(c.x()), float(c.y()), float(c.z()), 1.0f});
+    for (const Eigen::Vector3d& c : palette) o.palette.tissue.push_back({float(c.x()), float(c.y()), float(c.z()), 1.0f});
   }
-  o.camera.auto_frame = r.auto_frame;
-  o.camera.azimuth_deg = r.azimuth_deg + r.orbit_deg_per_s * s.time;
-  o.camera.elevation_deg = r.elevation_deg;
-  o.camera.eye = r.eye, o.camera.target = r.target, o.camera.up = r.up;
-  o.camera.fov_y_deg = r.fov_deg;
+  o.camera = camera;
   return o;
+}
+
+render::CameraSettings camera_settings(const Model& m, const State& s) {
+  const RenderSettings& r = m.spec.outputs.render;
+  const CameraSpec& c = m.spec.outputs.camera;
+  render::CameraSettings o;
+  o.auto_frame = r.auto_frame;
+  o.azimuth_deg = r.azimuth_deg + r.orbit_deg_per_s * s.time;
+  o.elevation_deg = r.elevation_deg;
+  o.eye = r.eye, o.target = r.target, o.up = r.up;
+  o.fov_y_deg = r.fov_deg;
+  if (c.kind == CameraSpec::Kind::none) return o;
+  o.auto_frame = false;
+  o.up = c.up;
+  if (c.fov_deg > 0) o.fov_y_deg = c.fov_deg;
+  if (c.kind == CameraSpec::Kind::path) {
+    o.eye = tools::evaluate(c.eye, s.time);
+    o.target = c.target_moves ? tools::evaluate(c.target_path, s.time) : c.target;
+    return o;
+  }
+  // An endoscope on the tool's port: behind its tip along its shaft, a
+  // little off the axis toward `up` (so the instrument shows), looking at
+  // the tip (or `lead` beyond it).
+  for (size_t k = 0; k < s.tool_specs.size() && k < s.tools.size(); ++k) {
+    if (s.tool_specs[k].name != c.follow) continue;
+    const tools::ToolState& ts = s.tools[k];
+    const Eigen::Vector3d tip = ts.tip, shaft = shaft_axis(s.tool_specs[k], ts, c.up);
+    Eigen::Vector3d side = c.up - c.up.dot(shaft) * shaft;
+    side = side.norm() > 1e-9 ? Eigen::Vector3d(side.normalized()) : Eigen::Vector3d(shaft.unitOrthogonal());
+    o.eye = tip + c.distance * shaft + c.offset * side;
+    o.target = tip - c.lead * shaft;
+    return o;
+  }
+  fail(c.where.empty() ? "" : c.where + ": ", "camera: follows tool '", c.follow, "', which the run does not have");
+}
+
+render::RenderSettings render_settings(const Model& m, const State& s) {
+  return render_settings(m.spec.outputs.render, tissue_palette(m.spec), camera_settings(m, s));
+}
+
+LabelLegend label_legend(const Model& m) {
+  LabelLegend l;
+  std::uint32_t next = 1;
+  auto add = [&](std::string name, const char* kind) {
+    l.entries.push_back({next, std::move(name), kind});
+    return next++;
+  };
+  for (const MaterialAssignment& a : m.spec.materials)
+    l.group.push_back(add(a.preset.empty() ? a.name : a.name + " (" + a.preset + ")", "tissue"));
+  // Tets no s:material call covers have the default material.
+  const bool uncovered = std::find(m.tet_group.begin(), m.tet_group.end(), int(m.spec.materials.size())) != m.tet_group.end();
+  l.group.push_back(uncovered ? add("default material", "tissue") : 0);
+  l.cut = add("cut surface", "cut");
+  for (const tools::ToolSpec& t : m.spec.tools) l.tool.push_back(add(t.name, tools::to_string(t.kind)));
+  return l;
 }
 
 std::filesystem::path frame_png_path(const std::filesystem::path& dir, int frame) {

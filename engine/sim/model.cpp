@@ -104,12 +104,14 @@ Model compile(const ScenarioSpec& spec, const backend::RunResources& resources) 
   const SelectContext ctx = context(m);
   m.tet_material.assign(m.mesh.num_tets(), fem::Material{});
   std::vector<double> density(size_t(m.mesh.num_tets()), 1000.0);  // kg/m^3
-  for (const auto& a : spec.materials) {
+  m.tet_group.assign(m.mesh.num_tets(), int(spec.materials.size()));
+  for (std::size_t i = 0; i < spec.materials.size(); ++i) {
+    const MaterialAssignment& a = spec.materials[i];
     const std::string w = prefixed(a.where, "material '" + a.name + "'");
     const auto [mat, rho] = resolve_material(a);
     const std::vector<int> tets = select_tets(a.tets, ctx, w);
     if (tets.empty()) diag.warn(w, ": selects no tet");
-    for (int k : tets) m.tet_material[k] = mat, density[size_t(k)] = rho;
+    for (int k : tets) m.tet_material[k] = mat, density[size_t(k)] = rho, m.tet_group[k] = int(i);
   }
   if (spec.gravity.squaredNorm() > 0)  // a dead load on every tet (split tets inherit it)
     for (int k = 0; k < m.mesh.num_tets(); ++k)

@@ -35,6 +35,10 @@ struct Model {
   mesh::Surface surface;                                 // whole-body boundary
   Eigen::MatrixX3d rest_normals;                         // (nnode x 3) unit outward, zero off-surface
   std::vector<fem::Material> tet_material;               // (ntet)
+  // (ntet) the s:material call that set the tet's material, by its index in
+  // spec.materials; spec.materials.size() for tets no call covers. Frames
+  // colour and label tissue by it.
+  std::vector<int> tet_group;
   hybrid::Partition partition;                           // node sets (fixed, 1, I, s, i), Table 2 counts
   std::vector<Motion> motions;                           // fixed nodes that move (prescribed displacement)
   std::vector<int> log_nodes;                            // sorted ids written to displacements.csv

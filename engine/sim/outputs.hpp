@@ -1,9 +1,12 @@
 #pragma once
-// Run outputs (DESIGN.md §5, docs/outputs.md, docs/summary-schema.md):
-// displacements.csv streamed to a temporary file and renamed at the end,
-// optional VTU per frame + series.pvd, summary.json; all atomic.
+// Run outputs (DESIGN.md §5, docs/outputs.md, docs/summary-schema.md): the
+// Recorder writes displacements.csv (streamed to a temporary file and renamed
+// at the end), optional VTU per frame + series.pvd, frames, summary.json; all
+// atomic. The folder's rules, the summary and the VTU export have their own
+// headers, included here for the Recorder's users.
 #include <Eigen/Core>
-#include <cstdio>
+#include <memory>
+#include <optional>
 #include <filesystem>
 #include <cstdint>
 #include <string>
@@ -11,8 +14,16 @@
 #include <vector>
 
 #include "render/scene.hpp"
+#include "sim/frame_outputs.hpp"
 #include "sim/model.hpp"
+#include "sim/output_folder.hpp"
+#include "sim/render_record.hpp"
+#include "sim/render_record_meta.hpp"
 #include "sim/run.hpp"
+#include "sim/streamed_file.hpp"
+#include "sim/summary.hpp"
+#include "sim/tool_log.hpp"
+#include "sim/vtu_export.hpp"
 
 namespace softcut {
 class OutputBudget;
@@ -36,14 +47,16 @@ class Recorder {
   Recorder& operator=(const Recorder&) = delete;
 
   // With a frame writer (made by the application on its EGL context) and
-  // outputs.render.enabled, record() also queues frames/frame_NNNNNN.png;
-  // finish() waits for the writer before the contact sheet.
-  void set_frame_writer(render::FrameWriter* w) { writer_ = w; }
+  // outputs.render.enabled, record() also queues frames/frame_NNNNNN.png
+  // (and the depth and label images when asked, sim/frame_outputs.hpp);
+  // finish() waits for the writer before camera.json and the contact sheet.
+  void set_frame_writer(render::FrameWriter* w);
 
   // Appends frame s.frame: CSV rows `frame,time,node,ux,uy,uz` for the log
-  // nodes (%.9e), vtu/frame_NNNNNN.vtu and frames/frame_NNNNNN.png when due.
+  // nodes (%.9e), a tools.csv row per tool (sim/tool_log.hpp),
+  // vtu/frame_NNNNNN.vtu and frames/frame_NNNNNN.png when due.
   void record(const Model& m, const State& s);
-  // Flushes, renames the CSV into place, writes series.pvd and summary.json.
+  // Flushes, renames the CSVs into place, writes series.pvd and summary.json.
   void finish(const Model& m, const State& s, const RunResult& r);
 
   const std::filesystem::path& dir() const { return dir_; }
@@ -55,37 +68,26 @@ class Recorder {
   int frames_rendered() const { return rendered_; }
   const render::FrameWriter* frame_writer() const { return writer_; }
   const OutputBudget* output_budget() const { return budget_; }
+  const ToolStatistics& tool_statistics() const { return tool_stats_; }
+  bool writes_tool_log() const { return tools_.has_value(); }
+  bool writes_render_record() const { return record_ != nullptr; }
+  bool writes_camera() const { return frame_outputs_ && frame_outputs_->submitted() > 0; }
 
  private:
-  void write_csv(std::string_view text);  // counted against the output budget
-
-  std::filesystem::path dir_, csv_tmp_;
-  std::FILE* csv_ = nullptr;
+  std::filesystem::path dir_;
   OutputBudget* budget_ = nullptr;
+  std::optional<StreamedFile> csv_, tools_;  // displacements.csv; tools.csv (when the scenario has tools)
+  ToolStatistics tool_stats_;
+  RenderSettings spec_render_;
+  Json legend_;                                      // of the label images
   std::vector<std::pair<int, double>> vtu_frames_;  // (frame, time) written
-  std::vector<std::filesystem::path> frame_pngs_;    // this run's frames, in order
+  std::optional<FrameOutputs> frame_outputs_;        // with a frame writer
+  std::unique_ptr<RenderRecordWriter> record_;       // render_record.bin
   int frames_ = 0, rendered_ = 0;
   StageStat render_ms_;
   render::FrameWriter* writer_ = nullptr;
   render::SceneExtractor extractor_;
   bool finished_ = false;
 };
-
-// Removes from `dir` the files softcut writes there and nothing else:
-// displacements.csv(.partial), summary.json, series.pvd, contact_sheet.png,
-// frames/frame_NNNNNN.png, vtu/frame_NNNNNN.vtu and the temporary files of
-// their atomic writes; frames/ and vtu/ go when left empty. Links are
-// unlinked, never followed. Returns the number of files removed.
-int clear_earlier_outputs(const std::filesystem::path& dir);
-
-// summary.json text (schema in docs/summary-schema.md); `rec` adds the
-// rendering statistics when given.
-std::string summary_json(const Model& m, const State& s, const RunResult& r, const Recorder* rec = nullptr);
-
-// VTU (XML, ascii) of the current (possibly cut) mesh with point data
-// "displacement" (nnode x 3) and "node_set", cell data "label" and
-// "operational"; atomic.
-// Returns the bytes written.
-std::uintmax_t write_vtu(const std::filesystem::path& path, const Model& m, const State& s);
 
 }  // namespace softcut::sim

@@ -56,6 +56,8 @@ void check_spec(const ScenarioSpec& s) {
     }
     if (m.density != 0 && !(m.density > 0 && m.density <= 1e5))
       fail(w, ": density must lie in (0, 100000] kg/m^3, got ", m.density);
+    if (m.has_color && !(m.color.allFinite() && m.color.minCoeff() >= 0 && m.color.maxCoeff() <= 1))
+      fail(w, ": color must be RGB in [0, 1]");
   }
   if (!s.gravity.allFinite() || s.gravity.norm() > 1e4)
     fail("gravity: must be a finite vector of at most 10000 m/s^2 (about 1000 g), got (", s.gravity.transpose(), ")");
@@ -127,6 +129,21 @@ void check_spec(const ScenarioSpec& s) {
     if (!r.tissue_colors[i].allFinite() || r.tissue_colors[i].minCoeff() < 0 || r.tissue_colors[i].maxCoeff() > 1)
       fail("outputs.render: tissue colour ", i + 1, " has components outside [0, 1]");
   if (r.msaa_samples < 0 || r.msaa_samples > 16) fail("outputs.render: msaa_samples must be 0..16");
+  const CameraSpec& c = s.outputs.camera;
+  if (c.kind != CameraSpec::Kind::none) {
+    const std::string w = prefixed(c.where, "camera");
+    if (!c.up.allFinite() || c.up.norm() == 0) fail(w, ": up must be a finite, nonzero vector");
+    if (c.fov_deg != 0 && !(c.fov_deg > 0 && c.fov_deg < 180)) fail(w, ": fov must lie in (0, 180) degrees, got ", c.fov_deg);
+    if (c.kind == CameraSpec::Kind::path && !c.target_moves && !c.target.allFinite()) fail(w, ": target must be finite");
+    if (c.kind == CameraSpec::Kind::follow) {
+      bool found = false;
+      for (const auto& t : s.tools) found = found || t.name == c.follow;
+      if (!found) fail(w, ": follows tool '", printable(c.follow, 80), "', which the scenario does not define");
+      if (!(c.distance > 0 && std::isfinite(c.distance))) fail(w, ": distance must be > 0 m, got ", c.distance);
+      if (!(c.offset >= 0 && std::isfinite(c.offset))) fail(w, ": offset must be >= 0 m, got ", c.offset);
+      if (!std::isfinite(c.lead)) fail(w, ": lead must be finite");
+    }
+  }
   if (!(s.solver.cg_tolerance > 0 && s.solver.cg_tolerance < 1))
     fail("solver: cg_tolerance must lie in (0, 1), got ", s.solver.cg_tolerance);
   if (s.solver.cg_max_iterations < 0) fail("solver: cg_max_iterations must be >= 0");

@@ -54,6 +54,10 @@ struct MaterialAssignment {
   std::string preset;             // tissue_preset() name, or empty
   double young = 0.0;             // Pa; 0: from the preset
   double poisson = -2.0;          // outside (-1, 0.5): from the preset
+  // Rendering: this material's colour (RGB in [0, 1]); without it, the
+  // palette's colour of its place in s:material call order.
+  bool has_color = false;
+  Eigen::Vector3d color = Eigen::Vector3d::Zero();
   // The law (fem::MaterialModel); unset: linear. In the condensed region
   // only a whole-body solve applies it (SolverSpec::whole_body).
   std::optional<fem::MaterialModel> model;
@@ -120,20 +124,48 @@ struct RenderSettings {
   Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
   double fov_deg = 30.0;                                   // vertical
   Eigen::Vector3d background = Eigen::Vector3d(0.20, 0.22, 0.26);  // RGB in [0, 1]
-  // clinical: tissue coloured by material (one colour per distinct E, nu in
-  // order of first use: a lesion shows); paper: the paper's region colours.
-  enum class Style { clinical, paper };
+  // clinical: tissue coloured by material (s:material call order; a lesion
+  // shows); paper: the paper's region colours; debug: clinical with the
+  // markers on (manipulated nodes and force lines, load arrows).
+  enum class Style { clinical, paper, debug };
   Style style = Style::clinical;
-  std::vector<Eigen::Vector3d> tissue_colors;  // RGB in [0, 1] per material group; empty: the default palette
+  std::vector<Eigen::Vector3d> tissue_colors;  // RGB in [0, 1] per material (call order), cycled; empty: the default palette
   Eigen::Vector3d cut_color = Eigen::Vector3d(0.72, 0.16, 0.24);  // RGB in [0, 1]: cut faces (clinical: their tint)
   bool show_inclusions = true;  // clinical: tissue-group boundaries inside the organ (a lesion) drawn faintly
   bool wireframe = false;
   bool show_interface = false;  // interface nodes as points (a debugging view)
-  bool show_forces = true;     // manipulated nodes and their force lines
+  bool show_forces = false;    // manipulated nodes and their force lines (on with style debug)
   bool show_loads = false;     // each acting load (s:load) as an arrow at its nodes' centroid
   int msaa_samples = 4;
   int every = 1;               // render every n-th frame
   bool contact_sheet = true;   // also <dir>/contact_sheet.png: a grid of up to ~24 frames
+  // Per rendered frame also frames/depth_NNNNNN.png and frames/labels_NNNNNN.png
+  // (docs/rendering.md "Depth, labels and camera data").
+  bool depth = false, labels = false;
+  bool video = false;          // video.mp4 of the frames (H.264 through ffmpeg)
+  // render_record.bin for `softcut render`: automatic writes it when it
+  // stays under kRecordAutoBytes (estimated from the run's size).
+  enum class Record { automatic, on, off };
+  Record record = Record::automatic;
+};
+
+// The camera over time, when not the fixed or orbiting camera of
+// RenderSettings (s:camera): on a path looking at a point or along another
+// path, or following a tool like an endoscope on its port.
+struct CameraSpec {
+  enum class Kind { none, path, follow };
+  Kind kind = Kind::none;
+  std::string where;             // "scenario.lua:12", may be empty
+  tools::Path eye;               // path: the eye over time, m
+  bool target_moves = false;     // path: the target follows target_path ...
+  Eigen::Vector3d target = Eigen::Vector3d::Zero();  // ... else looks at this point, m
+  tools::Path target_path;
+  std::string follow;            // follow: the tool's name
+  double distance = 0.06;        // follow: eye behind the tool's tip along its shaft, m
+  double offset = 0.01;          // follow: eye off the shaft's axis, toward `up`, m
+  double lead = 0.0;             // follow: looks this far beyond the tip along the tool, m
+  Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
+  double fov_deg = 0.0;          // vertical; 0: RenderSettings::fov_deg
 };
 
 struct OutputSpec {
@@ -147,6 +179,7 @@ struct OutputSpec {
   int vtu_every = 1;                // every n-th frame
   RenderSettings render;            // stored for the renderer
   std::string where;                // "scenario.lua:12" (s:output{}; prefixes messages), may be empty
+  CameraSpec camera;                // s:camera (kind none: RenderSettings' camera)
 };
 
 // Cutter options (cut::CutOptions, docs/cutting.md).

@@ -159,4 +159,30 @@ TEST_SUITE("app/cmd_sweep") {
     CHECK(contains(csv, "id,young,f,pass,"));
     CHECK(contains(csv, "\nrun_0002,2e4,0.04,true,frame_limit,2,"));
   }
+
+  TEST_CASE("each tool's peak and mean force and engaged frames become columns of sweep.csv") {
+    const fs::path dir = softcut::test::scratch_dir("sweep_tools");
+    std::ofstream(dir / "pull.lua")
+        << "local P = softcut.params{ k = 100 }\n"
+           "local s = softcut.scenario{ name = 'pull', duration = 0.2, fps = 10 }\n"
+           "s:mesh{ generate = 'box', options = { max = { 0.1, 0.02, 0.02 }, nx = 10, ny = 4, nz = 4 } }\n"
+           "s:material{ young = 5e3, poisson = 0.4 }\n"
+           "s:fix{ nodes = softcut.select.box{ min = { -1, -1, -1 }, max = { 0, 1, 1 } } }\n"
+           "s:grasper{ name = 'jaw', radius = 0.006, stiffness = P.k, path = softcut.path.polyline{ times = { 0, 0.2 },\n"
+           "           points = { { 0.08, 0.01, 0.021 }, { 0.08, 0.01, 0.028 } } } }\n"
+           "return s\n";
+    CHECK(run_cli("sweep pull.lua --grid k=100,400 -j 1 --out t", dir).status == 0);
+    CHECK(run_cli("sweep merge t", dir).status == 0);
+    const std::string csv = slurp(dir / "t" / "sweep.csv");
+    CHECK(contains(csv, ",tool.jaw.peak_force_n,tool.jaw.mean_force_n,tool.jaw.frames_engaged\n"));
+    for (const char* run : {"run_0000", "run_0001"}) {
+      const auto summary = softcut::test::read_json(dir / "t" / run / "summary.json");
+      const auto& jaw = summary.at("tools").at(0);
+      REQUIRE(jaw.at("peak_force_n").get<double>() > 0);
+      CHECK(contains(csv, "," + jaw.at("peak_force_n").dump() + "," + jaw.at("mean_force_n").dump() + "," +
+                              jaw.at("frames_engaged").dump() + "\n"));
+    }
+    const auto sweep = softcut::test::read_json(dir / "t" / "sweep.json");
+    CHECK(sweep.at("rows").at(1).at("tools").at(0).at("name") == "jaw");
+  }
 }

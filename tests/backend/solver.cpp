@@ -10,7 +10,7 @@
 #include "core/timer.hpp"
 #include "sim/fixtures.hpp"
 #include "gpu/dense_product.hpp"
-#include "gpu/egl_context.hpp"
+#include "gl/egl_context.hpp"
 #include "sim/step.hpp"
 #include "test_support.hpp"
 
@@ -23,8 +23,8 @@ using softcut::Error;
 namespace {
 
 // One context for the suite (llvmpipe on CI machines); outlives every Model.
-softcut::gpu::EglContext& context() {
-  static softcut::gpu::EglContext ctx;
+softcut::gl::EglContext& context() {
+  static softcut::gl::EglContext ctx;
   return ctx;
 }
 
@@ -126,7 +126,7 @@ TEST_SUITE("backend/solver") {
   }
 
   TEST_CASE("auto never picks llvmpipe: it stays on the CPU's CHOLMOD, stage 5 too, and says why") {
-    const softcut::gpu::ContextInfo& info = context().info();
+    const softcut::gl::ContextInfo& info = context().info();
     backend::SolverSpec s;
     s.backend = backend::Backend::automatic;
     const backend::BackendChoice c = backend::choose_backend(s, &context().info());
@@ -140,7 +140,7 @@ TEST_SUITE("backend/solver") {
   }
 
   TEST_CASE("auto on a hardware GPU: CHOLMOD (measured faster than GPU CG there) with stage 5 on the device") {
-    softcut::gpu::ContextInfo h100;
+    softcut::gl::ContextInfo h100;
     h100.renderer = "NVIDIA H100 80GB HBM3/PCIe/SSE2";
     h100.compute = true;
     backend::SolverSpec s;

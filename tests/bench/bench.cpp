@@ -332,11 +332,12 @@ TEST_SUITE("bench/bench") {
     check_rejected("cut --json", "--json needs a value");
   }
 
-  TEST_CASE("bench render: a paper model at 64x48 in the three frame loops") {
+  TEST_CASE("bench render: a paper model at 64x48 in every frame loop, depth and labels, video, and the redraw") {
     // The default pair (knee ligament and upper leg) takes ~10 s here: the
     // ligament's dense precompute runs once per loop. The upper leg alone
     // shows the same loops; the defaults are checked by the next case.
-    const auto r = run_cli("bench render --frames 3 --size 64x48 --msaa 0 scenarios/upper_leg.lua");
+    const fs::path json = softcut::test::scratch_dir("cli_bench_render") / "render.json";
+    const auto r = run_cli("bench render --frames 3 --size 64x48 --msaa 0 scenarios/upper_leg.lua --json " + json.string());
     REQUIRE_MESSAGE(r.status == 0, r.output);
     CHECK(contains(r.output, "64x48, MSAA 0"));
     const auto rows = rows_starting(r.output, "upper_leg");
@@ -348,7 +349,21 @@ TEST_SUITE("bench/bench") {
       CHECK(std::atof(row.at(3).c_str()) > 0);            // wall ms / frame
       loops.push_back(row.at(2));
     }
-    CHECK(loops == std::vector<std::string>{"no frames", "inline", "worker"});
+    const bool video = contains(r.output, "worker + video");
+    std::vector<std::string> want = {"no frames", "inline", "worker", "worker + depth + labels"};
+    if (video) want.push_back("worker + video");
+    CHECK(loops == want);
+    CHECK(contains(r.output, "depth + labels / colour frame"));
+    CHECK(contains(r.output, "softcut render wall / run's frame loop wall"));
+    CHECK(contains(r.output, "softcut render wall / whole run wall"));
+    const auto j = softcut::test::read_json(json);
+    const auto& s = j.at("scenarios").at(0);
+    CHECK(s.at("loops").size() == want.size());
+    CHECK(s.at("loops").at(3).at("depth_labels_ms").get<double>() > 0);
+    CHECK(s.at("loops").at(2).at("depth_labels_ms").get<double>() == 0);  // not asked for
+    CHECK(s.at("depth_labels_over_rgb").get<double>() > 0);
+    CHECK(s.at("redraw_over_run").get<double>() > 0);
+    CHECK(s.at("redraw_over_run_total").get<double>() < s.at("redraw_over_run").get<double>());
   }
 
   TEST_CASE("bench render: bad options and missing scenarios") {

@@ -22,8 +22,8 @@ Eigen::VectorXd direct_solve(const Eigen::SparseMatrix<double>& A, const Eigen::
 }
 
 
-softcut::gpu::EglContext& context() {
-  static softcut::gpu::EglContext ctx;  // one context for the suite (llvmpipe here)
+softcut::gl::EglContext& context() {
+  static softcut::gl::EglContext ctx;  // one context for the suite (llvmpipe here)
   return ctx;
 }
 

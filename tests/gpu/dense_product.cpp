@@ -18,8 +18,8 @@ using namespace softcut;
 
 namespace {
 
-gpu::EglContext& context() {
-  static gpu::EglContext ctx;
+gl::EglContext& context() {
+  static gl::EglContext ctx;
   return ctx;
 }
 
@@ -84,7 +84,7 @@ TEST_SUITE("gpu/dense_product") {
     });
     holding.get_future().wait();
     {
-      gpu::EglContext second;  // current here; its buffer names start at 1, as the first context's did
+      gl::EglContext second;  // current here; its buffer names start at 1, as the first context's did
       second.make_current();
       std::vector<gpu::StorageBuffer> mine(4096);
       for (auto& b : mine) b.allocate(16);

@@ -12,8 +12,8 @@ using namespace softcut;
 
 namespace {
 
-gpu::EglContext& context() {
-  static gpu::EglContext ctx;
+gl::EglContext& context() {
+  static gl::EglContext ctx;
   return ctx;
 }
 

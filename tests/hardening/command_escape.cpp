@@ -211,15 +211,15 @@ TEST_SUITE("hardening/command_escape") {
     const fs::path victim = root / "victim";
     plant_outputs(victim);
     fs::create_directories(root / "tmp");
-    put_file(root / "s.lua", bar("tmpcheck", "", "10", "30"));
+    put_file(root / "s.lua", bar("tmpcheck", "", "300", "30"));  // 9000 frames: ~0.5 s in Release, for the watcher to see
     // The shell plants the link under the name its own pid gives, then becomes
     // softcut (exec keeps the pid); a watcher prints the mode of the folder made.
     const std::string tmp = (root / "tmp").string();
     const auto r = softcut::test::run_cli_raw(
         "cd '" + root.string() + "' && export TMPDIR='" + tmp + "' && sh -c '"
         "ln -s \"" + victim.string() + "\" \"$TMPDIR/softcut-check-$$\"; "
-        "(for i in $(seq 600); do for d in \"$TMPDIR\"/softcut-check-??????; do "
-        "if [ -d \"$d\" ] && [ ! -L \"$d\" ]; then stat -c \"mode %a\" \"$d\"; exit; fi; done; sleep 0.05; done) & "
+        "(for i in $(seq 3000); do for d in \"$TMPDIR\"/softcut-check-??????; do "
+        "if [ -d \"$d\" ] && [ ! -L \"$d\" ]; then stat -c \"mode %a\" \"$d\"; exit; fi; done; sleep 0.01; done) & "
         "exec " SOFTCUT_BIN " check s.lua --record'");
     INFO(r.output);
     CHECK(contains(r.output, "PASS  s.lua"));

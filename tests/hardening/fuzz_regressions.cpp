@@ -14,6 +14,7 @@
 #include "mesh/volume/label_volume.hpp"
 #include "mesh/volume/nrrd.hpp"
 #include "scenario_script.hpp"  // lua/
+#include "../fuzz/render_record_fuzz.hpp"
 
 namespace fs = std::filesystem;
 using softcut::hardening::put_file;
@@ -46,6 +47,8 @@ void feed(const std::string& target, const std::string& bytes, const fs::path& d
       opt.smooth_iterations = 1;
       softcut::mesh::mesh_label_volume(v, opt, diag);
     }
+  } else if (target == "render_record") {
+    softcut::fuzz::read_render_record(bytes);
   } else if (target == "lua") {
     softcut::lua::ScriptRequest req;
     req.scenario = put_file(dir / "scenario.lua", bytes);
@@ -75,7 +78,7 @@ TEST_SUITE("hardening/fuzz_regressions") {
     const fs::path dir = softcut::test::scratch_dir("hardening_fuzz_regressions");
     int n = 0;
     for (const std::string target : {"gmsh", "medit", "vtk", "vtu", "tetgen", "nrrd", "lua", "junit", "reflog",
-                                     "sweep_table", "sweep_plan", "summary"})
+                                     "sweep_table", "sweep_plan", "summary", "render_record"})
       for (const fs::path& p : inputs(target)) {
         CAPTURE(p.string());
         ++n;

@@ -5,7 +5,7 @@
 # engine/ (the library: no Lua, no command line) -> lua/ (bindings, sandbox)
 # -> app/ (the program: scenario runs and the commands) -> bench/ (the
 # benchmarks). So engine/ also may not include Lua's or CLI11's headers.
-set(order core solve mesh fem hybrid gpu backend tools cut render sim lua app bench)
+set(order core solve mesh fem hybrid gl gpu backend tools cut render sim lua app bench)
 if(NOT ROOT)
   message(FATAL_ERROR "layers.cmake: pass -DROOT=<source dir>")
 endif()

@@ -41,7 +41,7 @@ int files_in(const fs::path& dir) {
 
 TEST_SUITE("render/frame_writer") {
   TEST_CASE("inline and worker writers write the pixels Renderer::draw gives") {
-    gpu::EglContext ctx;
+    gl::EglContext ctx;
     std::vector<render::Image> expected;
     {
       render::Renderer r(ctx);
@@ -75,7 +75,7 @@ TEST_SUITE("render/frame_writer") {
   }
 
   TEST_CASE("a failed frame surfaces at the next call naming the file, and later frames are not written") {
-    gpu::EglContext ctx;
+    gl::EglContext ctx;
     const fs::path dir = test::scratch_dir("frame_writer_fail");
     for (const Mode mode : {Mode::inline_draw, Mode::worker}) {
       CAPTURE(int(mode));
@@ -105,7 +105,7 @@ TEST_SUITE("render/frame_writer") {
   }
 
   TEST_CASE("destroying a worker writer with frames still queued neither hangs nor leaves partial files") {
-    gpu::EglContext ctx;
+    gl::EglContext ctx;
     const fs::path dir = test::scratch_dir("frame_writer_drop");
     constexpr int kFrames = 64;
     std::vector<render::Scene> scenes;

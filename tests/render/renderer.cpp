@@ -20,8 +20,8 @@ namespace {
 
 // One context and renderer for the whole suite, as the application has
 // (deliberately never destroyed: GL teardown at exit is not under test here).
-gpu::EglContext& shared_context() {
-  static auto* ctx = new gpu::EglContext();
+gl::EglContext& shared_context() {
+  static auto* ctx = new gl::EglContext();
   return *ctx;
 }
 render::Renderer& shared_renderer() {
@@ -231,6 +231,7 @@ TEST_SUITE("render/renderer") {
     s.height = 120;
     s.style = render::Style::clinical;
     s.palette.tissue = {{0.6f, 0.2f, 0.2f, 1}, {0.1f, 0.9f, 0.3f, 1}};  // a green core, for the test
+    s.palette.inclusion_depth = 100;  // no fading with depth here (scene.cpp's tests check the fade)
     const Eigen::Vector3d core(0.05, 0.03, 0.014);  // seen through the tissue in front of it
     auto at = [&](const RenderSettings& rs) {
       const render::Scene sc = render::extract_scene(b.mesh, b.mesh.nodes, b.content, rs);

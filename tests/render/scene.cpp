@@ -141,7 +141,7 @@ TEST_SUITE("render/scene") {
     CHECK(red == 8);
   }
 
-  TEST_CASE("clinical style colours tissue by group, cycling the palette, cut faces tinted, paper by region") {
+  TEST_CASE("clinical style colours tissue by group, cycling the palette, cut faces a wet wound, paper by region") {
     const mesh::TetMesh m = box(4, 2, 2);
     SceneContent c;
     c.operational.resize(size_t(m.num_tets()));
@@ -157,16 +157,32 @@ TEST_SUITE("render/scene") {
     REQUIRE(pal.tissue.size() == 5);
     const render::Scene sc = render::extract_scene(m, m.nodes, c, s);
     const render::Scene paper = render::extract_scene(m, m.nodes, c, {});
+    // Clinical: the cut faces are the wound, apart; the paper style keeps them with the tissue.
+    CHECK(sc.wound.count() == sc.tissue_faces_cut);
+    CHECK(sc.tissue.count() + sc.wound.count() == paper.tissue.count());
+    CHECK(paper.wound.count() == 0);
+    for (int i = 0; i < sc.wound.count(); ++i) {
+      const Eigen::Vector3d p = centroid(sc.wound, i);
+      CHECK(p.x() == doctest::Approx(0.0));
+      // Its group's colour cut_tint of the way to the cut colour, darkened.
+      const render::Rgba tissue = p.y() < 0.5 ? pal.tissue[0] : pal.tissue[1];
+      render::Rgba want = pal.wound_shade * ((1 - pal.cut_tint) * tissue + pal.cut_tint * pal.cut);
+      want[3] = 1;
+      CHECK((sc.wound.colors[size_t(3 * i)] - want).norm() < 1e-6f);
+    }
+    for (int i = 0; i < paper.tissue.count(); ++i)
+      if (centroid(paper.tissue, i).x() == doctest::Approx(0.0)) CHECK(paper.tissue.colors[size_t(3 * i)] == pal.cut);
     for (int i = 0; i < sc.tissue.count(); ++i) {
       const Eigen::Vector3d p = centroid(sc.tissue, i);
-      const render::Rgba got = sc.tissue.colors[size_t(3 * i)], old = paper.tissue.colors[size_t(3 * i)];
-      if (p.x() == doctest::Approx(0.0)) {  // cut: its group's colour cut_tint of the way to the cut colour
-        const render::Rgba tissue = p.y() < 0.5 ? pal.tissue[0] : pal.tissue[1];
-        CHECK((got - ((1 - pal.cut_tint) * tissue + pal.cut_tint * pal.cut)).norm() < 1e-6f);
-        CHECK(old == pal.cut);
-      } else if (p.y() < 0.49 || p.y() > 0.51) {  // faces of one group (not on y = 0.5)
-        CHECK(got == (p.y() < 0.5 ? pal.tissue[0] : pal.tissue[1]));
-        CHECK(old == (p.x() < 0.5 ? pal.operational : pal.nonoperational));
+      const render::Rgba want = p.y() < 0.5 ? pal.tissue[0] : pal.tissue[1];
+      if (p.y() < 0.49 || p.y() > 0.51) {  // faces of one group (not on y = 0.5)
+        // Corners at the incision's edge (x = 0) go margin_tint toward the wound; others are the tissue's.
+        for (int k = 0; k < 3; ++k) {
+          const bool at_cut = sc.tissue.positions[size_t(3 * i + k)].x() == 0.0f;
+          const render::Rgba got = sc.tissue.colors[size_t(3 * i + k)];
+          if (!at_cut) CHECK(got == want);
+          else CHECK(got != want);
+        }
       }
     }
     c.tet_group[3] = -1;
@@ -195,9 +211,12 @@ TEST_SUITE("render/scene") {
         const Eigen::Vector3d n = (sc.inclusions.positions[size_t(3 * i + 1)].cast<double>() - a)
                                       .cross(sc.inclusions.positions[size_t(3 * i + 2)].cast<double>() - a);
         CHECK(n.dot(g - mid) > 0);  // outward from the core
-        render::Rgba want = s.palette.tissue[size_t(inside)];
-        want[3] = s.palette.inclusion_alpha;
-        CHECK(sc.inclusions.colors[size_t(3 * i)] == want);
+        // 40 % of the way toward the tissue around it; fainter with depth, never below 30 %.
+        const render::Rgba want = 0.6f * s.palette.tissue[size_t(inside)] + 0.4f * s.palette.tissue[size_t(1 - inside)];
+        const render::Rgba got = sc.inclusions.colors[size_t(3 * i)];
+        CHECK((got.head<3>() - want.head<3>()).norm() < 1e-6f);
+        CHECK(got[3] <= s.palette.inclusion_alpha);
+        CHECK(got[3] >= 0.3f * s.palette.inclusion_alpha);
       }
     }
     RenderSettings off = s;
@@ -347,8 +366,8 @@ TEST_SUITE("render/scene") {
     s.tool_segments = 16;
     const render::Scene sc = render::extract_scene(m, m.nodes, c, s);
     const int S = 16;
-    CHECK(sc.tools.count() == (2 * S * (S / 2 - 1) + 4 * S) + (24 + 4 * S) + (2 + 4 * S));
-    for (const auto& col : sc.tools.colors) CHECK(col == s.palette.tool);
+    CHECK(sc.tools.count() == (2 * S * (S / 2 - 1) + 4 * S) + (24 + 8 * S) + (4 + 12));
+    for (const auto& col : sc.tools.colors) CHECK((col == s.palette.tool || col == s.palette.tool_dark));
   }
 
   TEST_CASE("bad input is refused naming the item") {

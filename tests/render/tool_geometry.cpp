@@ -77,18 +77,21 @@ TEST_SUITE("render/tool_geometry") {
     }
   }
 
-  TEST_CASE("grasper is two jaw boxes and a shaft with jaws opened by the angle") {
+  TEST_CASE("grasper is two tapered jaws, a clevis and a shaft, the jaws opened by the angle") {
     Triangles t;
     render::GrasperShape g;
     g.opening_deg = 40;
     const int S = 12;
-    CHECK(render::add_tool(t, g, S, {1, 1, 1, 1}) == 2 * 12 + 4 * S);
+    CHECK(render::add_tool(t, g, S, {1, 1, 1, 1}, {0, 0, 0, 1}) == 2 * 12 + 4 * S + 4 * S);
     CHECK(unmatched_edges(t) == 0);
-    const double jaw = g.jaw_length * g.jaw_width * g.jaw_width / 3.0;
-    const double shaft = S / 2.0 * std::sin(2.0 * kPi / S) * 0.25 * g.jaw_width * g.jaw_width * g.shaft_length;
-    CHECK(volume(t) == doctest::Approx(2 * jaw + shaft).epsilon(1e-4));
-    // The two jaw tips (farthest corners along the jaws) are apart by about
-    // 2 L sin(opening / 2) across the hinge plane.
+    // Jaws: length x mean width x thickness; clevis and shaft: polygonal cylinders.
+    const double jaw = g.jaw_length * 0.75 * g.jaw_width * g.jaw_width / 3.0;
+    const double disc = S / 2.0 * std::sin(2.0 * kPi / S) * 0.25 * g.jaw_width * g.jaw_width;
+    CHECK(volume(t) == doctest::Approx(2 * jaw + disc * g.jaw_width + disc * g.shaft_length).epsilon(1e-4));
+    // The jaws (steel) and the shaft (dark): the shaft's triangles come last.
+    CHECK(t.colors.front() == render::Rgba(1, 1, 1, 1));
+    CHECK(t.colors.back() == render::Rgba(0, 0, 0, 1));
+    // The two jaw tips are apart by about 2 L sin(opening / 2) across the hinge plane.
     double lo = 1e9, hi = -1e9;
     const Eigen::Vector3d across = g.hinge.cross(g.axis).normalized();
     for (int i = 0; i < 3 * 24; ++i) {
@@ -98,18 +101,35 @@ TEST_SUITE("render/tool_geometry") {
     const double spread = 2 * g.jaw_length * std::sin(20 * kPi / 180);
     CHECK(hi - lo > spread);
     CHECK(hi - lo < spread + 2 * g.jaw_width);
+    // Closed jaws meet along the axis without overlapping.
+    Triangles closed;
+    g.opening_deg = 0;
+    render::add_tool(closed, g, S, {1, 1, 1, 1});
+    lo = 1e9, hi = -1e9;
+    for (int i = 0; i < 3 * 12; ++i) {
+      const double s = closed.positions[size_t(i)].cast<double>().dot(across);
+      lo = std::min(lo, s), hi = std::max(hi, s);
+    }
+    CHECK(std::min(std::abs(lo), std::abs(hi)) < 1e-9);  // the first jaw ends on the axis plane
   }
 
-  TEST_CASE("scalpel is a two-sided blade and a round handle") {
+  TEST_CASE("scalpel is a thin blade, sharp along its edge, and a flat handle") {
     Triangles t;
     render::ScalpelShape s;
     const int S = 8;
-    CHECK(render::add_tool(t, s, S, {1, 1, 1, 1}) == 2 + 4 * S);
-    // The blade's two windings cancel; the handle is closed.
+    CHECK(render::add_tool(t, s, S, {1, 1, 1, 1}, {0, 0, 0, 1}) == 4 + 12);
     CHECK(unmatched_edges(t) == 0);
-    const double handle = S / 2.0 * std::sin(2.0 * kPi / S) * s.handle_radius * s.handle_radius * 0.045;
-    CHECK(volume(t) == doctest::Approx(handle).epsilon(1e-4));
-    CHECK(t.normals[0].cast<double>().dot(-t.normals[3].cast<double>()) == doctest::Approx(1.0));
+    const Eigen::Vector3d n = (s.edge_b - s.edge_a).cross(s.spine - s.edge_a).normalized();
+    const double th = 0.5 * s.handle_radius;
+    const double blade = std::abs((s.edge_b - s.edge_a).dot((s.spine - s.edge_a).cross(th * n))) / 6.0;
+    const double handle = (s.handle_end - s.spine).norm() * 3 * s.handle_radius * 1.2 * s.handle_radius;
+    CHECK(volume(t) == doctest::Approx(blade + handle).epsilon(1e-6));
+    // The cutting edge is a line of the blade (zero thickness there).
+    int on_edge = 0;
+    for (int i = 0; i < 3 * 4; ++i)
+      on_edge += (t.positions[size_t(i)].cast<double>() - s.edge_a).norm() < 1e-7 ||
+                 (t.positions[size_t(i)].cast<double>() - s.edge_b).norm() < 1e-7;
+    CHECK(on_edge == 6);
   }
 
   TEST_CASE("degenerate tools are refused") {

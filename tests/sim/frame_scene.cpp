@@ -33,14 +33,25 @@ TEST_SUITE("sim/frame_scene") {
     sim::step(m, s);
     const softcut::render::SceneContent c = sim::scene_content(m, s);
     CHECK(c.operational == m.partition.operational_tet);
-    CHECK(c.interface_nodes.empty());  // a debugging view, off unless asked for
+    // Markers are in every scene's content (a redraw may show them); the
+    // settings draw them only when asked: interface nodes and the nodes tools
+    // act on are a debugging view.
+    CHECK(c.interface_nodes == m.partition.interface);
     {
+      const softcut::render::Scene plain =
+          softcut::render::extract_scene(m.mesh, sim::deformed_positions(m, s), c, sim::render_settings(m, s));
+      CHECK(plain.interface_points.vertices() == 0);
+      CHECK(plain.manipulated_points.vertices() == 0);
       auto shown = spec;
       shown.outputs.render.show_interface = true;
+      shown.outputs.render.show_forces = true;
       const sim::Model m2 = sim::compile(shown);
       sim::State s2 = sim::make_state(m2);
       sim::step(m2, s2);
-      CHECK(sim::scene_content(m2, s2).interface_nodes == m2.partition.interface);
+      const softcut::render::Scene debug = softcut::render::extract_scene(
+          m2.mesh, sim::deformed_positions(m2, s2), sim::scene_content(m2, s2), sim::render_settings(m2, s2));
+      CHECK(debug.interface_points.vertices() == int(m2.partition.interface.size()));
+      CHECK(debug.manipulated_points.vertices() > 0);
     }
     CHECK(c.tools.size() == 2);
     CHECK(c.manipulated.size() == s.tools[0].nodes.size() + s.tools[1].nodes.size());
@@ -111,7 +122,9 @@ TEST_SUITE("sim/frame_scene") {
     sim::State s0 = sim::make_state(m0);
     sim::step(m0, s0);
     sim::step(m0, s0);
-    CHECK(sim::scene_content(m0, s0).arrows.empty());  // off by default
+    // In the content always; drawn only with show_loads (style debug turns it on).
+    CHECK(softcut::render::extract_scene(m0.mesh, sim::deformed_positions(m0, s0), sim::scene_content(m0, s0),
+                                         sim::render_settings(m0, s0)).arrows.vertices() == 0);
     spec.outputs.render.show_loads = true;
     const sim::Model m = sim::compile(spec);
     sim::State s = sim::make_state(m);
@@ -129,7 +142,7 @@ TEST_SUITE("sim/frame_scene") {
     CHECK((c.arrows[1].to - c.arrows[1].from - V(0, 0.05 * diag, 0)).norm() <= 1e-12 * diag);
   }
 
-  TEST_CASE("the clinical style groups tets by material in order of first use, the paper style by region") {
+  TEST_CASE("tissue groups follow s:material call order (a material's color first), whatever the tet order") {
     auto spec = softcut::test::cantilever_spec(softcut::test::scratch_dir("sim_frame_scene_style"), 0.1);
     sim::MaterialAssignment lesion;
     lesion.name = "lesion";
@@ -141,23 +154,42 @@ TEST_SUITE("sim/frame_scene") {
     spec.materials.push_back(lesion);
     spec.prestress.push_back({"p", "", sim::TetSelector::of(sim::TetSelector::Kind::all), -0.01 * Eigen::Matrix3d::Identity()});
     spec.outputs.render.tissue_colors = {V(0.1, 0.2, 0.3), V(0.9, 0.8, 0.7)};
+    // The lesion's call comes first: its tets are group 0 although tet 0 is
+    // plain tissue (material colours used to follow the tets' order).
+    std::swap(spec.materials[0], spec.materials[1]);
+    spec.materials[1].tets = sim::TetSelector::of(sim::TetSelector::Kind::box);
+    spec.materials[1].tets.min = V(-1, -1, -1);
+    spec.materials[1].tets.max = V(0.07, 1, 1);
     const sim::Model m = sim::compile(spec);
     sim::State s = sim::make_state(m);
     sim::step(m, s);
     const auto c = sim::scene_content(m, s);
     REQUIRE(int(c.tet_group.size()) == m.mesh.num_tets());
+    CHECK(m.tet_material[0].young != 2e4);
     for (int t = 0; t < m.mesh.num_tets(); ++t)  // the initial strain does not make a group of its own
-      CHECK(c.tet_group[size_t(t)] == (m.tet_material[size_t(t)].young == 2e4 ? 1 : 0));
+      CHECK(c.tet_group[size_t(t)] == (m.tet_material[size_t(t)].young == 2e4 ? 0 : 1));
     const softcut::render::RenderSettings r = sim::render_settings(m, s);
     CHECK(r.style == softcut::render::Style::clinical);
-    REQUIRE(r.palette.tissue.size() == 2);
+    REQUIRE(r.palette.tissue.size() == 3);  // two calls and the default material
+    CHECK(r.palette.tissue[0][0] == doctest::Approx(0.1f));
     CHECK(r.palette.tissue[1][0] == doctest::Approx(0.9f));
+    // A material's own colour wins over render.tissue_colors.
+    auto colored = spec;
+    colored.materials[1].has_color = true;
+    colored.materials[1].color = V(0.2, 0.6, 0.3);
+    CHECK(sim::tissue_palette(colored)[1] == V(0.2, 0.6, 0.3));
+    CHECK(sim::tissue_palette(colored)[0] == V(0.1, 0.2, 0.3));
+    // The label ids: one per call, the cut surface, the tools; no default material (every tet has a call).
+    const sim::LabelLegend legend = sim::label_legend(m);
+    CHECK(legend.group == std::vector<std::uint32_t>{1, 2, 0});
+    CHECK(legend.cut == 3);
+    CHECK(legend.entries.size() == 3);
+    CHECK(legend.entries[0].name == "lesion");
     auto paper = spec;
     paper.outputs.render.style = sim::RenderSettings::Style::paper;
     const sim::Model mp = sim::compile(paper);
     sim::State sp = sim::make_state(mp);
     sim::step(mp, sp);
-    CHECK(sim::scene_content(mp, sp).tet_group.empty());
     CHECK(sim::render_settings(mp, sp).style == softcut::render::Style::paper);
   }
 
@@ -256,5 +288,54 @@ TEST_SUITE("sim/frame_scene") {
     }
     REQUIRE(s.tools[0].engaged);
     CHECK(s.tools[0].touched);
+  }
+
+  TEST_CASE("a camera on a path, and one following a tool along its shaft like an endoscope") {
+    auto spec = softcut::test::cantilever_spec(softcut::test::scratch_dir("sim_frame_scene_camera"), 0.3);
+    spec.outputs.render.enabled = true;
+    tools::ToolSpec probe;
+    probe.name = "probe";
+    probe.radius = 0.004;
+    probe.force = tools::Ramp::constant_value(0.001);
+    probe.shaft = V(0, 0, 2);  // drawn straight up
+    probe.path = tools::Path::polyline({0.0, 0.3}, {V(0.05, 0.01, 0.025), V(0.08, 0.01, 0.025)});
+    spec.tools = {probe};
+    auto path = spec;
+    path.outputs.camera.kind = sim::CameraSpec::Kind::path;
+    path.outputs.camera.eye = tools::Path::polyline({0.0, 0.2}, {V(0.2, -0.2, 0.1), V(0.0, -0.2, 0.1)});
+    path.outputs.camera.target = V(0.05, 0.01, 0.01);
+    path.outputs.camera.fov_deg = 45;
+    {
+      const sim::Model m = sim::compile(path);
+      sim::State s = sim::make_state(m);
+      sim::step(m, s);
+      sim::step(m, s);  // t = 0.1
+      const auto c = sim::camera_settings(m, s);
+      CHECK_FALSE(c.auto_frame);
+      CHECK((c.eye - V(0.1, -0.2, 0.1)).norm() < 1e-12);
+      CHECK(c.target == V(0.05, 0.01, 0.01));
+      CHECK(c.fov_y_deg == 45);
+    }
+    auto follow = spec;
+    follow.outputs.camera.kind = sim::CameraSpec::Kind::follow;
+    follow.outputs.camera.follow = "probe";
+    follow.outputs.camera.distance = 0.05;
+    follow.outputs.camera.offset = 0.01;
+    follow.outputs.camera.up = V(0, 1, 0);
+    const sim::Model m = sim::compile(follow);
+    sim::State s = sim::make_state(m);
+    for (int f = 0; f < 3; ++f) {
+      sim::step(m, s);
+      const auto c = sim::camera_settings(m, s);
+      const V tip = s.tools[0].tip;
+      CAPTURE(f);
+      // 5 cm up the shaft (+z) from the tip, 1 cm off it toward up (+y), looking at the tip.
+      CHECK((c.eye - (tip + V(0, 0.01, 0.05))).norm() < 1e-12);
+      CHECK((c.target - tip).norm() < 1e-12);
+    }
+    CHECK(s.tools[0].tip.x() > 0.05);  // the camera moved with the tool
+    auto missing = follow;
+    missing.outputs.camera.follow = "nobody";
+    CHECK(softcut::test::contains(softcut::test::error_of([&] { sim::compile(missing); }), "follows tool 'nobody'"));
   }
 }

@@ -7,7 +7,7 @@
 #include <sstream>
 
 #include "fixtures.hpp"
-#include "gpu/egl_context.hpp"
+#include "gl/egl_context.hpp"
 #include "render/contact_sheet.hpp"
 #include "render/frame_writer.hpp"
 #include "render/image.hpp"
@@ -95,7 +95,7 @@ TEST_SUITE("sim/outputs") {
   TEST_CASE("a frame writer writes every n-th frame as PNG, the same pixels inline and on its worker") {
     using Mode = softcut::render::FrameWriter::Mode;
     const fs::path root = softcut::test::scratch_dir("sim_outputs_render");
-    softcut::gpu::EglContext ctx;
+    softcut::gl::EglContext ctx;
     for (const Mode mode : {Mode::inline_draw, Mode::worker}) {
       const bool worker = mode == Mode::worker;
       const fs::path dir = root / (worker ? "worker" : "inline");
@@ -125,7 +125,7 @@ TEST_SUITE("sim/outputs") {
 
   TEST_CASE("a frame that cannot be written fails the run after the summary is written, in both writer modes") {
     using Mode = softcut::render::FrameWriter::Mode;
-    softcut::gpu::EglContext ctx;
+    softcut::gl::EglContext ctx;
     for (const Mode mode : {Mode::inline_draw, Mode::worker}) {
       const fs::path dir = softcut::test::scratch_dir(mode == Mode::worker ? "sim_outputs_fail_w" : "sim_outputs_fail_i");
       fs::create_directories(dir / "frames" / "frame_000002.png");  // a folder where frame 2 goes
@@ -154,7 +154,7 @@ TEST_SUITE("sim/outputs") {
   TEST_CASE("a run owns its output folder: an earlier run's files go, other files and link targets stay") {
     const fs::path root = softcut::test::scratch_dir("sim_outputs_owned");
     const fs::path dir = root / "out";
-    softcut::gpu::EglContext ctx;
+    softcut::gl::EglContext ctx;
     auto run_once = [&](double duration) {
       auto spec = rendering_cantilever_spec(dir, duration);
       spec.outputs.vtu = true;
@@ -244,6 +244,6 @@ TEST_SUITE("sim/outputs") {
     CHECK(keys == std::vector<std::string>{"schema", "scenario", "versions", "command_line", "params", "mesh",
                                            "partition", "solver", "precompute_ms", "precompute_cache", "threads",
                                            "columns", "timeline", "run", "limits", "stage_ms", "springs", "cg",
-                                           "outputs", "cutting", "expectations", "warnings"});
+                                           "outputs", "tools", "cutting", "expectations", "warnings"});
   }
 }

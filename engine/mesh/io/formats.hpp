@@ -26,7 +26,6 @@ TetMesh read_vtk(const std::string& source, std::string_view text, Diagnostics& 
 TetMesh read_vtu(const std::string& source, std::string_view text, Diagnostics& diag,
                  std::size_t max_bytes = std::numeric_limits<std::size_t>::max());
 
-void write_vtu(const std::filesystem::path& path, const TetMesh& m);
 void write_gmsh(const std::filesystem::path& path, const TetMesh& m);
 
 // Whole file as bytes, read as `opt` allows; fails naming the path when it

@@ -8,6 +8,7 @@
 #include "core/checked_file.hpp"
 #include "core/printable.hpp"
 #include "mesh/io/formats.hpp"
+#include "mesh/io/vtu_writer.hpp"
 
 namespace softcut::mesh {
 
@@ -62,7 +63,7 @@ void write_mesh(const std::filesystem::path& path, const TetMesh& m) {
   const std::string ext = lower_extension(path);
   if (m.labels.size() != 0 && m.labels.size() != m.tets.rows())
     fail(path.string(), ": cannot write a mesh with ", m.labels.size(), " labels for ", m.tets.rows(), " tetrahedra");
-  if (ext == ".vtu") io::write_vtu(path, m);
+  if (ext == ".vtu") (void)io::write_vtu(path, m);
   else if (ext == ".msh") io::write_gmsh(path, m);
   else
     fail(path.string(), ": cannot write mesh files with extension '", path.extension().string(),

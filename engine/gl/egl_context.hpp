@@ -20,7 +20,7 @@
 
 #include "core/error.hpp"
 
-namespace softcut::gpu {
+namespace softcut::gl {
 
 enum class Platform {
   automatic,    // device, then surfaceless (the default)
@@ -108,4 +108,4 @@ class EglContext {
   std::unique_ptr<Impl> impl_;
 };
 
-}  // namespace softcut::gpu
+}  // namespace softcut::gl

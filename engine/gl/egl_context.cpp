@@ -1,4 +1,4 @@
-#include "gpu/egl_context.hpp"
+#include "gl/egl_context.hpp"
 
 #include <EGL/egl.h>
 #include <EGL/eglext.h>
@@ -8,7 +8,7 @@
 #include <cstdlib>
 #include <mutex>
 
-namespace softcut::gpu {
+namespace softcut::gl {
 namespace {
 
 const char* egl_error_name(EGLint e) {
@@ -334,4 +334,4 @@ int EglContext::drain_messages(Diagnostics& diag, const std::string& where) {
   return errors;
 }
 
-}  // namespace softcut::gpu
+}  // namespace softcut::gl

@@ -1,4 +1,5 @@
-#include "gpu/egl_context.hpp"
+#include "gl/egl_context.hpp"
+#include "gl/program.hpp"
 
 #include <doctest/doctest.h>
 
@@ -8,42 +9,11 @@
 #include <string>
 #include <vector>
 
-using softcut::gpu::ContextOptions;
-using softcut::gpu::EglContext;
-using softcut::gpu::Platform;
+using softcut::gl::ContextOptions;
+using softcut::gl::EglContext;
+using softcut::gl::Platform;
 
-namespace {
-
-// Compiles and links one compute shader; returns 0 and fills `log` on failure.
-GLuint compute_program(const char* src, std::string& log) {
-  GLuint sh = glCreateShader(GL_COMPUTE_SHADER);
-  glShaderSource(sh, 1, &src, nullptr);
-  glCompileShader(sh);
-  GLint ok = 0;
-  glGetShaderiv(sh, GL_COMPILE_STATUS, &ok);
-  if (!ok) {
-    char buf[2048];
-    glGetShaderInfoLog(sh, sizeof buf, nullptr, buf);
-    log = buf;
-    glDeleteShader(sh);
-    return 0;
-  }
-  GLuint prog = glCreateProgram();
-  glAttachShader(prog, sh);
-  glLinkProgram(prog);
-  glDeleteShader(sh);
-  glGetProgramiv(prog, GL_LINK_STATUS, &ok);
-  if (!ok) {
-    glDeleteProgram(prog);
-    log = "link failed";
-    return 0;
-  }
-  return prog;
-}
-
-}  // namespace
-
-TEST_SUITE("gpu/egl_context") {
+TEST_SUITE("gl/egl_context") {
   TEST_CASE("a headless OpenGL 4.5 core context with compute shaders") {
     EglContext ctx;
     const auto& info = ctx.info();
@@ -72,16 +42,14 @@ TEST_SUITE("gpu/egl_context") {
       layout(local_size_x = 64) in;
       layout(std430, binding = 0) buffer Data { float x[]; };
       void main() { uint i = gl_GlobalInvocationID.x; if (i < x.length()) x[i] = 2.0 * x[i] + 1.0; })";
-    std::string log;
-    const GLuint prog = compute_program(src, log);
-    REQUIRE_MESSAGE(prog != 0, log);
+    const softcut::gl::Program prog("double", {{softcut::gl::Stage::compute, src}});
     std::vector<float> data(1000);
     for (size_t i = 0; i < data.size(); ++i) data[i] = float(i) * 0.5f;
     GLuint buf = 0;
     glCreateBuffers(1, &buf);
     glNamedBufferStorage(buf, GLsizeiptr(data.size() * sizeof(float)), data.data(), GL_DYNAMIC_STORAGE_BIT);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, buf);
-    glUseProgram(prog);
+    glUseProgram(prog.id());
     glDispatchCompute((GLuint(data.size()) + 63) / 64, 1, 1);
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
     std::vector<float> out(data.size());
@@ -90,7 +58,6 @@ TEST_SUITE("gpu/egl_context") {
     for (size_t i = 0; i < out.size(); ++i) wrong += out[i] != 2.0f * data[i] + 1.0f;
     CHECK(wrong == 0);
     glDeleteBuffers(1, &buf);
-    glDeleteProgram(prog);
     for (const auto& m : ctx.take_messages()) CHECK_MESSAGE(!m.is_error(), m.describe());
   }
 
@@ -100,7 +67,7 @@ TEST_SUITE("gpu/egl_context") {
     CHECK(ctx.take_messages().empty());
     glEnable(0x1234);  // not a capability: GL_INVALID_ENUM
     // Drivers may add low-severity notes of their own; exactly one error is ours.
-    std::vector<softcut::gpu::DebugMessage> errors;
+    std::vector<softcut::gl::DebugMessage> errors;
     for (const auto& m : ctx.take_messages())
       if (m.is_error()) errors.push_back(m);
     REQUIRE(errors.size() == 1);
@@ -168,10 +135,10 @@ TEST_SUITE("gpu/egl_context") {
   }
 
   TEST_CASE("platform names parse and unknown ones name the source") {
-    CHECK(softcut::gpu::parse_platform("", "x") == Platform::automatic);
-    CHECK(softcut::gpu::parse_platform("device", "x") == Platform::device);
-    CHECK(softcut::gpu::parse_platform("surfaceless", "x") == Platform::surfaceless);
-    CHECK_THROWS_WITH_AS(softcut::gpu::parse_platform("x11", "SOFTCUT_EGL_PLATFORM"),
+    CHECK(softcut::gl::parse_platform("", "x") == Platform::automatic);
+    CHECK(softcut::gl::parse_platform("device", "x") == Platform::device);
+    CHECK(softcut::gl::parse_platform("surfaceless", "x") == Platform::surfaceless);
+    CHECK_THROWS_WITH_AS(softcut::gl::parse_platform("x11", "SOFTCUT_EGL_PLATFORM"),
                          doctest::Contains("SOFTCUT_EGL_PLATFORM: unknown EGL platform 'x11'"),
                          softcut::Error);
   }
