@@ -45,6 +45,7 @@ BandOptions resolve_band(const BandOptions& opt) {
                                           Eigen::Vector3d(o.length / a, o.width / w, o.thickness / t));
         if (s < best) best = s, o.along = a, o.across = w, o.through = t;
       }
+  check_target_met("band", long(o.along + 1) * (o.across + 1) * (o.through + 1), 6L * o.along * o.across * o.through, o.target_nodes, o.target_tets, "along, across, through");
   return o;
 }
 

@@ -38,6 +38,7 @@ CylinderOptions resolve_cylinder(const CylinderOptions& opt) {
                                         Eigen::Vector3d(h, h, o.length / l));
       if (s < best) best = s, o.rings = k, o.layers = l;
     }
+  check_target_met("cylinder", (1 + 3L * o.rings * (o.rings + 1)) * (o.layers + 1), 18L * o.rings * o.rings * o.layers, o.target_nodes, o.target_tets, "rings, layers");
   return o;
 }
 

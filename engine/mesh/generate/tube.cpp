@@ -46,6 +46,7 @@ TubeOptions resolve_tube(const TubeOptions& opt) {
             Eigen::Vector3d(wall / r, 2 * std::numbers::pi * mid / a, o.length / l));
         if (s < best) best = s, o.radial = r, o.around = a, o.layers = l;
       }
+  check_target_met("tube", long(o.radial + 1) * o.around * (o.layers + 1), 6L * o.radial * o.around * o.layers, o.target_nodes, o.target_tets, "radial, around, layers");
   return o;
 }
 
