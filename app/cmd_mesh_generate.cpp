@@ -267,7 +267,7 @@ int cmd_mesh_generate(const Args& args) {
       usage_fail(command, ": --cell-size and --sliver-bound are for --mesher cgal", see);
     NrrdReadOptions ro;
     if (!vol.unit.empty()) ro.unit_m = unit_metres(vol.unit, "option --unit");
-    ro.max_bytes = limits.read_bytes();
+    ro.max_bytes = limits.volume_bytes();
     VoxelMeshOptions vo;
     vo.labels = vol.labels;
     vo.smooth_iterations = vol.smooth;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <limits>
 #include <sstream>
 
 #include "core/error.hpp"
@@ -52,7 +53,7 @@ void MeshLimits::declare(CLI::App& app, bool tets) {
   app.add_option("--timeout", timeout_s, "wall-clock limit in seconds (default 3600; 0: none); past it the command "
                  "stops and exits 124")
       ->check(plain(CLI::NonNegativeNumber))->type_name("S");
-  app.add_option("--max-memory", max_memory, "bytes a file and what it decodes to may take (default 1G; K/M/G "
+  app.add_option("--max-memory", max_memory, "bytes a file and what it decodes to may take (default 2G; K/M/G "
                  "suffix; 0: none)")
       ->transform(plain(CLI::AsSizeValue(false)))->type_name("BYTES");
   if (tets)
@@ -62,6 +63,10 @@ void MeshLimits::declare(CLI::App& app, bool tets) {
 
 std::size_t MeshLimits::read_bytes() const {
   return max_memory == 0 ? std::numeric_limits<std::size_t>::max() : std::size_t(max_memory / 4);
+}
+
+std::size_t MeshLimits::volume_bytes() const {
+  return max_memory == 0 ? std::numeric_limits<std::size_t>::max() : std::size_t(max_memory / 2);
 }
 
 mesh::ReadOptions MeshLimits::read() const {

@@ -17,7 +17,7 @@ namespace softcut::app {
 
 struct MeshLimits {
   double timeout_s = 3600;                 // 0: none
-  std::uint64_t max_memory = 1ull << 30;   // bytes; 0: none
+  std::uint64_t max_memory = 2ull << 30;   // bytes; 0: none
   int max_tets = 2'000'000;
 
   // --timeout, --max-memory, and with `tets` --max-tets.
@@ -26,13 +26,16 @@ struct MeshLimits {
   // of --max-memory (the file, its arrays and the mesh live together).
   mesh::ReadOptions read() const;
   std::size_t read_bytes() const;
+  // What a label image (its file, decoded voxels and labels: the working set
+  // before meshing) may take: half of --max-memory (a 512 x 512 x 300 CT
+  // segmentation needs ~400 MB).
+  std::size_t volume_bytes() const;
   // Starts the command's clock (`command`: "softcut mesh generate liver").
   // CGAL's meshing polls expired() and ends with exit status 124; work that
   // polls nothing is ended by the watchdog itself after a short grace.
   std::unique_ptr<Watchdog> start(const std::string& command) const;
   // How the message of a refused mesh says to raise the limit.
   static const char* raise_tets() { return "--max-tets N raises the limit"; }
-  static const char* raise_memory() { return "--max-memory BYTES raises the limit"; }
 };
 
 // A validator whose description stays out of --help's value names

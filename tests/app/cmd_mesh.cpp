@@ -159,3 +159,66 @@ TEST_SUITE("app/cmd_mesh") {
     CHECK(j.at("warnings").empty());
   }
 }
+
+TEST_SUITE("app/cmd_mesh") {
+  TEST_CASE("units: info warns on an implausible size and --unit fixes it; convert --unit/--scale write metres; an organ at --scale 1000") {
+    const fs::path dir = test::scratch_dir("cmd_mesh_units");
+    const std::string mm = (dir / "box_mm.vtu").string();
+    REQUIRE(app::cmd_mesh({"generate", "box", "--size", "190,130,80", mm}) == 0);  // a liver's box, in mm
+    auto r = test::run_cli("mesh info '" + mm + "'");
+    CHECK(r.status == 0);
+    CHECK(test::contains(r.output, "the body is 190 m across"));
+    CHECK(test::contains(r.output, "unit = \"mm\""));
+    CHECK(test::contains(r.output, "[implausible_size]"));
+    r = test::run_cli("mesh info '" + mm + "' --unit mm --json");
+    CHECK(!test::contains(r.output, "implausible_size"));
+    CHECK(test::contains(r.output, "0.19"));
+    Diagnostics d;
+    REQUIRE(app::cmd_mesh({"convert", mm, (dir / "a.vtu").string(), "--unit", "mm"}) == 0);
+    CHECK(mesh::read_mesh(dir / "a.vtu", d).nodes.col(0).maxCoeff() == doctest::Approx(0.19));
+    REQUIRE(app::cmd_mesh({"convert", mm, (dir / "b.vtu").string(), "--scale", "0.001"}) == 0);
+    CHECK(mesh::read_mesh(dir / "b.vtu", d).nodes.col(0).maxCoeff() == doctest::Approx(0.19));
+    CHECK(error_of({"convert", mm, "c.vtu", "--unit", "inch"}).find("--unit: inch not in") != std::string::npos);
+    // Refused before as "scale must be in (0, 1000)": a liver in millimetres.
+    REQUIRE(app::cmd_mesh({"generate", "liver", "--scale", "1000", "--target-tets", "1000", (dir / "liver_mm.vtu").string()}) == 0);
+    CHECK(mesh::read_mesh(dir / "liver_mm.vtu", d).nodes.col(0).maxCoeff() > 50);
+  }
+
+  TEST_CASE("generate surface: closed surfaces to labelled tets, the unit guessed and said, a bad surface named") {
+    const fs::path dir = test::scratch_dir("cmd_mesh_surface");
+    const std::string outer = (test::data_dir() / "surface" / "outer_mm.off").string();
+    const std::string inner = (test::data_dir() / "surface" / "inner_mm.obj").string();
+    const auto r = test::run_cli("mesh generate surface '" + outer + "' '" + inner + "' --target-tets 2000 '" + (dir / "n.vtu").string() + "'");
+    CHECK(r.status == 0);
+    CHECK(test::contains(r.output, "taken as mm from their size"));
+    CHECK(test::contains(r.output, "[unit_guessed]"));
+    Diagnostics d;
+    const mesh::TetMesh m = mesh::read_mesh(dir / "n.vtu", d);
+    CHECK(m.labels.minCoeff() == 1);
+    CHECK(m.labels.maxCoeff() == 2);
+    CHECK(m.nodes.col(0).maxCoeff() == doctest::Approx(0.04).epsilon(0.02));
+    REQUIRE(app::cmd_mesh({"generate", "surface", outer, "--unit", "mm", "--cell-size", "0.008", (dir / "o.vtu").string()}) == 0);
+    // An open surface: the first 100 faces of the sphere only.
+    std::ifstream in(outer);
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    text.replace(text.find("642 1280 0"), 10, "642 100 0");
+    std::ofstream(dir / "open.off") << text;
+    CHECK(error_of({"generate", "surface", (dir / "open.off").string(), "x.vtu"}).find("the surface is not closed") != std::string::npos);
+    CHECK(error_of({"generate", "surface", "x.vtu"}).find("expected IN.stl [IN2 ...] and OUT") != std::string::npos);
+    CHECK(error_of({"generate", "surface", (dir / "x.vrml").string(), "x.vtu"}).find("unknown surface file extension") != std::string::npos);
+  }
+
+  TEST_CASE("--help is generated from the declarations: each kind's options with their defaults") {
+    auto r = test::run_cli("mesh generate tube --help");
+    CHECK(r.status == 0);
+    CHECK(test::contains(r.output, "--inner-radius"));
+    CHECK(test::contains(r.output, "radius of the hole, m (0.012)"));
+    CHECK(test::contains(r.output, "--hole-nodes"));
+    CHECK(test::contains(r.output, "--timeout"));
+    r = test::run_cli("mesh generate surface --help");
+    CHECK(test::contains(r.output, "--unit"));
+    CHECK(test::contains(r.output, "--fine-center"));
+    CHECK(test::contains(test::run_cli("mesh generate --help").output, "surface"));
+    CHECK(test::contains(test::run_cli("mesh info --help").output, "--max-memory"));
+  }
+}
