@@ -186,8 +186,9 @@ LoadedMesh generate(const std::string& gen, const std::map<std::string, double>&
     common(o, c.target_tets, c.target_nodes, c.jitter, c.seed, c.label);
     o.finish();
     if (run) {
-      const auto r = mesh::resolve_cylinder(c);
+      const auto r = mesh::resolve_cylinder(c, false);
       check_fits(mesh::cylinder_size(r.rings, r.layers));
+      mesh::check_target_met("cylinder", mesh::cylinder_size(r.rings, r.layers), c.target_nodes, c.target_tets, "rings, layers");
       out.mesh = mesh::generate_cylinder(r);
       out.description = cat("generator cylinder (", r.rings, " rings x ", r.layers, " layers)");
     }
@@ -196,8 +197,10 @@ LoadedMesh generate(const std::string& gen, const std::map<std::string, double>&
     tube_options(o, t);
     o.finish();
     if (run) {
-      t = mesh::resolve_tube(t);
+      t = mesh::resolve_tube(t, false);
       check_fits(mesh::tube_size(t.radial, t.around, t.layers));
+      mesh::check_target_met("tube", mesh::tube_size(t.radial, t.around, t.layers), t.target_nodes, t.target_tets,
+                             "radial, around, layers");
       out.mesh = mesh::generate_tube(t);
       out.named_sets["hole"] = mesh::tube_hole_nodes(out.mesh, t);
       out.description = cat("generator ", gen, " (", t.radial, " radial x ", t.around, " around x ", t.layers,
@@ -208,8 +211,10 @@ LoadedMesh generate(const std::string& gen, const std::map<std::string, double>&
     band_options(o, b);
     o.finish();
     if (run) {
-      const auto r = mesh::resolve_band(b);
+      const auto r = mesh::resolve_band(b, false);
       check_fits(mesh::band_size(r.along, r.across, r.through));
+      mesh::check_target_met("band", mesh::band_size(r.along, r.across, r.through), b.target_nodes, b.target_tets,
+                             "along, across, through");
       out.mesh = mesh::generate_band(r);
       out.description = cat("generator ", gen, " (", r.along, " along x ", r.across, " across x ", r.through, " through)");
     }

@@ -161,7 +161,7 @@ TEST_SUITE("app/cmd_mesh") {
 }
 
 TEST_SUITE("app/cmd_mesh") {
-  TEST_CASE("units: info warns on an implausible size and --unit fixes it; convert --unit/--scale write metres; an organ at --scale 1000") {
+  TEST_CASE("units: info warns on an implausible size and --unit fixes it - convert --unit/--scale write metres - an organ at --scale 1000") {
     const fs::path dir = test::scratch_dir("cmd_mesh_units");
     const std::string mm = (dir / "box_mm.vtu").string();
     REQUIRE(app::cmd_mesh({"generate", "box", "--size", "190,130,80", mm}) == 0);  // a liver's box, in mm

@@ -113,8 +113,11 @@ TEST_SUITE("hardening/mesh_limits") {
     const std::string tiny = mesh_error({"generate", "liver", "--cell-size", "1e-300", out.string()});
     CHECK(contains(tiny, "about infinitely many tetrahedra"));
     CHECK(!contains(tiny, "-9223372036854775808"));
-    // A tube's resolution search ends at 2.5M tets: a target it cannot reach is an error, not a silent miss.
-    const std::string tube = mesh_error({"generate", "tube", "--target-tets", "1000000000", out.string()});
+    // A tube's resolution search ends at 2.5M tets: a target it cannot reach is an error, not a silent miss
+    // (past the tet limit first; with a higher limit, the target).
+    CHECK(contains(mesh_error({"generate", "tube", "--target-tets", "1000000000", out.string()}),
+                   "this resolution gives 2484300 tetrahedra, over this run's limit of 2000000"));
+    const std::string tube = mesh_error({"generate", "tube", "--target-tets", "1000000000", "--max-tets", "3000000", out.string()});
     CHECK(contains(tube, "tube: cannot meet target_tets 1000000000 within 25 %"));
     CHECK(contains(tube, "give the cell counts (radial, around, layers)"));
     CHECK(contains(mesh_error({"generate", "box", "--cells", "1000,1000,300", out.string()}), "1800000000 tetrahedra"));

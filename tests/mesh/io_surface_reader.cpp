@@ -61,7 +61,7 @@ TEST_SUITE("mesh/io/surface_reader") {
     CHECK(contains(error_of([&] { read_surface(dir / "sphere_mm.stl", d, small); }), "sphere_mm.stl"));
   }
 
-  TEST_CASE("polygons are split into triangles, with a warning; unused points are named") {
+  TEST_CASE("polygons are split into triangles, with a warning - unused points are named") {
     Diagnostics d;
     const std::string quads = "OFF\n9 1 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n5 5 5\n6 6 6\n7 7 7\n8 8 8\n9 9 9\n4 0 1 2 3\n";
     const SurfaceSoup s = read(".off", quads, &d);

@@ -76,7 +76,7 @@ TEST_SUITE("mesh/mesher/surface_domain") {
     CHECK(dom.shape.label(Eigen::Vector3d(0.5, 0.5, 0.5)) == 1);
   }
 
-  TEST_CASE("faces turned against their neighbours are turned back, with a coded warning; inward surfaces silently") {
+  TEST_CASE("faces turned against their neighbours are turned back, with a coded warning - inward surfaces silently") {
     test::Soup c = test::sphere(1);
     std::swap(c.tris[3][1], c.tris[3][2]);
     std::swap(c.tris[70][1], c.tris[70][2]);

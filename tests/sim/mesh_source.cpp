@@ -126,7 +126,7 @@ TEST_SUITE("sim/mesh_source") {
 }
 
 TEST_SUITE("sim/mesh_source") {
-  TEST_CASE("a mesh file's unit and scale; a body of implausible size is a coded warning suggesting the unit") {
+  TEST_CASE("a mesh file's unit and scale - a body of implausible size is a coded warning suggesting the unit") {
     using softcut::test::contains;
     const auto dir = softcut::test::scratch_dir("sim_mesh_source_unit");
     sim::MeshSource box;

@@ -56,5 +56,8 @@ inline constexpr double kTargetTolerance = 0.25;
 // and that cell counts give any resolution: a target of 1e9 tets silently
 // gave the search's largest tube (2.5M tets).
 void check_target_met(const char* what, long nodes, long tets, int target_nodes, int target_tets, const char* cells);
+inline void check_target_met(const char* what, const MeshSize& size, int target_nodes, int target_tets, const char* cells) {
+  check_target_met(what, long(size.nodes), long(size.tets), target_nodes, target_tets, cells);
+}
 
 }  // namespace softcut::mesh
