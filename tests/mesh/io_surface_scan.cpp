@@ -91,6 +91,10 @@ TEST_SUITE("mesh/io/surface_scan") {
     CHECK(contains(read_error(".off", tri + "3.5 0 1 2\n"), "face 0 must be"));
     CHECK(contains(read_error(".off", tri + "3 0 1 -2\n"), "face 0 uses vertex -2"));
     CHECK(contains(read_error(".off", tri + "3 0 1 3\n"), "face 0 uses vertex 3, not one of the 3 vertices"));
+    // An edge count CGAL doubles in an int (signed overflow, found by a mutation run under UBSan).
+    CHECK(contains(read_error(".off", "OFF\n3 1 2000000000\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"), "expected the edge count"));
+    // "OFF#...": CGAL eats the '#' with the keyword and reads the counts after it (a mutation run's find).
+    CHECK(contains(read_error(".off", "OFF#2000000000 2000000000 0\n0 0 0\n"), "announces 2000000000 vertices"));
     CHECK(contains(read_error(".off", "OFF BINARY\n"), "binary OFF is not read"));
     CHECK(contains(read_error(".off", "COFF\n3 1 0\n"), "plain ASCII OFF"));
     CHECK(contains(read_error(".off", "OFF\n3 1 0\n0 0\n"), "vertex 0 needs three coordinates"));

@@ -222,6 +222,9 @@ void scan_off(const std::string& source, std::string_view bytes) {
   if (keyword != "OFF")
     c.fail_here("expected the OFF keyword, got '", keyword.substr(0, 40),
                 "' (softcut reads plain ASCII OFF: no COFF, NOFF, 4OFF, nOFF or SKEL variants)");
+  // CGAL's header reader consumes the character that ends the keyword, be it
+  // a '#' ("OFF#..." is not a comment to it).
+  if (!c.at_end()) c.advance();
   c.skip_comments();
   const std::string_view first = c.word();
   std::int64_t nv = 0, nf = 0, ne = 0;
@@ -230,8 +233,9 @@ void scan_off(const std::string& source, std::string_view bytes) {
     c.fail_here("expected the vertex count after OFF, got '", first.substr(0, 40), "'");
   if (!stream_integer(c.word(), 0, std::numeric_limits<std::int32_t>::max(), nf))
     c.fail_here("expected the face count (a whole number >= 0) after the vertex count");
-  if (!stream_integer(c.word(), std::numeric_limits<std::int32_t>::min(), std::numeric_limits<std::int32_t>::max(), ne))
-    c.fail_here("expected the edge count after the face count");
+  // The edge count is not used, but CGAL doubles it in an int (overflow past 2^30).
+  if (!stream_integer(c.word(), -1000000000, 1000000000, ne))
+    c.fail_here("expected the edge count (a whole number, |n| <= 1e9) after the face count");
   // One line per vertex and per face (CGAL's reader is line based): each
   // takes at least one byte, so the walk ends within the file.
   for (std::int64_t v = 0; v < nv; ++v) {
