@@ -43,7 +43,11 @@ bool Options::parse(const Args& args) {
     // messages start with the value) reads "--frames lots: expected ...".
     std::string what = e.what();
     const auto colon = what.find(": ");
-    if (what.rfind("-", 0) == 0 && colon != std::string::npos) what.erase(colon, 1);
+    if (what.rfind("-", 0) == 0 && colon != std::string::npos) {
+      what.erase(colon, 1);
+      // CLI11's range check says "--smooth: Value 1e9 not in range ...".
+      if (what.compare(colon + 1, 6, "Value ") == 0) what.erase(colon + 1, 6);
+    }
     usage_fail(command_, ": ", what, see);
   } catch (const CLI::ParseError& e) {
     usage_fail(command_, ": ", e.what(), see);

@@ -107,8 +107,10 @@ function softcut.scenario(args) end
 
 ---@class Scenario_mesh_args
 ---@field file? string mesh file relative to the scenario (.msh, .node/.ele, .mesh, .vtk, .vtu)
----@field generate? string generator name: structured (box .. upper_leg) or an organ shape meshed by CGAL (liver, kidney, knee_ligament; docs/meshing.md)
----@field options? table generator options by name: numbers, or 3-vectors for corners/centers; cell counts or target counts given replace a preset's (ligament, upper_leg) resolution. `softcut mesh generate` takes the same names (docs/meshing.md)
+---@field unit? string length unit of `file`, default m (mesh files carry none; most CT and Gmsh exports are in mm)
+---@field scale? number every length of `file` times this (after `unit`), default 1
+---@field generate? string generator name: structured (box .. upper_leg), an organ shape meshed by CGAL (liver, kidney, knee_ligament), or `surface`: closed surfaces (STL, OBJ, PLY, OFF) meshed by CGAL (docs/meshing.md)
+---@field options? table generator options by name: numbers, or 3-vectors for corners/centers; cell counts or target counts given replace a preset's (ligament, upper_leg) resolution. `surface` takes `file` (a name or a list: the organ, then inner regions, labels 1, 2, ...) and `unit` (m, cm, mm, um; default: guessed from the size, with a warning) beside the organ kinds' sizing options. `softcut mesh generate` takes the same names (docs/meshing.md)
 ---Loads or generates the rest mesh (call first). Returns a Mesh table: num_nodes, num_tets, labels (sorted list), min, max, center, size (m), sets (names of the mesh's node sets), surface_nodes (sorted 0-based ids).
 ---@param args Scenario_mesh_args
 ---@return Mesh

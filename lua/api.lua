@@ -112,12 +112,19 @@ api.functions = {
       .. "mesh's node sets), surface_nodes (sorted 0-based ids).",
     returns = "Mesh", one_of = { { "file", "generate" } }, fields = {
       F("file", "string", "mesh file relative to the scenario (.msh, .node/.ele, .mesh, .vtk, .vtu)"),
-      F("generate", "string", "generator name: structured (box .. upper_leg) or an organ shape meshed by CGAL "
-        .. "(liver, kidney, knee_ligament; docs/meshing.md)",
-        { values = { "box", "cylinder", "tube", "band", "ligament", "upper_leg", "liver", "kidney", "knee_ligament" } }),
+      F("unit", "string", "length unit of `file`, default m (mesh files carry none; most CT and Gmsh exports are in mm)",
+        { values = { "m", "cm", "mm", "um" } }),
+      F("scale", "number", "every length of `file` times this (after `unit`), default 1", { gt = 0 }),
+      F("generate", "string", "generator name: structured (box .. upper_leg), an organ shape meshed by CGAL "
+        .. "(liver, kidney, knee_ligament), or `surface`: closed surfaces (STL, OBJ, PLY, OFF) meshed by CGAL "
+        .. "(docs/meshing.md)",
+        { values = { "box", "cylinder", "tube", "band", "ligament", "upper_leg", "liver", "kidney", "knee_ligament",
+                     "surface" } }),
       F("options", "table", "generator options by name: numbers, or 3-vectors for corners/centers; cell counts "
-        .. "or target counts given replace a preset's (ligament, upper_leg) resolution. `softcut mesh generate` "
-        .. "takes the same names (docs/meshing.md)") },
+        .. "or target counts given replace a preset's (ligament, upper_leg) resolution. `surface` takes `file` "
+        .. "(a name or a list: the organ, then inner regions, labels 1, 2, ...) and `unit` (m, cm, mm, um; "
+        .. "default: guessed from the size, with a warning) beside the organ kinds' sizing options. "
+        .. "`softcut mesh generate` takes the same names (docs/meshing.md)") },
     example = 's:mesh{ generate = "box", options = { min = {0, 0, 0}, max = {0.1, 0.04, 0.04}, nx = 10, ny = 4, nz = 4 } }' },
   { name = "Scenario:material", summary = "Assigns a material to a set of tets (all tets when no region "
       .. "field is given); later calls override earlier ones. Give a tissue preset, E and nu, or both "

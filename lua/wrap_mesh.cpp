@@ -43,8 +43,10 @@ int handle_gc(lua_State* L) {
   return 0;
 }
 
-// Generator options: numbers, or 3-vectors flattened to name.x/.y/.z.
-std::map<std::string, double> read_options(lua_State* L, int idx) {
+// Generator options: numbers, or 3-vectors flattened to name.x/.y/.z; the
+// surface generator's `file` (a name or a list of names) and `unit` go to
+// `files` and `unit`.
+std::map<std::string, double> read_options(lua_State* L, int idx, std::vector<std::string>& files, std::string& unit) {
   std::map<std::string, double> out;
   if (lua_isnil(L, idx)) return out;
   if (!lua_istable(L, idx)) fail("mesh: options must be a table of named numbers");
@@ -60,7 +62,29 @@ std::map<std::string, double> read_options(lua_State* L, int idx) {
       fail("mesh: options must be named (name = value)");
     }
     const std::string key = lua_tostring(L, -2);
-    if (lua_type(L, -1) == LUA_TNUMBER) {
+    if (key == "unit" && lua_type(L, -1) == LUA_TSTRING) {
+      unit = lua_tostring(L, -1);
+    } else if (key == "file" && lua_type(L, -1) == LUA_TSTRING) {
+      files.push_back(lua_tostring(L, -1));
+    } else if (key == "file" && lua_istable(L, -1)) {
+      const lua_Unsigned n = lua_rawlen(L, -1);  // raw: no __len of the script's runs here
+      if (n == 0 || n > 64) {
+        lua_pop(L, 2);
+        fail("mesh: options.file must name 1 to 64 surface files, got a list of ", n);
+      }
+      for (lua_Unsigned i = 1; i <= n; ++i) {
+        if (lua_rawgeti(L, -1, lua_Integer(i)) != LUA_TSTRING) {
+          lua_pop(L, 3);
+          fail("mesh: options.file[", i, "] must be a file name");
+        }
+        files.push_back(lua_tostring(L, -1));
+        lua_pop(L, 1);
+      }
+    } else if (key == "file" || key == "unit") {
+      const std::string t = luaL_typename(L, -1);
+      lua_pop(L, 2);
+      fail("mesh: option '", key, "' must be ", key == "file" ? "a file name or a list of them" : "a unit name", ", got ", t);
+    } else if (lua_type(L, -1) == LUA_TNUMBER) {
       out[key] = lua_tonumber(L, -1);
     } else if (lua_istable(L, -1)) {
       Eigen::Vector3d v;
@@ -95,30 +119,49 @@ int mesh_load(lua_State* L) {
     const fs::path dir = lua_tostring(L, 2);
     auto h = std::make_unique<MeshHandle>();
     h->source.where = user_where(L);
+    // A file the script names, relative to its folder: checked as the sandbox
+    // reads (below the folder, through the checked open; a link on the way is
+    // refused whether or not its target exists: fs::exists would follow it
+    // and tell the script which outside files exist).
+    const auto locate = [&](const std::string& name, const char* what) {
+      const fs::path path = fs::absolute(dir / name).lexically_normal();
+      if (!may_read(L, path))
+        fail(h->source.where, ": mesh: ", what, " '", printable(name), "' is outside the scenario's folder ",
+             printable(dir.string()), " (the sandbox reads only below it; run with --trust to lift this)");
+      bool found = false;
+      if (options_of(L).trusted) {
+        found = fs::exists(path);
+      } else {
+        int missing = 0;
+        found = bool(open_below_if_exists(options_of(L).read_dir, relative_below(options_of(L).read_dir, path),
+                                          Access::read, h->source.where + ": mesh", &missing));
+      }
+      if (!found)
+        fail(h->source.where, ": mesh: ", what, " '", printable(name), "' not found (looked for ", printable(path.string()),
+             "; paths are relative to the scenario's folder)");
+      return path;
+    };
     const std::string file = get_string(L, 1, "file");
-    if (!file.empty()) h->source.file = fs::absolute(dir / file).lexically_normal();
     h->source.generator = get_string(L, 1, "generate");
+    h->source.unit = get_string(L, 1, "unit");
+    h->source.scale = get_number(L, 1, "scale", 1.0);
+    std::vector<std::string> surfaces;
+    std::string surface_unit;
     lua_pushliteral(L, "options");
     lua_rawget(L, 1);  // raw: no __index of the script's runs here
-    h->source.options = read_options(L, -1);
+    h->source.options = read_options(L, -1, surfaces, surface_unit);
     lua_pop(L, 1);
-    if (!file.empty() && !may_read(L, h->source.file))
-      fail(h->source.where, ": mesh: file '", printable(file), "' is outside the scenario's folder ", printable(dir.string()),
-           " (the sandbox reads only below it; run with --trust to lift this)");
-    // Existence through the checked open in the sandbox: a link on the way is
-    // refused whether or not its target exists (fs::exists would follow it
-    // and tell the script which outside files exist).
-    bool found = false;
-    if (!file.empty() && options_of(L).trusted) {
-      found = fs::exists(h->source.file);
-    } else if (!file.empty()) {
-      int missing = 0;
-      found = bool(open_below_if_exists(options_of(L).read_dir, relative_below(options_of(L).read_dir, h->source.file),
-                                        Access::read, h->source.where + ": mesh", &missing));
+    if ((!surfaces.empty() || !surface_unit.empty()) && h->source.generator != "surface")
+      fail(h->source.where, ": mesh: options.file and options.unit are the surface generator's (generate = \"surface\"); "
+           "a mesh file is s:mesh{ file = ..., unit = ... }");
+    if (h->source.generator == "surface") {
+      if (!h->source.unit.empty())
+        fail(h->source.where, ": mesh: give the surfaces' unit in options (options = { file = ..., unit = \"",
+             printable(h->source.unit), "\" })");
+      h->source.unit = surface_unit;
     }
-    if (!file.empty() && !found)
-      fail(h->source.where, ": mesh: file '", printable(file), "' not found (looked for ", printable(h->source.file.string()),
-           "; paths are relative to the scenario's folder)");
+    if (!file.empty()) h->source.file = locate(file, "file");
+    for (const auto& f : surfaces) h->source.surfaces.push_back(locate(f, "surface file"));
     Diagnostics diag;
     // The file (and a TetGen sibling) through the checked open below the
     // scenario folder; decoded data within what is left of the memory budget.
@@ -130,8 +173,10 @@ int mesh_load(lua_State* L) {
     }
     {
       // Bounded by the mesh size limit (and charged below), not by the
-      // call's CPU time: meshing a 2M-tet organ takes ~30 s.
+      // call's CPU time: meshing a 2M-tet organ takes ~30 s. CGAL meshing
+      // stops at the run's deadline too.
       const CpuExempt exempt(L);
+      h->source.stop = options_of(L).deadline;
       h->loaded = sim::load_mesh_source(h->source, diag, max_tets(L), read);
       h->surface = mesh::extract_surface(h->loaded.mesh);
     }

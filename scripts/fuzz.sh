@@ -14,7 +14,7 @@
 #   scripts/fuzz.sh --seconds 3600
 set -euo pipefail
 cd "$(dirname "$0")/.."
-all=(gmsh medit vtk vtu tetgen nrrd lua junit reflog sweep_table sweep_plan summary render_record)
+all=(gmsh medit vtk vtu tetgen nrrd stl obj ply off lua junit reflog sweep_table sweep_plan summary render_record)
 seconds=60
 runs=-1
 max_len=65536

@@ -8,7 +8,7 @@
 #   3. every ctest entry under the sanitizers (unit suites, golden images,
 #      scenario runs through the CLI, resource limits, fuzz regressions);
 #   4. a short fuzz run of every target (scripts/fuzz.sh; $SOFTCUT_FUZZ_SECONDS,
-#      default 60 s each, as many at a time as there are cores) starting from
+#      default 20 s each, as many at a time as there are cores) starting from
 #      its seed corpus and the saved findings.
 # The exit status is non-zero when any stage fails; the stage times are printed.
 #
@@ -48,7 +48,7 @@ export LSAN_OPTIONS="suppressions=$PWD/tests/hardening/lsan.supp:print_suppressi
 rc=0
 (cd build-fuzz && ctest --output-on-failure --parallel "$jobs" --timeout 900) || rc=$?
 t2=$(stamp)
-./scripts/fuzz.sh --seconds "${SOFTCUT_FUZZ_SECONDS:-60}" --jobs "$jobs" || rc=$?
+./scripts/fuzz.sh --seconds "${SOFTCUT_FUZZ_SECONDS:-20}" --jobs "$jobs" || rc=$?
 t3=$(stamp)
 echo "test.sh: build $((t1 - t0)) s, tests $((t2 - t1)) s, fuzzing $((t3 - t2)) s; exit $rc"
 exit $rc

@@ -154,7 +154,7 @@ std::string read_all(int fd, const std::string& what, const std::string& name, s
   if (!S_ISREG(st.st_mode)) fail(what, ": ", name, ": not a regular file");
   if (std::uint64_t(st.st_size) > max_bytes)
     fail(what, ": ", name, ": the file holds ", std::uint64_t(st.st_size), " bytes, more than the ", max_bytes,
-         " bytes allowed here (the sandbox's memory budget; run with --trust to lift it)");
+         " bytes allowed here (the memory budget: a sandboxed run's, which --trust lifts, or softcut mesh --max-memory)");
   std::string bytes(std::size_t(st.st_size), '\0');
   std::size_t at = 0;
   while (at < bytes.size()) {

@@ -121,4 +121,18 @@ Eigen::MatrixX3d vertex_normals(const TetMesh& m, const Surface& s, const Eigen:
   return n;
 }
 
+SurfaceEdges surface_edges(const Surface& s) {
+  std::map<std::pair<int, int>, int> faces_of;
+  for (Eigen::Index f = 0; f < s.faces.rows(); ++f)
+    for (int e = 0; e < 3; ++e) {
+      const int a = s.faces(f, e), b = s.faces(f, (e + 1) % 3);
+      ++faces_of[{std::min(a, b), std::max(a, b)}];
+    }
+  SurfaceEdges out;
+  out.edges = int(faces_of.size());
+  for (const auto& [e, n] : faces_of) out.odd += n != 2;
+  out.euler = int(s.nodes.size()) - out.edges + int(s.faces.rows());
+  return out;
+}
+
 }  // namespace softcut::mesh

@@ -25,6 +25,15 @@ Surface extract_surface(const TetMesh& m, const std::vector<char>& tet_mask = {}
 // Empty for an empty tet_group; throws when its size is not the tet count.
 Surface group_boundaries(const TetMesh& m, const std::vector<int>& tet_group);
 
+// Edges of a surface and how many are not in exactly two of its faces (a
+// closed manifold has none; voxels that touch only along an edge make them).
+struct SurfaceEdges {
+  int edges = 0;      // distinct edges
+  int odd = 0;        // edges in one face or in more than two
+  int euler = 0;      // Euler characteristic: surface nodes - edges + faces
+};
+SurfaceEdges surface_edges(const Surface& s);
+
 // Per node: true if the node lies on the surface. (nnode)
 std::vector<char> surface_node_mask(const TetMesh& m, const Surface& s);
 

@@ -8,7 +8,11 @@
 #include "mesh/generate/cylinder.hpp"
 #include "mesh/generate/presets.hpp"
 #include "mesh/io/mesh_io.hpp"
+#include "core/warning.hpp"
+#include "mesh/io/surface_io.hpp"
+#include "mesh/mesher/mesh_surface.hpp"
 #include "mesh/mesher/organs.hpp"
+#include "mesh/units.hpp"
 
 namespace softcut::sim {
 
@@ -21,6 +25,7 @@ class Options {
 
   void num(const char* name, double& v) {
     known_.push_back(name);
+    defaults_[name] = v;
     if (auto it = left_.find(name); it != left_.end()) {
       if (!std::isfinite(it->second)) fail(what_, ": option '", name, "' must be finite");
       v = it->second;
@@ -39,6 +44,7 @@ class Options {
     static const char* axes[3] = {".x", ".y", ".z"};
     for (int c = 0; c < 3; ++c) {
       known_.push_back(name + axes[c]);
+      defaults_[name + axes[c]] = v(c);
       if (auto it = left_.find(name + axes[c]); it != left_.end()) {
         if (!std::isfinite(it->second)) fail(what_, ": option '", it->first, "' must be finite");
         v(c) = it->second;
@@ -61,6 +67,7 @@ class Options {
     fail(what_, ": unknown option '", left_.begin()->first, "' (known: ", known, ")");
   }
   const std::vector<std::string>& known() const { return known_; }
+  const std::map<std::string, double>& defaults() const { return defaults_; }
   // Whether the options name any of these (asked before they are taken).
   bool asks_for(std::initializer_list<const char*> names) const {
     return std::any_of(names.begin(), names.end(), [&](const char* n) { return left_.count(n) > 0; });
@@ -70,14 +77,47 @@ class Options {
   std::map<std::string, double> left_;
   std::string what_;
   std::vector<std::string> known_;
+  std::map<std::string, double> defaults_;  // the value each option has when not given
 };
 
-std::string too_many_tets(double tets, double max_tets, const char* advice) {
+const char* kRunRaise = "softcut run/check --max-tets N raises the limit, --trust lifts it";
+
+std::string too_many_tets(double tets, double max_tets, const char* advice, const std::string& raise) {
   char n[32], limit[32];
-  std::snprintf(n, sizeof n, "%.0f", tets);
+  std::snprintf(n, sizeof n, tets < 1e15 ? "%.0f" : "%.3g", tets);
   std::snprintf(limit, sizeof limit, "%.0f", max_tets);
-  return cat(n, " tetrahedra, over this run's limit of ", limit, "; ", advice,
-             " (softcut run/check --max-tets N raises the limit, --trust lifts it)");
+  return cat(n, " tetrahedra, over this run's limit of ", limit, "; ", advice, " (", raise.empty() ? kRunRaise : raise, ")");
+}
+
+// The organ kinds' sizing options (mesh/mesher/organs.hpp), for organs and surfaces.
+void sizing_options(Options& o, const std::map<std::string, double>& opts, mesh::OrganOptions& g) {
+  if (opts.count("cell_size") && !opts.count("target_tets")) g.target_tets = 0;  // a cell size alone sizes the mesh
+  o.integer("target_tets", g.target_tets), o.num("cell_size", g.cell_size), o.num("scale", g.scale);
+  o.vec("fine_center", g.fine_center), o.num("fine_radius", g.fine_radius), o.num("fine_ratio", g.fine_ratio);
+}
+
+// generator "surface": reads the surfaces (through the checked open, as
+// `read` allows), in their unit, and meshes them.
+mesh::TetMesh surface_mesh(const MeshSource& src, const mesh::OrganOptions& g, const std::string& what, Diagnostics& diag,
+                           const mesh::MeshLimit& limit, const mesh::ReadOptions& read, mesh::MesherReport& r) {
+  if (src.surfaces.empty())
+    fail(what, ": give the surface file(s) to mesh: options = { file = \"organ.stl\" } or file = { \"organ.stl\", "
+         "\"lesion.stl\" } (softcut mesh generate surface IN.stl [IN2 ...] OUT)");
+  if (!(g.scale > 0 && g.scale <= 1e6)) fail(what, ": scale must be in (0, 1000000], got ", g.scale);
+  std::vector<mesh::SurfaceSoup> soups;
+  Eigen::AlignedBox3d box;
+  for (const auto& f : src.surfaces) {
+    soups.push_back(mesh::read_surface(f, diag, read));
+    for (Eigen::Index i = 0; i < soups.back().points.rows(); ++i) box.extend(Eigen::Vector3d(soups.back().points.row(i)));
+  }
+  std::string unit = src.unit;
+  if (unit.empty()) {
+    unit = mesh::guess_unit(box.sizes().maxCoeff(), what);
+    warn_coded(diag, "unit_guessed", what, ": the surfaces carry no unit; taken as ", unit, " from their size (",
+               box.sizes().maxCoeff(), " units across); give the unit to choose (unit = \"mm\", --unit mm)");
+  }
+  const mesh::SurfaceDomain domain = mesh::surface_domain(soups, mesh::unit_metres(unit, what) * g.scale, diag);
+  return mesh::generate_surface(domain, g, limit, &r);
 }
 
 void common(Options& o, int& target_tets, int& target_nodes, double& jitter, unsigned& seed, int& label) {
@@ -88,35 +128,53 @@ void common(Options& o, int& target_tets, int& target_nodes, double& jitter, uns
   o.integer("label", label);
 }
 
-// A preset's resolution (its target counts) yields to the one asked for:
-// cell counts or targets given replace both of its targets.
+// The extruded generators (tube and band, and their presets upper_leg and
+// ligament) take their options alike, in this order: base_center, the
+// dimensions (m, or as named), the cell counts, then the common ones. A
+// preset's resolution (its target counts) yields to the one asked for: cell
+// counts or targets given replace both of its targets.
+template <class O>
+void extruded_options(Options& o, O& x, std::initializer_list<std::pair<const char*, double O::*>> dims,
+                      std::initializer_list<std::pair<const char*, int O::*>> cells) {
+  bool resolution = o.asks_for({"target_tets", "target_nodes"});
+  for (const auto& c : cells) resolution = resolution || o.asks_for({c.first});
+  if (resolution) x.target_tets = x.target_nodes = 0;
+  o.vec("base_center", x.base_center);
+  for (const auto& [name, member] : dims) o.num(name, x.*member);
+  for (const auto& [name, member] : cells) o.integer(name, x.*member);
+  common(o, x.target_tets, x.target_nodes, x.jitter, x.seed, x.label);
+}
+
 void band_options(Options& o, mesh::BandOptions& b) {
-  if (o.asks_for({"along", "across", "through", "target_tets", "target_nodes"})) b.target_tets = b.target_nodes = 0;
-  o.vec("base_center", b.base_center);
-  o.num("length", b.length), o.num("width", b.width), o.num("thickness", b.thickness);
+  using B = mesh::BandOptions;
   // `twist` (degrees), as `softcut mesh generate band --twist`; twist_deg is its old name.
   o.alias("twist_deg", "twist");
-  o.num("flare", b.flare), o.num("twist", b.twist_deg);
-  o.integer("along", b.along), o.integer("across", b.across), o.integer("through", b.through);
-  common(o, b.target_tets, b.target_nodes, b.jitter, b.seed, b.label);
+  extruded_options<B>(o, b, {{"length", &B::length}, {"width", &B::width}, {"thickness", &B::thickness},
+                             {"flare", &B::flare}, {"twist", &B::twist_deg}},
+                      {{"along", &B::along}, {"across", &B::across}, {"through", &B::through}});
 }
 
 void tube_options(Options& o, mesh::TubeOptions& t) {
-  if (o.asks_for({"radial", "around", "layers", "target_tets", "target_nodes"})) t.target_tets = t.target_nodes = 0;
-  o.vec("base_center", t.base_center);
-  o.num("inner_radius", t.inner_radius), o.num("outer_radius", t.outer_radius), o.num("length", t.length);
-  o.integer("radial", t.radial), o.integer("around", t.around), o.integer("layers", t.layers);
-  common(o, t.target_tets, t.target_nodes, t.jitter, t.seed, t.label);
+  using T = mesh::TubeOptions;
+  extruded_options<T>(o, t, {{"inner_radius", &T::inner_radius}, {"outer_radius", &T::outer_radius}, {"length", &T::length}},
+                      {{"radial", &T::radial}, {"around", &T::around}, {"layers", &T::layers}});
 }
 
 // Runs the generator (or only collects option names when `run` is false).
 LoadedMesh generate(const std::string& gen, const std::map<std::string, double>& opts, const std::string& what,
-                    bool run, std::vector<std::string>* names, double max_tets = kNoTetLimit) {
+                    bool run, std::vector<std::string>* names, std::map<std::string, double>* defaults = nullptr,
+                    double max_tets = kNoTetLimit,
+                    const MeshSource* src = nullptr, Diagnostics* diag = nullptr, const mesh::ReadOptions& read = {}) {
   Options o(opts, what);
+  mesh::MeshLimit limit;
+  limit.max_tets = max_tets;
+  if (src && !src->raise_limit.empty()) limit.raise = src->raise_limit;
+  if (src) limit.stop = src->stop;
   LoadedMesh out;
   // Refuses the resolution before anything is allocated.
   const auto check_fits = [&](const mesh::MeshSize& size) {
-    if (size.tets > max_tets) fail(what, ": this resolution gives ", too_many_tets(size.tets, max_tets, "use a coarser one"));
+    if (size.tets > max_tets)
+      fail(what, ": this resolution gives ", too_many_tets(size.tets, max_tets, "use a coarser one", src ? src->raise_limit : ""));
   };
   out.description = "generator " + gen;
   if (gen == "box") {
@@ -138,8 +196,9 @@ LoadedMesh generate(const std::string& gen, const std::map<std::string, double>&
     common(o, c.target_tets, c.target_nodes, c.jitter, c.seed, c.label);
     o.finish();
     if (run) {
-      const auto r = mesh::resolve_cylinder(c);
+      const auto r = mesh::resolve_cylinder(c, false);
       check_fits(mesh::cylinder_size(r.rings, r.layers));
+      mesh::check_target_met("cylinder", mesh::cylinder_size(r.rings, r.layers), c.target_nodes, c.target_tets, "rings, layers");
       out.mesh = mesh::generate_cylinder(r);
       out.description = cat("generator cylinder (", r.rings, " rings x ", r.layers, " layers)");
     }
@@ -148,8 +207,10 @@ LoadedMesh generate(const std::string& gen, const std::map<std::string, double>&
     tube_options(o, t);
     o.finish();
     if (run) {
-      t = mesh::resolve_tube(t);
+      t = mesh::resolve_tube(t, false);
       check_fits(mesh::tube_size(t.radial, t.around, t.layers));
+      mesh::check_target_met("tube", mesh::tube_size(t.radial, t.around, t.layers), t.target_nodes, t.target_tets,
+                             "radial, around, layers");
       out.mesh = mesh::generate_tube(t);
       out.named_sets["hole"] = mesh::tube_hole_nodes(out.mesh, t);
       out.description = cat("generator ", gen, " (", t.radial, " radial x ", t.around, " around x ", t.layers,
@@ -160,33 +221,56 @@ LoadedMesh generate(const std::string& gen, const std::map<std::string, double>&
     band_options(o, b);
     o.finish();
     if (run) {
-      const auto r = mesh::resolve_band(b);
+      const auto r = mesh::resolve_band(b, false);
       check_fits(mesh::band_size(r.along, r.across, r.through));
+      mesh::check_target_met("band", mesh::band_size(r.along, r.across, r.through), b.target_nodes, b.target_tets,
+                             "along, across, through");
       out.mesh = mesh::generate_band(r);
       out.description = cat("generator ", gen, " (", r.along, " along x ", r.across, " across x ", r.through, " through)");
     }
   } else if (std::find(mesh::organ_kinds().begin(), mesh::organ_kinds().end(), gen) != mesh::organ_kinds().end()) {
     mesh::OrganOptions g;
-    if (opts.count("cell_size") && !opts.count("target_tets")) g.target_tets = 0;  // a cell size alone sizes the mesh
-    o.integer("target_tets", g.target_tets), o.num("cell_size", g.cell_size), o.num("scale", g.scale);
-    o.vec("fine_center", g.fine_center), o.num("fine_radius", g.fine_radius), o.num("fine_ratio", g.fine_ratio);
+    sizing_options(o, opts, g);
     if (gen == "liver") o.num("lesion_radius", g.lesion_radius), o.vec("lesion_center", g.lesion_center);
     o.num("sliver_bound", g.sliver_bound_deg), o.integer("seed", g.seed);
     o.finish();
     if (run) {
       mesh::MesherReport r;
       try {
-        out.mesh = mesh::generate_organ(gen, g, max_tets, &r);
+        out.mesh = mesh::generate_organ(gen, g, limit, &r);
+      } catch (const TimeoutError&) {
+        throw;
       } catch (const Error& e) {
         fail(what, ": ", e.what());  // where the scenario asked for it
       }
       out.description = cat("generator ", gen, " (CGAL Mesh_3: ", r.tets, " tets, min dihedral ", std::round(r.min_dihedral_deg * 10) / 10, " deg)");
     }
+  } else if (gen == "surface") {
+    mesh::OrganOptions g;
+    sizing_options(o, opts, g);
+    o.num("sliver_bound", g.sliver_bound_deg), o.integer("seed", g.seed);
+    o.finish();
+    if (run) {
+      mesh::MesherReport r;
+      Diagnostics none;
+      try {
+        out.mesh = surface_mesh(*src, g, what, diag ? *diag : none, limit, read, r);
+      } catch (const TimeoutError&) {
+        throw;
+      } catch (const Error& e) {
+        const std::string m = e.what();
+        if (m.rfind(what, 0) == 0) throw;
+        fail(what, ": ", m);  // where the scenario asked for it
+      }
+      out.description = cat("generator surface (", src->surfaces.size(), " file", src->surfaces.size() == 1 ? "" : "s",
+                            ", CGAL Mesh_3: ", r.tets, " tets, min dihedral ", std::round(r.min_dihedral_deg * 10) / 10, " deg)");
+    }
   } else {
     fail(what, ": unknown generator '", gen,
-         "' (use box, cylinder, tube, band, ligament, upper_leg, liver, kidney or knee_ligament)");
+         "' (use box, cylinder, tube, band, ligament, upper_leg, liver, kidney, knee_ligament or surface)");
   }
   if (names) *names = o.known();
+  if (defaults) *defaults = o.defaults();
   return out;
 }
 
@@ -196,6 +280,53 @@ std::vector<std::string> generator_options(const std::string& generator) {
   std::vector<std::string> names;
   generate(generator, {}, "mesh", false, &names);
   return names;
+}
+
+std::map<std::string, double> generator_defaults(const std::string& generator) {
+  std::map<std::string, double> values;
+  generate(generator, {}, "mesh", false, nullptr, &values);
+  return values;
+}
+
+std::string generator_option_help(const std::string& name) {
+  static const std::map<std::string, std::string> help = {
+      {"min", "lower corner, m"},
+      {"max", "upper corner, m"},
+      {"nx", "cells along x"},
+      {"ny", "cells along y"},
+      {"nz", "cells along z"},
+      {"base_center", "centre of the bottom face, m (the body's axis is +z)"},
+      {"radius", "radius, m"},
+      {"length", "length along the axis, m"},
+      {"rings", "rings of cells from the axis out"},
+      {"layers", "layers of cells along the axis"},
+      {"inner_radius", "radius of the hole, m"},
+      {"outer_radius", "outer radius, m"},
+      {"radial", "cells across the wall"},
+      {"around", "cells around the axis (>= 3)"},
+      {"width", "width at mid-length, m"},
+      {"thickness", "thickness, m"},
+      {"flare", "width at the ends / width at mid-length"},
+      {"twist_deg", "twist from end to end, degrees"},
+      {"along", "cells along the length"},
+      {"across", "cells across the width"},
+      {"through", "cells through the thickness"},
+      {"target_tets", "pick the resolution to make about this many tetrahedra (0: none)"},
+      {"target_nodes", "pick the resolution to make about this many nodes (0: none)"},
+      {"jitter", "move interior nodes by up to this fraction of a cell, in [0, 0.25)"},
+      {"seed", "random numbers' seed: same seed, same mesh"},
+      {"label", "label of every tet"},
+      {"cell_size", "local size h, m: tet circumradius and surface triangle size (sizes the mesh without target_tets)"},
+      {"scale", "every length times this"},
+      {"fine_center", "grading: centre of the fine region, m"},
+      {"fine_radius", "grading: radius of the fine region, m (0: no grading)"},
+      {"fine_ratio", "grading: cells this many times the coarse size there, in (0.05, 1]"},
+      {"lesion_radius", "radius of the lesion (label 2), m; 0: none"},
+      {"lesion_center", "centre of the lesion, m (inside the liver)"},
+      {"sliver_bound", "degrees: perturbation and exudation lift every dihedral angle above it"},
+  };
+  const auto it = help.find(name);
+  return it == help.end() ? std::string() : it->second;
 }
 
 LoadedMesh load_mesh_source(const MeshSource& src, Diagnostics& diag, double max_tets, const mesh::ReadOptions& read) {
@@ -219,13 +350,22 @@ LoadedMesh load_mesh_source(const MeshSource& src, Diagnostics& diag, double max
     if (!src.options.empty()) fail(what, ": generator options given with a mesh file ", src.file.string());
     out.mesh = mesh::read_mesh(src.file, diag, read);
     if (out.mesh.num_tets() > max_tets)
-      fail(what, ": ", src.file.string(), " has ", too_many_tets(out.mesh.num_tets(), max_tets, "use a coarser mesh"));
+      fail(what, ": ", src.file.string(), " has ",
+           too_many_tets(out.mesh.num_tets(), max_tets, "use a coarser mesh", src.raise_limit));
+    mesh::scale_nodes(out.mesh, (src.unit.empty() ? 1.0 : mesh::unit_metres(src.unit, what)) * src.scale,
+                      what + ": scale");
     out.named_sets = src.named_sets;
     out.description = "file " + src.file.string();
   } else {
-    out = generate(src.generator, src.options, what + " generator '" + src.generator + "'", true, nullptr, max_tets);
+    if (src.scale != 1 || (!src.unit.empty() && src.generator != "surface"))
+      fail(what, ": unit and scale apply to a mesh file; a generator's lengths are metres (scale its options, "
+           "or give the organ kinds and surfaces options.scale)");
+    out = generate(src.generator, src.options, what + " generator '" + src.generator + "'", true, nullptr, nullptr,
+                   max_tets, &src, &diag, read);
     mesh::validate(out.mesh, out.description, diag);
   }
+  if (!given && !src.preloaded)
+    mesh::check_plausible_size(mesh::bounding_box(out.mesh), what + " (" + out.description + ")", diag);
   for (const auto& [name, ids] : out.named_sets)
     for (int n : ids)
       if (n < 0 || n >= out.mesh.num_nodes())

@@ -4,6 +4,7 @@
 // No Lua here. Every item carries a `name` used in error messages and outputs.
 #include <Eigen/Core>
 #include <array>
+#include <atomic>
 #include <cstdint>
 #include <filesystem>
 #include <limits>
@@ -27,7 +28,20 @@ namespace softcut::sim {
 // Where the rest mesh comes from: a file, or a generator with options.
 struct MeshSource {
   std::filesystem::path file;  // read with mesh::read_mesh when not empty
-  std::string generator;       // "box", later "cylinder", "tube", "band", "ligament", "upper_leg"
+  std::string generator;       // "box", "cylinder", ..., "liver", "kidney", "knee_ligament", "surface"
+  // The length unit of `file` (empty: metres) or, for generator "surface",
+  // of `surfaces` (empty: guessed from their size, with a warning): "m",
+  // "cm", "mm" or "um". A file's lengths are then times `scale` too.
+  std::string unit;
+  double scale = 1;
+  // generator "surface": the closed surfaces to mesh (.stl .obj .ply .off),
+  // the organ first, then inner regions (labels 2, 3, ...).
+  std::vector<std::filesystem::path> surfaces;
+  // The caller's deadline (core/watchdog.hpp): CGAL meshing stops when it
+  // turns true. How the caller raises max_tets, for messages (empty: the
+  // flags of softcut run/check).
+  const std::atomic<bool>* stop = nullptr;
+  std::string raise_limit;
   // Generator options by name (numbers only; vectors as name.x/.y/.z or
   // name[0..2]), e.g. box: min.x .. max.z, nx, ny, nz, jitter, seed, label.
   // Unknown names are an error naming the generator and the option.

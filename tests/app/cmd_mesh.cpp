@@ -78,9 +78,9 @@ TEST_SUITE("app/cmd_mesh") {
     REQUIRE(app::cmd_mesh({"generate", "volume", organ, "--mesher", "cgal", (dir / "v.vtu").string()}) == 0);
     CHECK(mesh::read_mesh(dir / "v.vtu", d).num_tets() > 0);
     CHECK(error_of({"generate", "liver", "--fine-center", "1,2", "x.vtu"}).find("expected 3 comma-separated") != std::string::npos);
-    CHECK(error_of({"generate", "liver", "--lobes", "3", "x.vtu"}).find("unknown option --lobes") != std::string::npos);
-    CHECK(error_of({"generate", "volume", organ, "--mesher", "tetgen", "x.vtu"}).find("expected voxels or cgal") != std::string::npos);
-    CHECK(error_of({"generate", "volume", organ, "--mesher", "cgal", "--smooth", "2", "x.vtu"}).find("unknown option --smooth") != std::string::npos);
+    CHECK(error_of({"generate", "liver", "--lobes", "3", "x.vtu"}).find("unknown option '--lobes'") != std::string::npos);
+    CHECK(error_of({"generate", "volume", organ, "--mesher", "tetgen", "x.vtu"}).find("--mesher tetgen not in {voxels,cgal}") != std::string::npos);
+    CHECK(error_of({"generate", "volume", organ, "--mesher", "cgal", "--smooth", "2", "x.vtu"}).find("--smooth is for --mesher voxels") != std::string::npos);
   }
 
   TEST_CASE("generator options are the scenario's, spelled for the command line, with --size and --cells as shorthands") {
@@ -113,7 +113,7 @@ TEST_SUITE("app/cmd_mesh") {
     CHECK(error_of({"generate", "box", "--cells", "2,2,2", "--nx", "3", "x.vtu"}).find("--cells and --nx both set nx") !=
           std::string::npos);
     const std::string e = error_of({"generate", "tube", "--max", "1,1,1", "x.vtu"});
-    CHECK(e.find("unknown option --max") != std::string::npos);
+    CHECK(e.find("unknown option '--max'") != std::string::npos);
     CHECK(e.find("--inner-radius") != std::string::npos);
     CHECK(e.find("--base-center X,Y,Z") != std::string::npos);
     CHECK(e.find("--cells") != std::string::npos);
@@ -126,12 +126,12 @@ TEST_SUITE("app/cmd_mesh") {
           std::string::npos);
     CHECK(error_of({"generate", "cylinder", "--target-tets", "1.5", "x.vtu"}).find("expected an integer") !=
           std::string::npos);
-    CHECK(error_of({"generate", "band", "--bogus", "1", "x.vtu"}).find("unknown option --bogus") != std::string::npos);
-    CHECK(error_of({"generate", "box", "--hole-nodes", "h", "x.vtu"}).find("only for tube") != std::string::npos);
+    CHECK(error_of({"generate", "band", "--bogus", "1", "x.vtu"}).find("unknown option '--bogus'") != std::string::npos);
+    CHECK(error_of({"generate", "box", "--hole-nodes", "h", "x.vtu"}).find("unknown option '--hole-nodes'") != std::string::npos);
     CHECK(error_of({"generate", "volume", "x.vtu"}).find("expected IN.nrrd") != std::string::npos);
-    CHECK(error_of({"info"}).find("expected one FILE") != std::string::npos);
+    CHECK(error_of({"info"}).find("softcut mesh info: file is required") != std::string::npos);
     CHECK(error_of({"info", "/nonexistent/x.vtu"}).find("/nonexistent/x.vtu") != std::string::npos);
-    CHECK(error_of({"convert", "a.vtu"}).find("expected IN and OUT") != std::string::npos);
+    CHECK(error_of({"convert", "a.vtu"}).find("softcut mesh convert: out is required") != std::string::npos);
     for (const std::string& e : {error_of({"generate", "tube", "--jitter", "0.5", "x.vtu"})})
       CHECK(e.find('\n') == std::string::npos);
   }
@@ -157,5 +157,68 @@ TEST_SUITE("app/cmd_mesh") {
     CHECK(j.at("surface").at("euler") == 2);
     CHECK(j.at("quality").at("poor") == 0);
     CHECK(j.at("warnings").empty());
+  }
+}
+
+TEST_SUITE("app/cmd_mesh") {
+  TEST_CASE("units: info warns on an implausible size and --unit fixes it - convert --unit/--scale write metres - an organ at --scale 1000") {
+    const fs::path dir = test::scratch_dir("cmd_mesh_units");
+    const std::string mm = (dir / "box_mm.vtu").string();
+    REQUIRE(app::cmd_mesh({"generate", "box", "--size", "190,130,80", mm}) == 0);  // a liver's box, in mm
+    auto r = test::run_cli("mesh info '" + mm + "'");
+    CHECK(r.status == 0);
+    CHECK(test::contains(r.output, "the body is 190 m across"));
+    CHECK(test::contains(r.output, "unit = \"mm\""));
+    CHECK(test::contains(r.output, "[implausible_size]"));
+    r = test::run_cli("mesh info '" + mm + "' --unit mm --json");
+    CHECK(!test::contains(r.output, "implausible_size"));
+    CHECK(test::contains(r.output, "0.19"));
+    Diagnostics d;
+    REQUIRE(app::cmd_mesh({"convert", mm, (dir / "a.vtu").string(), "--unit", "mm"}) == 0);
+    CHECK(mesh::read_mesh(dir / "a.vtu", d).nodes.col(0).maxCoeff() == doctest::Approx(0.19));
+    REQUIRE(app::cmd_mesh({"convert", mm, (dir / "b.vtu").string(), "--scale", "0.001"}) == 0);
+    CHECK(mesh::read_mesh(dir / "b.vtu", d).nodes.col(0).maxCoeff() == doctest::Approx(0.19));
+    CHECK(error_of({"convert", mm, "c.vtu", "--unit", "inch"}).find("--unit inch not in") != std::string::npos);
+    // Refused before as "scale must be in (0, 1000)": a liver in millimetres.
+    REQUIRE(app::cmd_mesh({"generate", "liver", "--scale", "1000", "--target-tets", "1000", (dir / "liver_mm.vtu").string()}) == 0);
+    CHECK(mesh::read_mesh(dir / "liver_mm.vtu", d).nodes.col(0).maxCoeff() > 50);
+  }
+
+  TEST_CASE("generate surface: closed surfaces to labelled tets, the unit guessed and said, a bad surface named") {
+    const fs::path dir = test::scratch_dir("cmd_mesh_surface");
+    const std::string outer = (test::data_dir() / "surface" / "outer_mm.off").string();
+    const std::string inner = (test::data_dir() / "surface" / "inner_mm.obj").string();
+    const auto r = test::run_cli("mesh generate surface '" + outer + "' '" + inner + "' --target-tets 2000 '" + (dir / "n.vtu").string() + "'");
+    CHECK(r.status == 0);
+    CHECK(test::contains(r.output, "taken as mm from their size"));
+    CHECK(test::contains(r.output, "[unit_guessed]"));
+    Diagnostics d;
+    const mesh::TetMesh m = mesh::read_mesh(dir / "n.vtu", d);
+    CHECK(m.labels.minCoeff() == 1);
+    CHECK(m.labels.maxCoeff() == 2);
+    CHECK(m.nodes.col(0).maxCoeff() == doctest::Approx(0.04).epsilon(0.02));
+    REQUIRE(app::cmd_mesh({"generate", "surface", outer, "--unit", "mm", "--cell-size", "0.008", (dir / "o.vtu").string()}) == 0);
+    // An open surface: the first 100 faces of the sphere only.
+    std::ifstream in(outer);
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    text.replace(text.find("642 1280 0"), 10, "642 100 0");
+    std::ofstream(dir / "open.off") << text;
+    CHECK(error_of({"generate", "surface", (dir / "open.off").string(), "x.vtu"}).find("the surface is not closed") != std::string::npos);
+    CHECK(error_of({"generate", "surface", "x.vtu"}).find("expected IN.stl [IN2 ...] and OUT") != std::string::npos);
+    CHECK(error_of({"generate", "surface", (dir / "x.vrml").string(), "x.vtu"}).find("unknown surface file extension") != std::string::npos);
+  }
+
+  TEST_CASE("--help is generated from the declarations: each kind's options with their defaults") {
+    auto r = test::run_cli("mesh generate tube --help");
+    CHECK(r.status == 0);
+    CHECK(test::contains(r.output, "--inner-radius"));
+    CHECK(test::contains(r.output, "radius of the hole, m (0.012)"));
+    CHECK(test::contains(r.output, "--hole-nodes"));
+    CHECK(test::contains(r.output, "--timeout"));
+    r = test::run_cli("mesh generate surface --help");
+    CHECK(test::contains(r.output, "--unit"));
+    CHECK(test::contains(r.output, "--fine-center"));
+    CHECK(test::contains(test::run_cli("mesh generate --help").output, "surface"));
+    CHECK(test::contains(test::run_cli("mesh info --help").output, "--max-memory"));
   }
 }

@@ -2,9 +2,11 @@
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <fstream>
 #include <sstream>
 
+#include "core/warning.hpp"
 #include "lua/lua_test_support.hpp"
 #include "sim/fixtures.hpp"
 #include "sim/model.hpp"
@@ -413,5 +415,30 @@ return s
         "local d = {} for i = 1, 1001 do d['p' .. i] = i end\nlocal P = softcut.params(d)\n" +
             std::string(kBoxHead) + "return s\n");
     CHECK(contains(scenario_error(many), "scenario.lua:2: params: at most 1000 parameters"));
+  }
+}
+
+TEST_SUITE("app/scenario_run") {
+  TEST_CASE("a mesh of implausible size is a warning with its code in the outcome and summary.json") {
+    // The head's box in millimetres, read as metres: 100 m long.
+    std::string head = kBoxHead;
+    head.replace(head.find("max = {0.1, 0.04, 0.04}"), 23, "max = {100, 40, 40}");
+    head.replace(head.find("max = {0, 0.04, 0.04}"), 21, "max = {0, 40, 40}");
+    head.replace(head.find("min = {0.1, 0, 0}, max = {0.1, 0.04, 0.04}"), 42, "min = {100, 0, 0}, max = {100, 40, 40}");
+    const fs::path f = write_scenario("runner_mm", head + "s:output{ log = tip }\nreturn s\n");
+    softcut::app::RunOutcome out;
+    REQUIRE(scenario_error(f, &out) == "");
+    const auto w = std::find_if(out.warnings.begin(), out.warnings.end(),
+                                [](const std::string& x) { return softcut::warning_code(x) == "implausible_size"; });
+    REQUIRE(w != out.warnings.end());
+    CHECK(contains(*w, "scenario.lua:3: mesh (generator box (4 x 2 x 2 cells)): the body is 100 m across"));
+    const auto summary = softcut::test::read_json(out.out_dir / "summary.json");
+    bool found = false;
+    for (const auto& x : summary.at("warnings")) found = found || softcut::warning_code(x.get<std::string>()) == "implausible_size";
+    CHECK(found);
+    // The same box in metres: no such warning.
+    REQUIRE(scenario_error(write_scenario("runner_m", std::string(kBoxHead) + "s:output{ log = tip }\nreturn s\n"), &out) == "");
+    CHECK(std::none_of(out.warnings.begin(), out.warnings.end(),
+                       [](const std::string& x) { return softcut::warning_code(x) == "implausible_size"; }));
   }
 }

@@ -11,6 +11,8 @@
 #include "../fuzz/app_fuzz.hpp"
 #include "hardening_support.hpp"
 #include "mesh/io/mesh_io.hpp"
+#include "mesh/io/surface_io.hpp"
+#include "mesh/mesher/surface_domain.hpp"
 #include "mesh/volume/label_volume.hpp"
 #include "mesh/volume/nrrd.hpp"
 #include "scenario_script.hpp"  // lua/
@@ -55,6 +57,9 @@ void feed(const std::string& target, const std::string& bytes, const fs::path& d
     req.sandbox.instruction_budget = 100'000;  // the fuzz target's budgets
     req.sandbox.memory_budget = 8u << 20;
     softcut::lua::open_scenario(req)->spec();
+  } else if (target == "stl" || target == "obj" || target == "ply" || target == "off") {
+    const auto s = softcut::mesh::read_surface(put_file(dir / ("in." + target), bytes), diag);
+    if (s.triangles.rows() <= 4000) softcut::mesh::surface_domain({s}, 1.0, diag);
   } else if (target == "junit") {
     softcut::fuzz_app::feed_junit(bytes);
   } else if (target == "reflog") {
@@ -77,8 +82,8 @@ TEST_SUITE("hardening/fuzz_regressions") {
   TEST_CASE("every saved fuzz finding reads cleanly or fails with softcut::Error") {
     const fs::path dir = softcut::test::scratch_dir("hardening_fuzz_regressions");
     int n = 0;
-    for (const std::string target : {"gmsh", "medit", "vtk", "vtu", "tetgen", "nrrd", "lua", "junit", "reflog",
-                                     "sweep_table", "sweep_plan", "summary", "render_record"})
+    for (const std::string target : {"gmsh", "medit", "vtk", "vtu", "tetgen", "nrrd", "stl", "obj", "ply", "off", "lua",
+                                     "junit", "reflog", "sweep_table", "sweep_plan", "summary", "render_record"})
       for (const fs::path& p : inputs(target)) {
         CAPTURE(p.string());
         ++n;

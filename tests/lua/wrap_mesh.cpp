@@ -2,6 +2,8 @@
 #include <doctest/doctest.h>
 
 #include "lua_test_support.hpp"
+#include "mesh/generate/box.hpp"
+#include "mesh/io/mesh_io.hpp"
 
 using softcut::test::contains;
 using softcut::test::scenario_error;
@@ -98,5 +100,48 @@ s:mesh{ generate = "box", options = { nxx = 3 } }
     CHECK(contains(scenario_error(h), "unknown option 'nxx'"));
     const auto k = write_scenario("wrap_mesh_order", "local s = softcut.scenario{ duration = 0 }\ns:fix{ nodes = softcut.select.all() }\n");
     CHECK(contains(scenario_error(k), "scenario.lua:2: fix: call s:mesh{...} first"));
+  }
+}
+
+TEST_SUITE("lua/wrap_mesh") {
+  TEST_CASE("s:mesh{ file = ..., unit, scale }, and generate = \"surface\" with options.file and options.unit") {
+    const auto dir = softcut::test::scratch_dir("wrap_mesh_units");
+    // A mesh file in millimetres (a 100 x 40 x 40 mm box).
+    const auto make = write_scenario("wrap_mesh_units", R"(
+local s = softcut.scenario{ duration = 0 }
+local m = s:mesh{ file = "box_mm.msh", unit = "mm" }
+assert(math.abs(m.size[1] - 0.1) < 1e-12, m.size[1])
+local n = s:mesh{ file = "box_mm.msh", scale = 0.5 }
+)");
+    softcut::mesh::BoxOptions b;
+    b.max_corner = Eigen::Vector3d(100, 40, 40);
+    softcut::mesh::write_mesh(dir / "box_mm.msh", softcut::mesh::generate_box(b));
+    CHECK(contains(scenario_error(make), "scenario.lua:5: mesh: the scenario already has a mesh"));
+    const auto bad_unit = write_scenario("wrap_mesh_units", "local s = softcut.scenario{ duration = 0 }\ns:mesh{ file = \"box_mm.msh\", unit = \"inch\" }\n",
+                                         "bad_unit.lua");
+    CHECK(contains(scenario_error(bad_unit), "bad_unit.lua:2: mesh: field 'unit': unknown value 'inch'"));
+    // Surfaces below the scenario's folder, the organ first (copied after
+    // write_scenario, which empties the folder).
+    const auto surf = write_scenario("wrap_mesh_units", R"(
+local s = softcut.scenario{ duration = 0 }
+local m = s:mesh{ generate = "surface", options = { file = { "outer_mm.off", "inner_mm.obj" }, unit = "mm", target_tets = 1500 } }
+assert(#m.labels == 2 and m.labels[2] == 2, #m.labels)
+assert(math.abs(m.size[1] - 0.08) < 0.002, m.size[1])  -- an 80 mm sphere, in metres
+error("done")
+)", "surface.lua");
+    for (const char* f : {"outer_mm.off", "inner_mm.obj"})
+      std::filesystem::copy_file(softcut::test::data_dir() / "surface" / f, dir / f,
+                                 std::filesystem::copy_options::overwrite_existing);
+    CHECK(contains(scenario_error(surf), "surface.lua:6: done"));
+    const auto outside = write_scenario("wrap_mesh_units", R"(
+local s = softcut.scenario{ duration = 0 }
+s:mesh{ generate = "surface", options = { file = "../x.stl" } }
+)", "outside.lua");
+    CHECK(contains(scenario_error(outside), "outside.lua:3: mesh: surface file '../x.stl' is outside the scenario's folder"));
+    const auto misplaced = write_scenario("wrap_mesh_units", R"(
+local s = softcut.scenario{ duration = 0 }
+s:mesh{ generate = "box", options = { file = "outer_mm.off" } }
+)", "misplaced.lua");
+    CHECK(contains(scenario_error(misplaced), "options.file and options.unit are the surface generator's"));
   }
 }

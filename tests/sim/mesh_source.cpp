@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "core/warning.hpp"
 #include "mesh/io/mesh_io.hpp"
 #include "test_support.hpp"
 
@@ -141,5 +142,69 @@ TEST_SUITE("sim/mesh_source") {
     const auto names = sim::generator_options("band");
     CHECK(std::find(names.begin(), names.end(), "twist") != names.end());
     CHECK(std::find(names.begin(), names.end(), "twist_deg") == names.end());
+  }
+}
+
+TEST_SUITE("sim/mesh_source") {
+  TEST_CASE("a mesh file's unit and scale - a body of implausible size is a coded warning suggesting the unit") {
+    using softcut::test::contains;
+    const auto dir = softcut::test::scratch_dir("sim_mesh_source_unit");
+    sim::MeshSource box;
+    box.generator = "box";
+    box.options = {{"max.x", 190}, {"max.y", 130}, {"max.z", 80}};  // a liver's box in mm, as metres
+    softcut::Diagnostics diag;
+    const auto mm = sim::load_mesh_source(box, diag).mesh;
+    REQUIRE(diag.warnings.size() == 1);
+    CHECK(softcut::warning_code(diag.warnings[0]) == "implausible_size");
+    CHECK(contains(diag.warnings[0], "mesh (generator box (4 x 4 x 4 cells)): the body is 190 m across"));
+    softcut::mesh::write_mesh(dir / "liver_mm.vtu", mm);
+    sim::MeshSource file;
+    file.file = dir / "liver_mm.vtu";
+    diag.warnings.clear();
+    sim::load_mesh_source(file, diag);
+    CHECK(contains(diag.warnings.at(0), "unit = \"mm\""));
+    for (const auto& [unit, scale] : std::vector<std::pair<std::string, double>>{{"mm", 1}, {"", 1e-3}, {"cm", 0.1}}) {
+      file.unit = unit;
+      file.scale = scale;
+      diag.warnings.clear();
+      const auto m = sim::load_mesh_source(file, diag).mesh;
+      CHECK(m.nodes.col(0).maxCoeff() == doctest::Approx(0.19));
+      CHECK(diag.warnings.empty());
+    }
+    file.unit = "inch";
+    CHECK_THROWS_WITH_AS(sim::load_mesh_source(file, diag), doctest::Contains("unknown unit 'inch'"), softcut::Error);
+    file.unit = "";
+    file.scale = -1;
+    CHECK_THROWS_WITH_AS(sim::load_mesh_source(file, diag), doctest::Contains("must be a positive number"), softcut::Error);
+    box.unit = "mm";
+    CHECK_THROWS_WITH_AS(sim::load_mesh_source(box, diag), doctest::Contains("unit and scale apply to a mesh file"),
+                         softcut::Error);
+  }
+
+  TEST_CASE("the surface generator meshes closed surfaces, guessing their unit with a coded warning") {
+    using softcut::test::contains;
+    sim::MeshSource src;
+    src.generator = "surface";
+    src.surfaces = {softcut::test::data_dir() / "surface" / "outer_mm.off", softcut::test::data_dir() / "surface" / "inner_mm.obj"};
+    src.options = {{"target_tets", 2000}};
+    softcut::Diagnostics diag;
+    const auto lm = sim::load_mesh_source(src, diag);
+    CHECK(lm.mesh.labels.maxCoeff() == 2);
+    CHECK(lm.mesh.nodes.col(0).maxCoeff() == doctest::Approx(0.04).epsilon(0.02));  // a 40 mm sphere, in metres
+    REQUIRE(diag.warnings.size() == 1);
+    CHECK(softcut::warning_code(diag.warnings[0]) == "unit_guessed");
+    CHECK(contains(diag.warnings[0], "taken as mm"));
+    CHECK(contains(lm.description, "generator surface (2 files, CGAL Mesh_3"));
+    src.unit = "cm";  // 0.4 m across
+    diag.warnings.clear();
+    CHECK(sim::load_mesh_source(src, diag).mesh.nodes.col(0).maxCoeff() == doctest::Approx(0.4).epsilon(0.02));
+    CHECK(diag.warnings.empty());
+    src.surfaces.clear();
+    CHECK_THROWS_WITH_AS(sim::load_mesh_source(src, diag), doctest::Contains("give the surface file(s)"), softcut::Error);
+    src.surfaces = {softcut::test::data_dir() / "surface" / "sphere_mm.stl"};
+    src.options = {{"target_tets", 1e8}};
+    CHECK_THROWS_WITH_AS(sim::load_mesh_source(src, diag, 1e5), doctest::Contains("over this run's limit of 100000"),
+                         softcut::Error);
+    CHECK(sim::generator_options("surface").size() == 10);
   }
 }

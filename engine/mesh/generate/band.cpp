@@ -10,7 +10,7 @@ namespace softcut::mesh {
 
 MeshSize band_size(double a, double w, double t) { return {(a + 1) * (w + 1) * (t + 1), 6 * a * w * t}; }
 
-BandOptions resolve_band(const BandOptions& opt) {
+BandOptions resolve_band(const BandOptions& opt, bool check_target) {
   BandOptions o = opt;
   for (double v : {o.length, o.width, o.thickness})
     if (!(v > 0 && std::isfinite(v)))
@@ -45,6 +45,7 @@ BandOptions resolve_band(const BandOptions& opt) {
                                           Eigen::Vector3d(o.length / a, o.width / w, o.thickness / t));
         if (s < best) best = s, o.along = a, o.across = w, o.through = t;
       }
+  if (check_target) check_target_met("band", band_size(o.along, o.across, o.through), o.target_nodes, o.target_tets, "along, across, through");
   return o;
 }
 

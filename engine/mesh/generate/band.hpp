@@ -32,7 +32,10 @@ struct BandOptions {
 };
 
 // Fills along, across and through; fails on bad options.
-BandOptions resolve_band(const BandOptions& opt);
+// check_target: fail when a target is out of the search's reach
+// (check_target_met); false leaves that to the caller (the sandbox checks
+// the resolution against its tet limit first).
+BandOptions resolve_band(const BandOptions& opt, bool check_target = true);
 // Counts for a resolution (along, across, through).
 MeshSize band_size(double along, double across, double through);
 

@@ -10,7 +10,7 @@ namespace softcut::mesh {
 
 MeshSize cylinder_size(double k, double l) { return {(1 + 3 * k * (k + 1)) * (l + 1), 18 * k * k * l}; }
 
-CylinderOptions resolve_cylinder(const CylinderOptions& opt) {
+CylinderOptions resolve_cylinder(const CylinderOptions& opt, bool check_target) {
   CylinderOptions o = opt;
   if (!(o.radius > 0 && std::isfinite(o.radius))) fail("cylinder: radius must be > 0 m, got ", o.radius);
   if (!(o.length > 0 && std::isfinite(o.length))) fail("cylinder: length must be > 0 m, got ", o.length);
@@ -38,6 +38,7 @@ CylinderOptions resolve_cylinder(const CylinderOptions& opt) {
                                         Eigen::Vector3d(h, h, o.length / l));
       if (s < best) best = s, o.rings = k, o.layers = l;
     }
+  if (check_target) check_target_met("cylinder", cylinder_size(o.rings, o.layers), o.target_nodes, o.target_tets, "rings, layers");
   return o;
 }
 

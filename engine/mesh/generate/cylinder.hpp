@@ -25,7 +25,10 @@ struct CylinderOptions {
 };
 
 // Fills rings and layers (from the targets when they are 0); fails on bad options.
-CylinderOptions resolve_cylinder(const CylinderOptions& opt);
+// check_target: fail when a target is out of the search's reach
+// (check_target_met); false leaves that to the caller (the sandbox checks
+// the resolution against its tet limit first).
+CylinderOptions resolve_cylinder(const CylinderOptions& opt, bool check_target = true);
 // Counts for a resolution (rings, layers).
 MeshSize cylinder_size(double rings, double layers);
 

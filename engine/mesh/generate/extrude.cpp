@@ -63,4 +63,13 @@ void check_mesh_size(const char* what, const MeshSize& size) {
          " tets; at most ", INT_MAX, " each); use fewer cells");
 }
 
+void check_target_met(const char* what, long nodes, long tets, int target_nodes, int target_tets, const char* cells) {
+  const auto missed = [](double got, int want) { return want > 0 && std::abs(got / want - 1) > kTargetTolerance; };
+  if (missed(double(nodes), target_nodes) || missed(double(tets), target_tets))
+    fail(what, ": cannot meet ", target_tets > 0 ? cat("target_tets ", target_tets) : std::string(),
+         target_tets > 0 && target_nodes > 0 ? " and " : "", target_nodes > 0 ? cat("target_nodes ", target_nodes) : std::string(),
+         " within ", int(kTargetTolerance * 100), " %: the closest resolution its search reaches gives ", nodes, " nodes and ",
+         tets, " tets; ask for a target in reach, or give the cell counts (", cells, ")");
+}
+
 }  // namespace softcut::mesh

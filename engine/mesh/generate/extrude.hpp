@@ -47,4 +47,17 @@ struct MeshSize {
 // Fails, naming `what`, when a mesh of that size would not fit int ids.
 void check_mesh_size(const char* what, const MeshSize& size);
 
+// How far a resolution picked for targets may miss each target given (a
+// fraction): further off, the target is out of the generator's reach.
+inline constexpr double kTargetTolerance = 0.25;
+
+// Fails naming `what` when the resolution picked (`nodes`, `tets`) misses a
+// target (0: none) by more than kTargetTolerance, saying what it would give
+// and that cell counts give any resolution: a target of 1e9 tets silently
+// gave the search's largest tube (2.5M tets).
+void check_target_met(const char* what, long nodes, long tets, int target_nodes, int target_tets, const char* cells);
+inline void check_target_met(const char* what, const MeshSize& size, int target_nodes, int target_tets, const char* cells) {
+  check_target_met(what, long(size.nodes), long(size.tets), target_nodes, target_tets, cells);
+}
+
 }  // namespace softcut::mesh

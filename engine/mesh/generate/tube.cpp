@@ -10,7 +10,7 @@ namespace softcut::mesh {
 
 MeshSize tube_size(double r, double a, double l) { return {(r + 1) * a * (l + 1), 6 * r * a * l}; }
 
-TubeOptions resolve_tube(const TubeOptions& opt) {
+TubeOptions resolve_tube(const TubeOptions& opt, bool check_target) {
   TubeOptions o = opt;
   if (!(o.inner_radius > 0 && o.outer_radius > o.inner_radius && std::isfinite(o.outer_radius)))
     fail("tube: need 0 < inner radius < outer radius, got ", o.inner_radius, " and ", o.outer_radius, " m");
@@ -46,6 +46,7 @@ TubeOptions resolve_tube(const TubeOptions& opt) {
             Eigen::Vector3d(wall / r, 2 * std::numbers::pi * mid / a, o.length / l));
         if (s < best) best = s, o.radial = r, o.around = a, o.layers = l;
       }
+  if (check_target) check_target_met("tube", tube_size(o.radial, o.around, o.layers), o.target_nodes, o.target_tets, "radial, around, layers");
   return o;
 }
 

@@ -29,7 +29,10 @@ struct TubeOptions {
 };
 
 // Fills radial, around and layers; fails on bad options.
-TubeOptions resolve_tube(const TubeOptions& opt);
+// check_target: fail when a target is out of the search's reach
+// (check_target_met); false leaves that to the caller (the sandbox checks
+// the resolution against its tet limit first).
+TubeOptions resolve_tube(const TubeOptions& opt, bool check_target = true);
 // Counts for a resolution (radial, around, layers).
 MeshSize tube_size(double radial, double around, double layers);
 

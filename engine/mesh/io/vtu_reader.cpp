@@ -331,8 +331,8 @@ std::vector<double> VtuFile::decode(const ArrayRef& a, std::int64_t expected) co
   if (a.format != "ascii" && (expected < 0 || need / std::uint64_t(size) != std::uint64_t(expected) ||
                               need + std::uint64_t(expected) * sizeof(double) > max_bytes_))
     fail_array(a, expected, " values of type ", a.type, " would take ", need + std::uint64_t(expected) * sizeof(double),
-               " bytes decoded, more than the ", max_bytes_, " bytes allowed (the sandbox's memory budget; run with "
-               "--trust to lift it)");
+               " bytes decoded, more than the ", max_bytes_, " bytes allowed (the memory budget: a sandboxed run's, which "
+               "--trust lifts, or softcut mesh --max-memory)");
   std::string data;
   if (a.format == "binary") {
     std::size_t bad = 0;

@@ -8,6 +8,8 @@
 #include <CGAL/Mesh_criteria_3.h>
 #include <CGAL/Mesh_triangulation_3.h>
 #include <CGAL/Random.h>
+#include <CGAL/exude_mesh_3.h>
+#include <CGAL/perturb_mesh_3.h>
 #include <CGAL/refine_mesh_3.h>
 
 #include <algorithm>
@@ -81,9 +83,11 @@ void seed_surfaces(C3t3& c3t3, const Domain& domain, const LabeledShape& s, cons
   const auto at = [&](int i, int j, int k) { return Eigen::Vector3d(lo + step.cwiseProduct(Eigen::Vector3d(i, j, k))); };
   const auto idx = [&](int i, int j, int k) { return size_t(i) + size_t(n + 1) * (size_t(j) + size_t(n + 1) * size_t(k)); };
   std::vector<int> label(size_t(n + 1) * (n + 1) * (n + 1));
-  for (int k = 0; k <= n; ++k)
+  for (int k = 0; k <= n; ++k) {
+    check_stopped(s.name, o, false);  // up to 160^3 samples: the deadline is polled per slice
     for (int j = 0; j <= n; ++j)
       for (int i = 0; i <= n; ++i) label[idx(i, j, k)] = s.label(at(i, j, k));
+  }
   // Kept seeds hashed by cells of the largest h: a seed's neighbours within
   // h lie in the 27 cells around it.
   const double bucket = o.cell_size;
@@ -104,7 +108,8 @@ void seed_surfaces(C3t3& c3t3, const Domain& domain, const LabeledShape& s, cons
   };
   auto intersect = domain.construct_intersection_object();
   auto& tr = c3t3.triangulation();
-  for (int k = 0; k <= n; ++k)
+  for (int k = 0; k <= n; ++k) {
+    check_stopped(s.name, o, false);
     for (int j = 0; j <= n; ++j)
       for (int i = 0; i <= n; ++i)
         for (int axis = 0; axis < 3; ++axis) {
@@ -122,9 +127,22 @@ void seed_surfaces(C3t3& c3t3, const Domain& domain, const LabeledShape& s, cons
           c3t3.set_index(v, std::get<1>(hit));
           kept[key(x)].push_back(x);
         }
+  }
 }
 
 }  // namespace
+
+void check_stopped(const std::string& name, const MesherOptions& o, bool vertices_reached) {
+  if (o.stop && o.stop->load()) throw TimeoutError(cat(name, ": meshing stopped at the time limit (--timeout)"));
+  if (vertices_reached)
+    fail(name, ": meshing stopped at ", o.max_vertices, " vertices, past what the tetrahedron limit allows; "
+         "ask for fewer tetrahedra (a larger cell size) or raise the limit (--max-tets)");
+}
+
+std::size_t max_vertices_for(double max_tets) {
+  if (!(max_tets < 1e15)) return 0;
+  return std::size_t(std::max(1e4, max_tets / 3 + 1e4));
+}
 
 double local_size(const MesherOptions& o, const Eigen::Vector3d& p) {
   if (o.fine_radius <= 0) return o.cell_size;
@@ -169,9 +187,17 @@ TetMesh mesh_shape(const LabeledShape& s, const MesherOptions& o, MesherReport* 
   if (c3t3.triangulation().dimension() < 3)
     fail(s.name, ": too few surface points to start from: the shape is thinner than its sampling grid "
          "(1/48 of its box) or than cell_size");
-  CGAL::refine_mesh_3(c3t3, domain, criteria, p::no_lloyd(), p::no_odt(),
-                      p::perturb(p::time_limit = o.optimise_seconds, p::sliver_bound = o.sliver_bound_deg),
-                      p::exude(p::time_limit = o.optimise_seconds, p::sliver_bound = o.sliver_bound_deg));
+  CGAL::Mesh_error_code error = CGAL::CGAL_MESH_3_NO_ERROR;
+  // Refinement stops at the bounds; the optimisation passes (what
+  // refine_mesh_3 would run next, called here so that a stopped refinement
+  // is not optimised for another minute) only when it finished.
+  CGAL::refine_mesh_3(c3t3, domain, criteria, p::no_lloyd(), p::no_odt(), p::no_perturb(), p::no_exude(),
+                      p::mesh_3_options(p::maximal_number_of_vertices = o.max_vertices,
+                                        p::pointer_to_error_code = &error,
+                                        p::pointer_to_stop_atomic_boolean = const_cast<std::atomic<bool>*>(o.stop)));
+  check_stopped(s.name, o, error == CGAL::CGAL_MESH_3_MAXIMAL_NUMBER_OF_VERTICES_REACHED);
+  CGAL::perturb_mesh_3(c3t3, domain, p::time_limit = o.optimise_seconds, p::sliver_bound = o.sliver_bound_deg);
+  CGAL::exude_mesh_3(c3t3, p::time_limit = o.optimise_seconds, p::sliver_bound = o.sliver_bound_deg);
 
   TetMesh m;
   const auto& tr = c3t3.triangulation();

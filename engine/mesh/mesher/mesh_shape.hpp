@@ -3,6 +3,8 @@
 // (Delaunay refinement of the labelled domain, then sliver perturbation and
 // exudation). docs/meshing.md says why CGAL and what was measured.
 #include <Eigen/Core>
+#include <atomic>
+#include <cstddef>
 
 #include "core/error.hpp"
 #include "mesh/mesher/shape.hpp"
@@ -26,6 +28,11 @@ struct MesherOptions {
   double sliver_bound_deg = 12;  // perturbation and exudation try to lift every dihedral angle above this
   double optimise_seconds = 30;  // time limit of each optimisation pass
   unsigned seed = 1;             // the mesher's random numbers: same seed, same mesh
+  // Bounds on the refinement (Mesh_3 checks both between insertions): at
+  // max_vertices (0: none) it fails naming the count; when *stop turns true
+  // (the command's deadline, core/watchdog.hpp) it throws TimeoutError.
+  std::size_t max_vertices = 0;
+  const std::atomic<bool>* stop = nullptr;
 };
 
 struct MesherReport {
@@ -41,6 +48,14 @@ double local_size(const MesherOptions& o, const Eigen::Vector3d& p);
 // the volume and h (within ~25 % for smooth shapes; the sandbox refuses an
 // over-size request with it before anything is allocated).
 double estimate_tets(const LabeledShape& s, const MesherOptions& o);
+
+// Mesh_3's vertices for a mesh of `max_tets` tetrahedra, with room to spare
+// (Delaunay refinement leaves 5.5-6 tets per vertex; ~3 at coarse sizes).
+std::size_t max_vertices_for(double max_tets);
+
+// After a Mesh_3 refinement with `o`: throws TimeoutError when o.stop is set,
+// an Error naming `name` when the vertex bound was reached.
+void check_stopped(const std::string& name, const MesherOptions& o, bool vertices_reached);
 
 // Meshes every positive label of `s`: tets keep the label of the region they
 // fill; shared boundaries between labels are conforming. Fails naming

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 namespace softcut::mesh {
 
@@ -53,7 +54,7 @@ const std::vector<std::string>& organ_kinds() {
 
 LabeledShape organ_shape(const std::string& kind, const OrganOptions& o) {
   const std::string name = "generator " + kind;
-  if (!(o.scale > 0 && o.scale < 1e3)) fail(name, ": scale must be in (0, 1000), got ", o.scale);
+  if (!(o.scale > 0 && o.scale <= 1e6)) fail(name, ": scale must be in (0, 1000000], got ", o.scale);
   if (!(o.lesion_radius >= 0 && o.lesion_radius <= 0.03)) fail(name, ": lesion_radius must be in [0, 0.03] m, got ", o.lesion_radius);
   const double s = o.scale, lesion = o.lesion_radius;
   const V lesion_at = o.lesion_center;
@@ -107,25 +108,41 @@ MesherOptions organ_mesher_options(const LabeledShape& s, const OrganOptions& o)
   return m;
 }
 
-TetMesh generate_organ(const std::string& kind, const OrganOptions& o, double max_tets, MesherReport* report) {
-  const LabeledShape shape = organ_shape(kind, o);
+std::string over_limit(double tets, const MeshLimit& limit) {
+  const auto count = [](double n) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, n < 1e15 ? "%.0f" : "%.3g", n);  // llround(inf) was -9223372036854775808
+    return std::string(buf);
+  };
+  return cat("about ", std::isfinite(tets) ? count(tets) : std::string("infinitely many"), " tetrahedra, over this run's limit of ",
+             count(limit.max_tets), "; ask for fewer (", limit.raise, ")");
+}
+
+TetMesh mesh_to_target(const LabeledShape& shape, const OrganOptions& o, const MeshLimit& limit, const Mesher& mesh,
+                       MesherReport* report) {
   MesherOptions m = organ_mesher_options(shape, o);
+  m.max_vertices = max_vertices_for(limit.max_tets);
+  m.stop = limit.stop;
   const auto refuse = [&](double tets) {
-    if (tets > max_tets)
-      fail(shape.name, ": about ", std::llround(tets), " tetrahedra, over this run's limit of ", std::llround(max_tets),
-           "; ask for fewer (softcut run/check --max-tets N raises the limit, --trust lifts it)");
+    if (!(tets <= limit.max_tets)) fail(shape.name, ": ", over_limit(tets, limit));
   };
   const double estimate = estimate_tets(shape, m);
   refuse(estimate);
-  TetMesh mesh = mesh_shape(shape, m, report);
-  if (o.target_tets > 0 && std::abs(mesh.num_tets() - o.target_tets) > 0.2 * o.target_tets) {
-    const double f = std::cbrt(double(mesh.num_tets()) / o.target_tets);
+  TetMesh out = mesh(m, report);
+  if (o.target_tets > 0 && std::abs(out.num_tets() - o.target_tets) > 0.2 * o.target_tets) {
+    const double f = std::cbrt(double(out.num_tets()) / o.target_tets);
     m.cell_size *= f, m.fine_size *= f;
-    refuse(estimate_tets(shape, m) * mesh.num_tets() / estimate);  // the first mesh calibrates the estimate
-    mesh = mesh_shape(shape, m, report);
+    refuse(estimate_tets(shape, m) * out.num_tets() / estimate);  // the first mesh calibrates the estimate
+    out = mesh(m, report);
   }
-  refuse(mesh.num_tets());
-  return mesh;
+  refuse(out.num_tets());
+  return out;
+}
+
+TetMesh generate_organ(const std::string& kind, const OrganOptions& o, const MeshLimit& limit, MesherReport* report) {
+  const LabeledShape shape = organ_shape(kind, o);
+  return mesh_to_target(shape, o, limit, [&](const MesherOptions& m, MesherReport* r) { return mesh_shape(shape, m, r); },
+                        report);
 }
 
 }  // namespace softcut::mesh

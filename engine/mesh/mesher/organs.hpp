@@ -12,6 +12,8 @@
 //                  degrees; label 1 (the paper's ligament, Table 2, as the
 //                  tissue looks rather than as a box band)
 // Meshed by mesh_shape() at a resolution picked to meet target_tets.
+#include <atomic>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -20,7 +22,7 @@
 namespace softcut::mesh {
 
 struct OrganOptions {
-  double scale = 1;                 // every length times this
+  double scale = 1;                 // every length times this, in (0, 1e6] (1000: a mesh in millimetres)
   int target_tets = 5000;           // picks cell_size (within ~20 %); 0: use cell_size
   double cell_size = 0;             // m, when target_tets is 0
   // Grading (0: uniform): tets fine_ratio x smaller within fine_radius (m)
@@ -44,9 +46,35 @@ LabeledShape organ_shape(const std::string& kind, const OrganOptions& o);
 // checked here: estimate_tets and mesh_shape refuse bad ones, naming the shape.
 MesherOptions organ_mesher_options(const LabeledShape& s, const OrganOptions& o);
 
+// How large a CGAL mesh may grow and when it must stop.
+struct MeshLimit {
+  double max_tets = 2147483647.0;  // refused before meshing on the estimate, and after on the count
+  // How the caller raises the limit, for the message.
+  std::string raise = "softcut run/check --max-tets N raises the limit, --trust lifts it";
+  const std::atomic<bool>* stop = nullptr;  // the caller's deadline (MesherOptions::stop)
+};
+
 // Meshes `kind`; when target_tets is set and the result is more than 20 %
 // off, remeshes once at the corrected size. Refuses (before meshing) a
 // request estimated at more than max_tets tetrahedra.
-TetMesh generate_organ(const std::string& kind, const OrganOptions& o, double max_tets, MesherReport* report = nullptr);
+TetMesh generate_organ(const std::string& kind, const OrganOptions& o, const MeshLimit& limit,
+                       MesherReport* report = nullptr);
+inline TetMesh generate_organ(const std::string& kind, const OrganOptions& o, double max_tets,
+                              MesherReport* report = nullptr) {
+  MeshLimit limit;
+  limit.max_tets = max_tets;
+  return generate_organ(kind, o, limit, report);
+}
+
+// What generate_organ does for any shape: sizes o's options for `shape`
+// (organ_mesher_options), refuses an estimate over the limit, meshes with
+// `mesh` (mesh_shape, or another domain's mesher for the same shape), and
+// remeshes once at a corrected size when target_tets is missed by > 20 %.
+using Mesher = std::function<TetMesh(const MesherOptions&, MesherReport*)>;
+TetMesh mesh_to_target(const LabeledShape& shape, const OrganOptions& o, const MeshLimit& limit, const Mesher& mesh,
+                       MesherReport* report = nullptr);
+
+// "about 12345 tetrahedra, over this run's limit of 2000000; ..." (printable for any count, also inf).
+std::string over_limit(double tets, const MeshLimit& limit);
 
 }  // namespace softcut::mesh

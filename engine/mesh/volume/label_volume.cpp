@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <climits>
+#include <cmath>
 #include <map>
 #include <set>
 
@@ -40,6 +41,11 @@ TetMesh mesh_label_volume(const LabelVolume& v, const VoxelMeshOptions& opt, Dia
         hi = hi.cwiseMax(Eigen::Vector3i(i, j, k));
       }
   if (nsel * 6 > INT_MAX) fail(v.source, ": ", nsel, " selected voxels give too many tets; crop or downsample");
+  if (double(nsel) * 6 > opt.max_tets)
+    fail(v.source, ": ", nsel, " selected voxels give ", nsel * 6, " tetrahedra, over the limit of ", std::llround(opt.max_tets),
+         "; crop or downsample the image, or mesh it with --mesher cgal (", opt.raise, ")");
+  if (opt.smooth_iterations < 0 || opt.smooth_iterations > kMaxSmoothIterations)
+    fail(v.source, ": smoothing passes must be in 0..", kMaxSmoothIterations, ", got ", opt.smooth_iterations);
   // Lattice over the selected voxels' bounding box (corners lo .. hi+1).
   const Eigen::Vector3i dim = (hi - lo).array() + 2;
   auto lat = [&](int i, int j, int k) {
@@ -83,15 +89,7 @@ TetMesh mesh_label_volume(const LabelVolume& v, const VoxelMeshOptions& opt, Dia
         }
       }
   // Surface edges used by other than two faces: voxels meeting along an edge.
-  const Surface s = extract_surface(m);
-  std::map<std::pair<int, int>, int> edge_faces;
-  for (Eigen::Index f = 0; f < s.faces.rows(); ++f)
-    for (int e = 0; e < 3; ++e) {
-      const int a = s.faces(f, e), b = s.faces(f, (e + 1) % 3);
-      ++edge_faces[{std::min(a, b), std::max(a, b)}];
-    }
-  long bad = 0;
-  for (const auto& [e, n] : edge_faces) bad += n != 2;
+  const long bad = surface_edges(extract_surface(m)).odd;
   if (bad > 0)
     diag.warn(v.source, ": ", bad, " surface edge(s) are shared by more than two surface faces (voxels touching "
               "only along an edge); the mesh is conforming but its surface is not a manifold there");

@@ -5,6 +5,7 @@
 // mesh is conforming, also across label boundaries). Each tet keeps its
 // voxel's label. Optional Taubin smoothing of the outer surface removes the
 // staircase while keeping every tet positive.
+#include <string>
 #include <vector>
 
 #include "core/error.hpp"
@@ -19,7 +20,14 @@ struct VoxelMeshOptions {
   // A smoothing move is taken only if every tet at the node keeps at least
   // this fraction of its voxel-grid volume (halved steps are tried first).
   double min_volume_fraction = 0.2;
+  // Tetrahedra the mesh may have (six per selected voxel), checked before
+  // anything is allocated for it; the message names `raise`, how to lift it.
+  double max_tets = 2147483647.0;
+  std::string raise = "--max-tets N raises the limit";
 };
+
+// Taubin passes a caller may ask for (each moves every outer-surface node).
+inline constexpr int kMaxSmoothIterations = 1000;
 
 // Lattice corner (i, j, k), 0 <= i <= size(0), lies at
 // origin + directions * ((i, j, k) - 0.5): voxels are centred on their samples.

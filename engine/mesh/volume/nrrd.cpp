@@ -19,8 +19,8 @@
 namespace softcut::mesh {
 namespace {
 
-std::string read_all(const std::filesystem::path& p, const std::string& what) {
-  return read_regular_file(p, what);
+std::string read_all(const std::filesystem::path& p, const std::string& what, std::size_t max_bytes) {
+  return read_regular_file(p, what, max_bytes);
 }
 
 std::string trim(std::string_view s) {
@@ -179,7 +179,7 @@ std::string inflate_all(const std::string& in, size_t limit, const std::string& 
 
 static LabelVolume read_nrrd_unescaped(const std::filesystem::path& path, Diagnostics& diag, const NrrdReadOptions& opt) {
   const std::string file = path.string();
-  const std::string text = read_all(path, "NRRD file");
+  const std::string text = read_all(path, "NRRD file", opt.max_bytes);
   Header h;
   h.file = file;
   // Header lines up to a blank line (attached data follows) or the end of the file.
@@ -348,7 +348,7 @@ static LabelVolume read_nrrd_unescaped(const std::filesystem::path& path, Diagno
     int missing = 0;
     const UniqueFd fd = open_below_if_exists(root, rel, Access::read, what, &missing);
     if (!fd) fail(dp.string(), ": cannot open ", what, " (missing or unreadable)");
-    data = read_whole(fd, what, dp.string());
+    data = read_whole(fd, what, dp.string(), opt.max_bytes);
   } else {
     if (!blank_seen)
       fail(file, ": no data: the header has no 'data file:' and no blank line followed by attached data");
@@ -364,6 +364,11 @@ static LabelVolume read_nrrd_unescaped(const std::filesystem::path& path, Diagno
   const size_t nvox = size_t(v.num_voxels());
   const size_t need = nvox * size_t(type.bytes);
   const std::string geometry = cat("sizes ", v.size(0), " ", v.size(1), " ", v.size(2), " of type ", h.get("type"));
+  // The decoded data and the labels, before anything is inflated or allocated.
+  if (const double total = double(nvox) * (double(type.bytes) + sizeof(std::int32_t)) + double(data.size());
+      total > double(opt.max_bytes))
+    fail(file, ": ", geometry, " (", nvox, " voxels) need ", std::llround(total), " bytes decoded, more than the ",
+         opt.max_bytes, " bytes allowed (", opt.raise, "); crop or downsample the image");
   // Labels are allocated only as far as the data can hold them: a header may
   // announce 2^31 voxels over a few bytes.
   if (ascii) {

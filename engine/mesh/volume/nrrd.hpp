@@ -5,7 +5,9 @@
 // 8, 16 and 32 bits, either endian. docs/label-volume.md lists what is
 // accepted. Every malformed header line is an Error naming file:line.
 #include <Eigen/Core>
+#include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -30,6 +32,11 @@ struct NrrdReadOptions {
   // 0: from the header's `space units` ("m", "cm", "mm", "um"), and
   // millimetres (the medical-imaging convention) when it has none.
   double unit_m = 0;
+  // Bytes the file, its decoded voxel data and the labels may take: a header
+  // announcing more is refused before anything is inflated or allocated
+  // (a 1 MB gzip file can announce 1000^3 voxels).
+  std::size_t max_bytes = std::numeric_limits<std::size_t>::max();
+  std::string raise = "softcut mesh --max-memory BYTES raises the limit";  // for the message
 };
 
 // Reads a 3D integer NRRD. Warnings (ignored fields, missing units, trailing
