@@ -155,6 +155,8 @@ std::string check_json(const std::vector<CheckedScenario>& results, double total
     s["expectations_total"] = r.expectations_total;
     s["expectations_failed"] = r.expectations_failed;
     s["expectations_omitted"] = r.expectations_total - r.expectations.size();
+    s["warnings"] = r.warnings;
+    s["warnings_total"] = r.warnings_total;
     if (r.compared)
       s["comparison"] = {{"max_diff_m", r.max_diff}, {"scale_m", r.scale},     {"tolerance", r.tolerance},
                          {"frame", r.worst_frame},  {"node", r.worst_node}};

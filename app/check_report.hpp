@@ -38,6 +38,9 @@ struct CheckedScenario {
                                       // failed expectations, a count of the rest, the comparison
   std::size_t failures_omitted = 0;   // failed expectations not listed
   std::vector<CheckedExpectation> expectations;  // the first kKeptExpectations
+  std::vector<std::string> warnings;  // the run's (each with its [code] when it has one): the first kKeptFailures
+  std::size_t warnings_total = 0;
+  bool warnings_failed = false;       // --warnings-as-errors failed it (the warnings are among `failures`)
   std::size_t expectations_total = 0, expectations_failed = 0;  // all of them
   double time_s = 0;         // wall-clock of this scenario
   bool compared = false;     // a reference comparison ran

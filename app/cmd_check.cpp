@@ -120,6 +120,13 @@ std::vector<Found> collect(const std::vector<std::string>& paths) {
 
 std::string first_line(const std::string& s) { return s.substr(0, s.find('\n')); }
 
+// A scenario's warnings under its verdict line (the first kKeptFailures).
+void print_warnings(const CheckedScenario& r) {
+  for (const std::string& w : r.warnings) std::printf("      warning: %s\n", printable(first_line(w), 1000).c_str());
+  if (r.warnings_total > r.warnings.size())
+    std::printf("      ... and %zu more warnings\n", r.warnings_total - r.warnings.size());
+}
+
 bool matches(const std::vector<std::string>& globs, const CheckedScenario& r) {
   for (const auto& g : globs)
     if (fnmatch(g.c_str(), r.name.c_str(), 0) == 0 || fnmatch(g.c_str(), r.file.stem().c_str(), 0) == 0) return true;
@@ -200,6 +207,15 @@ void check_one(CheckedScenario& r, const Found& found, const CheckFlags& flags, 
       else ++r.failures_omitted;
     }
     if (r.failures_omitted) r.failures.push_back(cat("... and ", r.failures_omitted, " more failed expectations"));
+    r.warnings_total = out.warnings.size();
+    for (size_t k = 0; k < out.warnings.size() && k < kKeptFailures; ++k) r.warnings.push_back(out.warnings[k]);
+    if (req.warnings_as_errors && !out.warnings.empty()) {  // fails as a failed expectation does: nothing recorded
+      r.warnings_failed = true;
+      failed(warned_message(out.warnings));
+      for (size_t k = 1; k < r.warnings.size(); ++k) failed(cat("warning: ", r.warnings[k]));
+      if (out.warnings.size() > r.warnings.size())
+        failed(cat("... and ", out.warnings.size() - r.warnings.size(), " more warnings"));
+    }
     const bool expectations_failed = !r.failures.empty();
 
     // The log comparison also when an expectation failed: both are reported.
@@ -387,6 +403,7 @@ int cmd_check(const Args& args) {
       if (r.status == CheckedScenario::Status::pass) {
         ++passed;
         std::printf("PASS  %s  (%s)\n", file.c_str(), r.detail.c_str());
+        print_warnings(r);
       } else if (r.status == CheckedScenario::Status::skipped) {
         ++skipped;
         std::printf("SKIP  %s: %s\n", file.c_str(), printable(r.reason, 400).c_str());
@@ -395,6 +412,7 @@ int cmd_check(const Args& args) {
         std::printf("FAIL  %s: %s\n", file.c_str(), printable(r.reason, 1000).c_str());
         for (size_t k = 1; k < r.failures.size(); ++k)
           std::printf("      %s\n", printable(first_line(r.failures[k]), 1000).c_str());
+        if (!r.warnings_failed) print_warnings(r);
       }
     }
     std::fflush(stdout);

@@ -105,6 +105,10 @@ int cmd_run(const Args& args) {
                  ? "the wall-clock limit (--timeout) was reached" : out.result.message.c_str());
     return 124;
   }
+  if (req.warnings_as_errors && !out.warnings.empty()) {
+    std::fprintf(stderr, "softcut: error: %s: %s\n", out.name.c_str(), warned_message(out.warnings).c_str());
+    return 1;
+  }
   return failed ? 1 : 0;  // outputs are written either way; CI sees the failed expectation
 }
 

@@ -54,6 +54,10 @@ RunOptions::RunOptions(Options& o, unsigned groups) {
   if (groups & scenario)
     no_cache_opt_ = app.add_flag("--no-cache", no_cache_, "redo the hybrid precompute instead of loading it from the "
                                  "cache ($SOFTCUT_CACHE_DIR, else $XDG_CACHE_HOME/softcut or ~/.cache/softcut)");
+  if (groups & scenario)
+    warnings_as_errors_opt_ = app.add_flag("--warnings-as-errors", warnings_as_errors_, "a run that warned fails "
+                                           "(exit status 1; check: that scenario fails), as a compiler's -Werror; "
+                                           "docs/outputs.md lists the warnings and their codes");
 }
 
 void RunOptions::apply(RunRequest& req) const {
@@ -68,6 +72,7 @@ void RunOptions::apply(RunRequest& req) const {
   if (given(max_output_opt_)) req.max_output = max_output_;
   if (trust_opt_) req.trusted = trust_;
   if (no_render_) req.render = false;
+  if (warnings_as_errors_) req.warnings_as_errors = true;
   req.cache_dir = no_cache_ ? std::filesystem::path() : hybrid::default_cache_dir();
 }
 
@@ -85,6 +90,7 @@ std::vector<std::string> RunOptions::arguments() const {
   if (trust_) a.push_back("--trust");
   if (no_render_) a.push_back("--no-render");
   if (no_cache_) a.push_back("--no-cache");
+  if (warnings_as_errors_) a.push_back("--warnings-as-errors");
   return a;
 }
 

@@ -24,7 +24,8 @@ namespace softcut::app {
 class RunOptions {
  public:
   enum Group : unsigned {
-    scenario = 1u,   // --set, --backend, --max-tets, --timeout, --max-output, --trust, --no-cache
+    scenario = 1u,   // --set, --backend, --max-tets, --timeout, --max-output, --trust, --no-cache,
+                     // --warnings-as-errors
     frames = 2u,     // --frames
     rendering = 4u,  // --render-every, --size, --msaa, --no-render
     all = 7u,
@@ -54,10 +55,11 @@ class RunOptions {
   FrameSize size_;
   double timeout_s_ = 0;
   std::uint64_t max_output_ = 0;
-  bool trust_ = false, no_render_ = false, no_cache_ = false;
+  bool trust_ = false, no_render_ = false, no_cache_ = false, warnings_as_errors_ = false;
   CLI::Option *set_ = nullptr, *frames_opt_ = nullptr, *backend_opt_ = nullptr, *render_every_opt_ = nullptr,
               *size_opt_ = nullptr, *msaa_opt_ = nullptr, *max_tets_opt_ = nullptr, *timeout_opt_ = nullptr,
-              *max_output_opt_ = nullptr, *trust_opt_ = nullptr, *no_render_opt_ = nullptr, *no_cache_opt_ = nullptr;
+              *max_output_opt_ = nullptr, *trust_opt_ = nullptr, *no_render_opt_ = nullptr, *no_cache_opt_ = nullptr,
+              *warnings_as_errors_opt_ = nullptr;
 };
 
 }  // namespace softcut::app

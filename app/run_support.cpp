@@ -9,6 +9,11 @@
 
 namespace softcut::app {
 
+std::string warned_message(const std::vector<std::string>& warnings) {
+  return cat(warnings.size(), warnings.size() == 1 ? " warning" : " warnings",
+             " with --warnings-as-errors: ", warnings.empty() ? std::string() : warnings.front());
+}
+
 void add_override(std::map<std::string, std::string>& overrides, const std::string& pair) {
   const auto eq = pair.find('=');
   if (eq == std::string::npos || eq == 0)

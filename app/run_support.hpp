@@ -4,9 +4,13 @@
 #include <atomic>
 #include <map>
 #include <string>
-
+#include <vector>
 
 namespace softcut::app {
+
+// Why a run that warned fails under --warnings-as-errors: "N warning(s) with
+// --warnings-as-errors: the first, ..." (each warning keeps its [code]).
+std::string warned_message(const std::vector<std::string>& warnings);
 
 // "key=value" -> overrides[key] = value (the value may hold '='); throws
 // UsageError on a malformed pair (--set checks it first: key_value()).

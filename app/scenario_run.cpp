@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <memory>
+#include <unordered_set>
 
 #include "app/reference_log.hpp"
 #include "core/checked_file.hpp"
@@ -207,8 +208,12 @@ RunOutcome run_watched(const RunRequest& req, const OpenScript& open, const Watc
     out.render_labels_ms = st.work.labels_ms() / n;
     out.render_video_ms = st.work.video_ms / n;
   }
-  out.warnings.insert(out.warnings.end(), model.warnings.begin(), model.warnings.end());
-  out.warnings.insert(out.warnings.end(), state.warnings.begin(), state.warnings.end());
+  // Each once, in order of appearance (as summary.json lists them).
+  std::unordered_set<std::string> seen(out.warnings.begin(), out.warnings.end());
+  const std::vector<std::string>* lists[] = {&model.warnings, &state.warnings};
+  for (const std::vector<std::string>* list : lists)
+    for (const std::string& w : *list)
+      if (seen.insert(w).second) out.warnings.push_back(w);
   out.expectations = expectation_results(model, state);
   return out;
 }

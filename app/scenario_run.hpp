@@ -55,6 +55,7 @@ struct RunRequest {
   std::function<void(int frame, int num_frames, double elapsed_s)> progress;
   const std::atomic<bool>* interrupt = nullptr;   // set by SIGINT/SIGTERM
   std::vector<std::string> command_line;          // for summary.json (the CLI's argv)
+  bool warnings_as_errors = false;                // --warnings-as-errors: a run that warned fails (the commands)
 };
 
 struct ExpectationResult {

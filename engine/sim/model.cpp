@@ -109,6 +109,7 @@ Model compile(const ScenarioSpec& spec, const backend::RunResources& resources) 
     const MaterialAssignment& a = spec.materials[i];
     const std::string w = prefixed(a.where, "material '" + a.name + "'");
     const auto [mat, rho] = resolve_material(a);
+    warn_implausible_material(mat.young, a.density, w, diag);
     const std::vector<int> tets = select_tets(a.tets, ctx, w);
     if (tets.empty()) diag.warn(w, ": selects no tet");
     for (int k : tets) m.tet_material[k] = mat, density[size_t(k)] = rho, m.tet_group[k] = int(i);

@@ -10,6 +10,7 @@
 #include "core/timer.hpp"
 #include "sim/outputs.hpp"
 #include "sim/step.hpp"
+#include "sim/tool_report.hpp"
 
 namespace softcut::sim {
 
@@ -61,6 +62,14 @@ RunResult run(const Model& m, State& s, Recorder& rec, const RunHooks& hooks) {
                     "stop earlier with --frames N, or raise --timeout");
     return true;
   };
+  // What the run did not do is said before its outputs are written (tools
+  // that never touched: sim/tool_report.hpp), so summary.json has it too.
+  auto finish = [&] {
+    mark_unreached_expectations(m, s);
+    const bool complete = r.reason == ExitReason::completed || r.reason == ExitReason::stopped;
+    for (std::string& w : idle_tool_warnings(m, s, complete)) s.warnings.push_back(std::move(w));
+    rec.finish(m, s, r);
+  };
   try {
     while (s.frame < last) {
       if (stop_reason(r.reason) || foreseen_timeout()) break;
@@ -80,22 +89,19 @@ RunResult run(const Model& m, State& s, Recorder& rec, const RunHooks& hooks) {
     r.message = e.what();
     r.wall_s = wall.seconds();
     if (stop_reason(r.reason)) {  // the stop reached the script inside on_frame: not an error
-      mark_unreached_expectations(m, s);
-      rec.finish(m, s, r);
+      finish();
       return r;
     }
     r.reason = ExitReason::error;
     try {
-      mark_unreached_expectations(m, s);
-      rec.finish(m, s, r);
+      finish();
     } catch (...) {
       // The run's own error is the one to report (a render failure, if any, is in the summary).
     }
     throw;
   }
   r.wall_s = wall.seconds();
-  mark_unreached_expectations(m, s);
-  rec.finish(m, s, r);
+  finish();
   return r;
 }
 

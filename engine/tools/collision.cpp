@@ -223,6 +223,68 @@ Eigen::Vector3d closest_point_on_segment(const Eigen::Vector3d& p, const Eigen::
   return a + std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) * ab;
 }
 
+namespace {
+
+// Squared distance between the segments p1-q1 and p2-q2 (Ericson, Real-Time
+// Collision Detection §5.1.9).
+double segment_segment_distance2(const Eigen::Vector3d& p1, const Eigen::Vector3d& q1, const Eigen::Vector3d& p2,
+                                 const Eigen::Vector3d& q2) {
+  const Eigen::Vector3d d1 = q1 - p1, d2 = q2 - p2, r = p1 - p2;
+  const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
+  double s = 0, t = 0;
+  if (a <= 0 && e <= 0) return r.squaredNorm();
+  if (a <= 0) {
+    t = std::clamp(f / e, 0.0, 1.0);
+  } else {
+    const double c = d1.dot(r);
+    if (e <= 0) {
+      s = std::clamp(-c / a, 0.0, 1.0);
+    } else {
+      const double b = d1.dot(d2), denom = a * e - b * b;
+      s = denom > 0 ? std::clamp((b * f - c * e) / denom, 0.0, 1.0) : 0.0;
+      t = (b * s + f) / e;
+      if (t < 0) t = 0, s = std::clamp(-c / a, 0.0, 1.0);
+      else if (t > 1) t = 1, s = std::clamp((b - c) / a, 0.0, 1.0);
+    }
+  }
+  return ((p1 + s * d1) - (p2 + t * d2)).squaredNorm();
+}
+
+// Whether the segment a-b meets the triangle (p, q, r) (both ends on one side
+// of its plane: no; else the crossing point inside the triangle).
+bool segment_crosses_triangle(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& p,
+                              const Eigen::Vector3d& q, const Eigen::Vector3d& r) {
+  const Eigen::Vector3d n = (q - p).cross(r - p);
+  const double da = n.dot(a - p), db = n.dot(b - p);
+  if ((da > 0 && db > 0) || (da < 0 && db < 0) || da == db) return false;
+  const Eigen::Vector3d x = a + da / (da - db) * (b - a);
+  return n.dot((q - p).cross(x - p)) >= 0 && n.dot((r - q).cross(x - q)) >= 0 && n.dot((p - r).cross(x - r)) >= 0;
+}
+
+}  // namespace
+
+double distance_to_surface(const ContactSurface& s, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  double best2 = std::numeric_limits<double>::infinity();
+  for (int f = 0; f < s.surface.faces.rows(); ++f) {
+    const Eigen::Vector3d p = corner(s, f, 0), q = corner(s, f, 1), r = corner(s, f, 2);
+    // A face whose bounding sphere lies farther than the best so far is skipped.
+    const Eigen::Vector3d centre = (p + q + r) / 3;
+    const double reach = std::sqrt(std::max({(p - centre).squaredNorm(), (q - centre).squaredNorm(),
+                                             (r - centre).squaredNorm()}));
+    const double to_centre = (closest_point_on_segment(centre, a, b) - centre).norm() - reach;
+    if (to_centre > 0 && to_centre * to_centre > best2) continue;
+    double d2 = std::min((closest_point_on_triangle(a, p, q, r) - a).squaredNorm(),
+                         (closest_point_on_triangle(b, p, q, r) - b).squaredNorm());
+    if (a != b) {
+      if (segment_crosses_triangle(a, b, p, q, r)) return 0.0;
+      d2 = std::min({d2, segment_segment_distance2(a, b, p, q), segment_segment_distance2(a, b, q, r),
+                     segment_segment_distance2(a, b, r, p)});
+    }
+    best2 = std::min(best2, d2);
+  }
+  return std::sqrt(best2);
+}
+
 std::vector<int> nodes_near_segment(const ContactSurface& s, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
                                     double radius) {
   std::vector<int> hit;

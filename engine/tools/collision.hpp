@@ -76,6 +76,11 @@ SurfacePoint nearest_surface_point(const Eigen::MatrixX3d& x, const mesh::Surfac
 std::vector<int> nodes_near_segment(const ContactSurface& s, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
                                     double radius);
 
+// Distance from the segment a-b (a point when a == b) to the nearest face of
+// the surface at `positions`, m (0 where it crosses a face; infinity for an
+// empty surface). What a tool that never touched missed the tissue by.
+double distance_to_surface(const ContactSurface& s, const Eigen::Vector3d& a, const Eigen::Vector3d& b);
+
 // Closest point to p on the segment a-b.
 Eigen::Vector3d closest_point_on_segment(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b);
 

@@ -104,6 +104,12 @@ void update_tool(const ToolSpec& spec, ToolState& st, double t, const ContactSur
     for (const SurfacePoint& p : st.grip) st.offsets.push_back(p.at(s.positions) - st.tip);
   }
   if (!st.has_start) st.start_tip = st.tip, st.has_start = true;
+  st.was_active = true;
+  if (!st.engaged && !st.touched) {
+    const double gap = std::max(0.0, (scalpel ? distance_to_surface(s, st.blade_a, st.blade_b)
+                                              : distance_to_surface(s, st.tip, st.tip)) - spec.radius);
+    if (gap < st.closest_gap) st.closest_gap = gap, st.closest_time = t;
+  }
   if (st.engaged && !st.touched) {
     st.touched = true;
     const Eigen::Vector3d back = st.start_tip - st.tip;
@@ -162,6 +168,7 @@ void update_tool(const ToolSpec& spec, ToolState& st, double t, const ContactSur
   if (scalpel) {
     st.pressure = st.total_force.norm() / (spec.blade_length * 2.0 * spec.radius);
     st.touch_pressure = st.pressure, st.touch_time = t;
+    if (st.pressure > st.max_pressure || st.max_pressure_time < 0) st.max_pressure = st.pressure, st.max_pressure_time = t;
   }
 }
 

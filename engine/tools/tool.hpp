@@ -120,6 +120,16 @@ struct ToolState {
   // that contact back to start_tip (zero: it was within a radius of it).
   Eigen::Vector3d start_tip = Eigen::Vector3d::Zero(), approach = Eigen::Vector3d::Zero();
   bool has_start = false, touched = false;
+  // What the run says at its end about a tool that did nothing
+  // (sim/tool_report.hpp): until its first contact, its closest approach to
+  // the surface (the gap between the tip's sphere, or the blade's capsule,
+  // and the deformed surface, m) and when; a scalpel's highest contact
+  // pressure and when.
+  bool was_active = false;          // active (enabled, inside its window) at some frame
+  double closest_gap = std::numeric_limits<double>::infinity();  // m
+  double closest_time = -1.0;       // s (-1: never measured)
+  double max_pressure = 0.0;        // Pa
+  double max_pressure_time = -1.0;  // s (-1: never touched)
 };
 
 // Scalpel: end points of the blade edge with its centre at `center`.

@@ -15,8 +15,10 @@ using softcut::test::slurp;
 namespace {
 
 // A small fast scenario: a bar pulled at its tip by `f` N (a parameter),
-// with one expectation `expect` (a Lua boolean expression of f, the frame).
-void write_bar(const fs::path& file, const std::string& name, const std::string& expect = "true") {
+// with one expectation `expect` (a Lua boolean expression of f, the frame)
+// and `extra` lines before the end.
+void write_bar(const fs::path& file, const std::string& name, const std::string& expect = "true",
+               const std::string& extra = "") {
   std::ofstream(file) << "local P = softcut.params{ f = 0.01 }\n"
                          "local s = softcut.scenario{ name = '" << name << "', duration = 0.2, fps = 10 }\n"
                          "s:mesh{ generate = 'box', options = { max = { 0.1, 0.02, 0.02 }, nx = 5, ny = 2, nz = 2 } }\n"
@@ -26,7 +28,7 @@ void write_bar(const fs::path& file, const std::string& name, const std::string&
                          "        force = { 0, 0, -P.f } }\n"
                          "s:expect{ name = 'holds', at = 0.2, check = function(f) return "
                       << expect << ", ('f = %g'):format(P.f) end }\n"
-                         "return s\n";
+                      << extra << "return s\n";
 }
 
 // Verdict and file of each scenario line ("PASS  file", "FAIL  file", "SKIP  file").
@@ -271,6 +273,41 @@ TEST_SUITE("app/cmd_check") {
     const std::string before = slurp(softcut::app::reference_path(dir / "c.lua"));
     CHECK(run_cli("check --record --set f=0.1 " + (dir / "c.lua").string()).status == 1);
     CHECK(slurp(softcut::app::reference_path(dir / "c.lua")) == before);
+  }
+
+  TEST_CASE("a scenario's warnings show under its line, --warnings-as-errors fails it, records nothing, the shipped ones pass") {
+    const fs::path dir = softcut::test::scratch_dir("check_warnings");
+    write_bar(dir / "quiet.lua", "quiet");
+    // A probe far above the bar: it never touches.
+    write_bar(dir / "miss.lua", "miss", "true",
+              "s:probe{ name = 'tip', path = softcut.path.fixed{ 0.05, 0.01, 0.05 }, radius = 0.002, force = 0.1 }\n");
+    REQUIRE(run_cli("check --record " + dir.string()).status == 0);
+    const std::string warning = (dir / "miss.lua").string() + ":9: probe 'tip' never touched the tissue (closest 28 "
+                                "mm at t = 0 s); move its path onto the surface or give it a larger radius "
+                                "[tool_never_touched]";
+    const auto plain = run_cli("check " + dir.string());
+    INFO(plain.output);
+    CHECK(plain.status == 0);
+    CHECK(contains(plain.output, "PASS  " + (dir / "miss.lua").string()));
+    CHECK(contains(plain.output, ")\n      warning: " + warning + "\nPASS  " + (dir / "quiet.lua").string()));
+    const std::string before = slurp(softcut::app::reference_path(dir / "miss.lua"));
+    const fs::path json = dir / "r.json";
+    const auto strict = run_cli("check --warnings-as-errors --record --json " + json.string() + " " + dir.string());
+    INFO(strict.output);
+    CHECK(strict.status == 1);
+    CHECK(contains(strict.output, "FAIL  " + (dir / "miss.lua").string() +
+                                      ": 1 warning with --warnings-as-errors: " + warning + "\n"));
+    CHECK(contains(strict.output, "PASS  " + (dir / "quiet.lua").string()));
+    CHECK(slurp(softcut::app::reference_path(dir / "miss.lua")) == before);
+    const auto j = softcut::test::read_json(json);
+    CHECK(j["scenarios"][0]["warnings"] == nlohmann::ordered_json::array({warning}));
+    CHECK(j["scenarios"][0]["warnings_total"] == 1);
+    CHECK(j["scenarios"][1]["warnings"].empty());
+    // No false alarm: every shipped scenario passes with warnings as errors.
+    const auto shipped = run_cli("check scenarios --warnings-as-errors");
+    INFO(shipped.output);
+    CHECK(shipped.status == 0);
+    CHECK_FALSE(contains(shipped.output, "warning"));
   }
 
   TEST_CASE("--junit writes JUnit XML that validates against the schema CI systems read, --json the same facts") {

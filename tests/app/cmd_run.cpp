@@ -359,4 +359,71 @@ local tip = softcut.select.box{ min = {0.1, 0, 0}, max = {0.1, 0.04, 0.04} }
                              "knee_ligament", "volume"})
       CHECK(contains(r.output, kind));
   }
+  TEST_CASE("tools that did nothing say so, with their closest approach, codes on stderr and in summary.json") {
+    const fs::path dir = softcut::test::scratch_dir("cli_run_idle_tools");
+    // A 100 x 40 x 40 mm bar; each tool misses it, or touches without cutting.
+    std::ofstream(dir / "idle.lua") << R"(
+local s = softcut.scenario{ name = "idle", duration = 1.0, fps = 10 }
+s:mesh{ generate = "box", options = { max = { 0.1, 0.04, 0.04 }, nx = 5, ny = 2, nz = 2 } }
+s:material{ tissue = "liver" }
+s:fix{ nodes = softcut.select.box{ min = { -1, -1, -1 }, max = { 0, 1, 1 } } }
+s:operational{ box = { min = { 0.05, -1, -1 }, max = { 1, 1, 1 } } }
+s:probe{ name = "tip", path = softcut.path.fixed{ 0.05, 0.02, 0.06 }, radius = 0.004, force = 0.1 }
+s:grasper{ name = "jaw", path = softcut.path.polyline{ times = { 0, 0.5, 1 },
+           points = { { 0.02, 0.02, 0.08 }, { 0.02, 0.02, 0.0523 }, { 0.02, 0.02, 0.08 } } }, stiffness = 100 }
+s:scalpel{ name = "blade", path = softcut.path.fixed{ 0.03, 0.02, 0.0523 }, cut_pressure = 1e3, force = 0.1 }
+s:scalpel{ name = "dull", path = softcut.path.polyline{ times = { 0, 1 }, points = { { 0.08, 0.02, 0.045 }, { 0.08, 0.02, 0.0395 } } },
+           cut_pressure = 1e9, force = 0.05 }
+s:probe{ name = "late", path = softcut.path.fixed{ 0.05, 0.02, 0.04 }, radius = 0.004, force = 0.1, start = 3 }
+s:probe{ name = "pokes", path = softcut.path.fixed{ 0.09, 0.02, 0.041 }, radius = 0.004, force = 0.1 }
+return s
+)";
+    const auto r = run_cli("run idle.lua --out out --no-render", dir);
+    INFO(r.output);
+    CHECK(r.status == 0);
+    const std::vector<std::string> expected = {
+        "idle.lua:7: probe 'tip' never touched the tissue (closest 16 mm at t = 0 s); move its path onto the surface "
+        "or give it a larger radius [tool_never_touched]",
+        "idle.lua:8: grasper 'jaw' never touched the tissue (closest 8.25 mm at t = 0.5 s), so it never closed; move "
+        "its path onto the surface or give it a larger radius [tool_never_touched]",
+        "idle.lua:10: scalpel 'blade' never touched the tissue (closest 11.3 mm at t = 0 s); move its path onto the "
+        "surface [tool_never_touched]",
+        "idle.lua:11: scalpel 'dull' touched the tissue but never cut: its contact pressure peaked at 1.25 kPa at "
+        "t = 0.8 s, below its cut_pressure = 1e+03 MPa; press harder (force or stiffness) or lower cut_pressure "
+        "[scalpel_never_cut]",
+        "idle.lua:13: probe 'late' was never active: its start = 3 s comes after the run's last frame at t = 1 s; "
+        "start it earlier or run longer [tool_never_active]"};
+    for (const std::string& w : expected) CHECK(contains(r.output, "warning: " + w + "\n"));
+    CHECK_FALSE(contains(r.output, "'pokes'"));  // it touched
+    const nlohmann::ordered_json j = softcut::test::read_json(dir / "out" / "summary.json");
+    CHECK(j["warnings"] == nlohmann::ordered_json(expected));
+    // --warnings-as-errors: exit 1, saying why; -q still says it.
+    const auto strict = run_cli("run idle.lua --out out --no-render -q --warnings-as-errors", dir);
+    CHECK(strict.status == 1);
+    CHECK(contains(strict.output, "softcut: error: idle: 5 warnings with --warnings-as-errors: " + expected[0]));
+    // Cut short by --frames, the tools had no chance: nothing said.
+    const auto early = run_cli("run idle.lua --out early --no-render --frames 3 --warnings-as-errors", dir);
+    CHECK(early.status == 0);
+    CHECK(softcut::test::read_json(dir / "early" / "summary.json")["warnings"].empty());
+  }
+  TEST_CASE("an implausible material warns at its line, naming the nearest preset and the unit it suggests") {
+    const fs::path dir = softcut::test::scratch_dir("cli_run_material");
+    std::ofstream(dir / "kidney.lua") << R"(
+local s = softcut.scenario{ name = "kidney", duration = 0.1, fps = 10 }
+s:mesh{ generate = "box", options = { max = { 0.1, 0.04, 0.04 }, nx = 5, ny = 2, nz = 2 } }
+s:material{ name = "cortex", young = 20.7, poisson = 0.45 }
+s:fix{ nodes = softcut.select.box{ min = { -1, -1, -1 }, max = { 0, 1, 1 } } }
+return s
+)";
+    const std::string warning =
+        "kidney.lua:4: material 'cortex': young = 20.7 Pa is far below every tissue preset (fat 3.25 kPa .. ligament "
+        "11 MPa); the nearest is 'fat' (3.25 kPa); kPa given as Pa? young = 20700 (20.7 kPa) is near 'kidney' "
+        "(20.7 kPa). Young's modulus is in Pa [implausible_material]";
+    const auto r = run_cli("run kidney.lua --out out --no-render", dir);
+    INFO(r.output);
+    CHECK(r.status == 0);
+    CHECK(contains(r.output, "warning: " + warning + "\n"));
+    CHECK(softcut::test::read_json(dir / "out" / "summary.json")["warnings"] == nlohmann::ordered_json::array({warning}));
+    CHECK(run_cli("run kidney.lua --out out --no-render --warnings-as-errors", dir).status == 1);
+  }
 }

@@ -35,7 +35,8 @@ TEST_SUITE("app/run_options") {
   TEST_CASE("typed values reach the run request - arguments() gives them back as softcut run reads them") {
     const Args args = {"--set", "f=0.5", "--frames", "12", "--backend", "cpu", "--render-every", "0",
                        "--size", "64x48", "--msaa", "2", "--max-tets", "5000", "--timeout", "0.5",
-                       "--max-output", "3M", "--trust", "--no-render", "--no-cache", "--set", "g=a=b"};
+                       "--max-output", "3M", "--trust", "--no-render", "--no-cache", "--warnings-as-errors",
+                       "--set", "g=a=b"};
     std::vector<std::string> again;
     const RunRequest a = request_of(args, RunOptions::all, &again);
     CHECK(a.overrides == std::map<std::string, std::string>{{"f", "0.5"}, {"g", "a=b"}});
@@ -51,10 +52,11 @@ TEST_SUITE("app/run_options") {
     CHECK(a.trusted);
     CHECK(!a.render);
     CHECK(a.cache_dir.empty());
+    CHECK(a.warnings_as_errors);
     CHECK(again == std::vector<std::string>{"--set", "f=0.5", "--set", "g=a=b", "--frames", "12", "--backend", "cpu",
                                             "--render-every", "0", "--size", "64x48", "--msaa", "2", "--max-tets",
                                             "5000", "--timeout", "0.5", "--max-output", "3145728", "--trust",
-                                            "--no-render", "--no-cache"});
+                                            "--no-render", "--no-cache", "--warnings-as-errors"});
     // What sweep passes on reads back the same.
     const RunRequest b = request_of(again, RunOptions::all);
     CHECK(b.overrides == a.overrides);
@@ -62,6 +64,7 @@ TEST_SUITE("app/run_options") {
     CHECK(b.backend == a.backend);
     CHECK(b.max_output == a.max_output);
     CHECK(b.timeout_s == a.timeout_s);
+    CHECK(b.warnings_as_errors);
     // Nothing given: the request's defaults stay.
     const RunRequest d = request_of({}, RunOptions::all);
     const RunRequest plain;
@@ -70,6 +73,7 @@ TEST_SUITE("app/run_options") {
     CHECK(d.max_output == plain.max_output);
     CHECK(!d.backend);
     CHECK(d.render);
+    CHECK(!d.warnings_as_errors);
   }
 
   TEST_CASE("a command takes only its groups - bad values are named with the option") {

@@ -213,4 +213,22 @@ TEST_SUITE("tools/collision") {
     for (int n : hit) CHECK(m.nodes(n, 2) == 1.0);
     CHECK(tools::nodes_near_segment(rest, V(0.1, 0.25, 1.2), V(0.4, 0.25, 1.2), 0.05).empty());
   }
+  TEST_CASE("distance to the surface: a point, a segment beside, above or through the unit box") {
+    mesh::BoxOptions o;
+    o.nx = o.ny = o.nz = 3;
+    const mesh::TetMesh m = mesh::generate_box(o);
+    const mesh::Surface s = mesh::extract_surface(m);
+    const Eigen::MatrixX3d normals = mesh::vertex_normals(m, s, m.nodes);
+    const tools::ContactSurface c{m.nodes, s, normals};
+    CHECK(tools::distance_to_surface(c, V(0.5, 0.5, 1.7), V(0.5, 0.5, 1.7)) == doctest::Approx(0.7).epsilon(1e-12));
+    CHECK(tools::distance_to_surface(c, V(2, 2, 2), V(2, 2, 2)) == doctest::Approx(std::sqrt(3.0)).epsilon(1e-12));
+    CHECK(tools::distance_to_surface(c, V(0.5, 0.5, 0.6), V(0.5, 0.5, 0.6)) == doctest::Approx(0.4).epsilon(1e-12));
+    // A segment crossing above a corner edge: nearest at its middle, not its ends.
+    CHECK(tools::distance_to_surface(c, V(-1, 1.5, 1.5), V(3, 1.5, 1.5)) ==
+          doctest::Approx(std::sqrt(0.5)).epsilon(1e-12));
+    // A segment passing through a face.
+    CHECK(tools::distance_to_surface(c, V(0.3, 0.4, 0.5), V(0.3, 0.4, 1.5)) == 0.0);
+    // A segment lying flat 0.25 above the top face, longer than the box.
+    CHECK(tools::distance_to_surface(c, V(-5, 0.5, 1.25), V(5, 0.5, 1.25)) == doctest::Approx(0.25).epsilon(1e-12));
+  }
 }
