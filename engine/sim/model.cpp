@@ -243,6 +243,8 @@ State copy_state(const Model& m, const State& s) {
   c.stop_requested = s.stop_requested;
   c.last = s.last;
   c.last_cg_iterations = s.last_cg_iterations;
+  c.last_newton_iterations = s.last_newton_iterations;
+  c.last_validity = s.last_validity;
   c.stats = s.stats;
   c.warnings = s.warnings;
   c.cut_events = s.cut_events;

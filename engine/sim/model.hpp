@@ -15,6 +15,7 @@
 #include "sim/cutting.hpp"
 #include "sim/expectations.hpp"
 #include "sim/scenario_spec.hpp"
+#include "sim/validity.hpp"
 #include "backend/solver.hpp"
 #include "tools/springs.hpp"
 #include "tools/tool.hpp"
@@ -108,10 +109,11 @@ struct RunStatistics {
   double nonlinear_strain_max = 0;
   int inverted_max = 0;              // nonlinear-law tets inverted at a solution
   // What linear elasticity carried (sim/validity.hpp): the largest over the
-  // run, with the frame, and the condensed region's per frame.
+  // run, with its frame, of each frame's largest and of its 99th percentile.
   double linear_rotation_max = 0, linear_strain_max = 0, condensed_rotation_max = 0;  // rad, -, rad
   int linear_rotation_frame = -1, linear_strain_frame = -1, condensed_rotation_frame = -1;
-  std::vector<double> condensed_rotation;  // (frames) rad
+  double linear_rotation_p99_max = 0, linear_strain_p99_max = 0, condensed_rotation_p99_max = 0;  // rad, -, rad
+  int linear_rotation_p99_frame = -1, linear_strain_p99_frame = -1, condensed_rotation_p99_frame = -1;
 };
 
 // What a frame changes in the world: the tissue (displacements, the cut
@@ -137,6 +139,8 @@ struct RunBookkeeping {
   tools::SpringCache springs;        // implicit spring compliance (per run, tools/springs.hpp)
   FrameTimings last;                 // of the last frame
   int last_cg_iterations = 0;
+  int last_newton_iterations = 0;    // 0: the last frame was linear
+  Validity last_validity;            // of the last frame (sim/validity.hpp)
   RunStatistics stats;
   std::vector<std::string> warnings;  // runtime, deduplicated by the writer
   std::vector<CutEvent> cut_events;   // every cut so far

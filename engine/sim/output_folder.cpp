@@ -53,7 +53,7 @@ int remove_softcut_files(const fs::path& dir, std::initializer_list<std::string_
 
 int clear_earlier_outputs(const fs::path& dir) {
   int n = remove_softcut_files(dir, {"displacements.csv", "displacements.csv.partial", "tools.csv", "tools.csv.partial",
-                                     "summary.json", "series.pvd", "contact_sheet.png", "camera.json", "video.mp4",
+                                     "validity.csv", "validity.csv.partial", "summary.json", "series.pvd", "contact_sheet.png", "camera.json", "video.mp4",
                                      "render_record.bin", "render_record.bin.partial"},
                                {}, {});
   for (const auto& [sub, prefix, ext] : {std::tuple{"frames", "frame_", ".png"}, std::tuple{"frames", "depth_", ".png"},

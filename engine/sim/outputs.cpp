@@ -14,6 +14,7 @@
 #include "core/timer.hpp"
 #include "render/frame_writer.hpp"
 #include "sim/frame_scene.hpp"
+#include "sim/validity.hpp"
 
 namespace softcut::sim {
 
@@ -48,6 +49,7 @@ Recorder::Recorder(const Model& m, fs::path dir, OutputBudget* budget)
   if (m.spec.outputs.vtu) make_folder_below(dir_, "vtu", "outputs");
   if (m.spec.outputs.csv) csv_.emplace(dir_, "displacements.csv", "frame,time,node,ux,uy,uz\n", budget_);
   if (!m.spec.tools.empty()) tools_.emplace(dir_, "tools.csv", kToolLogHeader, budget_);
+  if (m.spec.outputs.csv) validity_.emplace(dir_, "validity.csv", kValidityLogHeader, budget_);
   if (wants_render_record(m)) record_ = std::make_unique<RenderRecordWriter>(dir_, render_record_meta(m), budget_);
   const LabelLegend legend = label_legend(m);
   if (m.spec.outputs.render.labels && legend.entries.size() > 255)
@@ -82,6 +84,7 @@ void Recorder::record(const Model& m, const State& s) {
     csv_->write(rows);
   }
   if (tools_) tools_->write(tool_log_rows(m, s));
+  if (validity_) validity_->write(validity_log_row(s));
   tool_stats_.add(m, s);
   if (m.spec.outputs.vtu && s.frame % m.spec.outputs.vtu_every == 0) {
     const std::uintmax_t bytes = write_vtu(dir_ / "vtu" / vtu_name(s.frame), m, s);
@@ -121,6 +124,7 @@ void Recorder::finish(const Model& m, const State& s, const RunResult& run_resul
   if (record_) record_->finish();
   if (csv_) csv_->finish();
   if (tools_) tools_->finish();
+  if (validity_) validity_->finish();
   if (m.spec.outputs.vtu) {
     // ParaView's collection of the frames, by pugixml (names and numbers escaped as XML needs).
     pugi::xml_document doc;

@@ -70,6 +70,7 @@ class Recorder {
   const OutputBudget* output_budget() const { return budget_; }
   const ToolStatistics& tool_statistics() const { return tool_stats_; }
   bool writes_tool_log() const { return tools_.has_value(); }
+  bool writes_validity_log() const { return validity_.has_value(); }
   bool writes_render_record() const { return record_ != nullptr; }
   bool writes_camera() const { return frame_outputs_ && frame_outputs_->submitted() > 0; }
 
@@ -77,6 +78,7 @@ class Recorder {
   std::filesystem::path dir_;
   OutputBudget* budget_ = nullptr;
   std::optional<StreamedFile> csv_, tools_;  // displacements.csv; tools.csv (when the scenario has tools)
+  std::optional<StreamedFile> validity_;     // validity.csv (with csv: the solve and validity per frame)
   ToolStatistics tool_stats_;
   RenderSettings spec_render_;
   Json legend_;                                      // of the label images

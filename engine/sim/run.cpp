@@ -11,6 +11,7 @@
 #include "sim/outputs.hpp"
 #include "sim/step.hpp"
 #include "sim/tool_report.hpp"
+#include "sim/validity.hpp"
 
 namespace softcut::sim {
 
@@ -68,6 +69,7 @@ RunResult run(const Model& m, State& s, Recorder& rec, const RunHooks& hooks) {
     mark_unreached_expectations(m, s);
     const bool complete = r.reason == ExitReason::completed || r.reason == ExitReason::stopped;
     for (std::string& w : idle_tool_warnings(m, s, complete)) s.warnings.push_back(std::move(w));
+    for (std::string& w : validity_warnings(m, s)) s.warnings.push_back(std::move(w));
     rec.finish(m, s, r);
   };
   try {

@@ -143,12 +143,17 @@ void step(const Model& m, State& s) {
     r.nonlinear_strain_max = std::max(r.nonlinear_strain_max, st.max_strain);
     r.inverted_max = std::max(r.inverted_max, st.inverted);
   }
-  const Validity v = measure_validity(m, s);
-  if (v.linear_rotation > r.linear_rotation_max) r.linear_rotation_max = v.linear_rotation, r.linear_rotation_frame = frame;
-  if (v.linear_strain > r.linear_strain_max) r.linear_strain_max = v.linear_strain, r.linear_strain_frame = frame;
-  if (v.condensed_rotation > r.condensed_rotation_max)
-    r.condensed_rotation_max = v.condensed_rotation, r.condensed_rotation_frame = frame;
-  r.condensed_rotation.push_back(v.condensed_rotation);
+  s.last_newton_iterations = st.newton ? st.newton_iterations : 0;
+  const Validity& v = s.last_validity = measure_validity(m, s);
+  const auto peak = [&](double value, double& max, int& at) {
+    if (value > max) max = value, at = frame;
+  };
+  peak(v.linear_rotation, r.linear_rotation_max, r.linear_rotation_frame);
+  peak(v.linear_strain, r.linear_strain_max, r.linear_strain_frame);
+  peak(v.condensed_rotation, r.condensed_rotation_max, r.condensed_rotation_frame);
+  peak(v.linear_rotation_p99, r.linear_rotation_p99_max, r.linear_rotation_p99_frame);
+  peak(v.linear_strain_p99, r.linear_strain_p99_max, r.linear_strain_p99_frame);
+  peak(v.condensed_rotation_p99, r.condensed_rotation_p99_max, r.condensed_rotation_p99_frame);
 }
 
 }  // namespace softcut::sim

@@ -8,6 +8,7 @@
 #include "core/threads.hpp"
 #include "render/frame_writer.hpp"
 #include "sim/outputs.hpp"
+#include "sim/validity.hpp"
 
 namespace softcut::sim {
 
@@ -169,6 +170,28 @@ std::string summary_json(const Model& m, const State& s, const RunResult& r, con
                   {"grasped_nodes", s.springs.nodes.size()}};
   j["cg"] = {{"iterations_mean", jms(double(st.cg_iterations_total) / nf)}, {"iterations_max", st.cg_iterations_max},
              {"iterations_total", st.cg_iterations_total}, {"max_relative_residual", jnum(st.max_relative_residual)}};
+  // Large deformation (DESIGN.md §1b): the Newton solves of nonlinear frames,
+  // and what the linear law and the condensed region carried (sim/validity).
+  constexpr double kDeg = 180.0 / M_PI;
+  j["newton"] = {{"frames", st.newton_frames}, {"iterations_total", st.newton_iterations_total},
+                 {"iterations_mean", jms(st.newton_frames ? double(st.newton_iterations_total) / st.newton_frames : 0.0)},
+                 {"iterations_max", st.newton_iterations_max}, {"projected_steps", st.projected_steps},
+                 {"rotation_max_deg", jms(st.nonlinear_rotation_max * kDeg)},
+                 {"strain_max", jnum(st.nonlinear_strain_max)}, {"inverted_tets_max", st.inverted_max}};
+  j["validity"] = {{"linear_rotation_max_deg", jms(st.linear_rotation_max * kDeg)},
+                   {"linear_rotation_frame", st.linear_rotation_frame},
+                   {"linear_rotation_p99_max_deg", jms(st.linear_rotation_p99_max * kDeg)},
+                   {"linear_rotation_p99_frame", st.linear_rotation_p99_frame},
+                   {"linear_strain_max", jnum(st.linear_strain_max)}, {"linear_strain_frame", st.linear_strain_frame},
+                   {"linear_strain_p99_max", jnum(st.linear_strain_p99_max)},
+                   {"linear_strain_p99_frame", st.linear_strain_p99_frame},
+                   {"condensed_rotation_max_deg", jms(st.condensed_rotation_max * kDeg)},
+                   {"condensed_rotation_frame", st.condensed_rotation_frame},
+                   {"condensed_rotation_p99_max_deg", jms(st.condensed_rotation_p99_max * kDeg)},
+                   {"condensed_rotation_p99_frame", st.condensed_rotation_p99_frame},
+                   {"log", rec && rec->writes_validity_log() ? Json("validity.csv") : Json(nullptr)},
+                   {"bounds", {{"linear_rotation_deg", kLinearRotationBoundDeg}, {"linear_strain", kLinearStrainBound},
+                               {"condensed_rotation_deg", kCondensedRotationBoundDeg}}}};
   // Frames written (with a writer that failed, fewer than were queued).
   const int rendered = !rec ? 0 : rec->frame_writer() ? rec->frame_writer()->stats().frames : rec->frames_rendered();
   Json& outputs = j["outputs"] = {

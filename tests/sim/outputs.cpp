@@ -215,7 +215,7 @@ TEST_SUITE("sim/outputs") {
       sim::Recorder rec(m, dir);
       sim::run(m, s, rec, {});
     }
-    CHECK(names(dir) == std::set<std::string>{"displacements.csv", "notes.txt", "summary.json"});
+    CHECK(names(dir) == std::set<std::string>{"displacements.csv", "notes.txt", "summary.json", "validity.csv"});
   }
 
   TEST_CASE("summary.json carries the schema fields") {
@@ -244,6 +244,10 @@ TEST_SUITE("sim/outputs") {
     CHECK(keys == std::vector<std::string>{"schema", "scenario", "versions", "command_line", "params", "mesh",
                                            "partition", "solver", "precompute_ms", "precompute_cache", "threads",
                                            "columns", "timeline", "run", "limits", "stage_ms", "springs", "cg",
-                                           "outputs", "tools", "cutting", "expectations", "warnings"});
+                                           "newton", "validity", "outputs", "tools", "cutting", "expectations",
+                                           "warnings"});
+    CHECK(j["newton"]["frames"] == 0);  // a linear run
+    CHECK(j["validity"]["linear_strain_max"].is_number());
+    CHECK(j["validity"]["bounds"]["condensed_rotation_deg"] == 10.0);
   }
 }
