@@ -13,6 +13,7 @@ int bench_gpu(const Args& args);       // gpu.cpp
 int bench_render(const Args& args);    // render.cpp
 int bench_springs(const Args& args);   // springs.cpp
 int bench_cut(const Args& args);       // cut.cpp
+int bench_nonlinear(const Args& args); // nonlinear.cpp
 
 // Add a line here when a bench/<name>.cpp lands.
 const std::vector<Benchmark>& benchmarks() {
@@ -24,6 +25,8 @@ const std::vector<Benchmark>& benchmarks() {
       {"springs", "implicit grasper springs per frame: explicit vs implicit with and without the compliance cache",
        bench_springs},
       {"cut", "cutting in the operational region: cut, rebuild and warm/cold frame vs region size (paper Fig. 8)", bench_cut},
+      {"nonlinear", "a corotational hybrid frame vs the same mixed model solved whole by Newton, and vs the linear frame",
+       bench_nonlinear},
   };
   return all;
 }

@@ -323,9 +323,9 @@ TEST_SUITE("app/cmd_check") {
     for (const auto& sc : report["scenarios"])
       for (const auto& w : sc["warnings"])
         codes[sc["name"].get<std::string>()].insert(std::string(softcut::warning_code(w.get<std::string>())));
-    for (const auto& [name, set] : codes)
-      for (const auto& code : set) {
-        CAPTURE(name);
+    for (const auto& entry : codes)
+      for (const auto& code : entry.second) {
+        CAPTURE(entry.first);
         CHECK((code == "linear_large_rotation" || code == "linear_large_strain" || code == "condensed_rotation"));
       }
     CHECK(codes["liver_retraction"].count("linear_large_rotation") == 1);

@@ -82,7 +82,7 @@ TEST_SUITE("bench/bench") {
   TEST_CASE("bench lists every benchmark and rejects an unknown one") {
     const auto help = run_cli("bench --help");
     CHECK(help.status == 0);
-    for (const char* name : {"hybrid", "assembly", "gpu", "render", "springs", "cut"})
+    for (const char* name : {"hybrid", "assembly", "gpu", "render", "springs", "cut", "nonlinear"})
       CHECK_MESSAGE(contains(help.output, std::string("  ") + name + " "), name);
     CHECK(run_cli("bench").status == 2);  // usage, nothing run
     check_rejected("nosuch", "unknown benchmark 'nosuch'");
@@ -324,6 +324,33 @@ TEST_SUITE("bench/bench") {
     // the kept factor's correction (the residual and the error above check it).
     CHECK(positive(j.at("sizes").at(1).at("default_backend").at("correction_rank").at("mean")));
     CHECK(j.at("sizes").at(1).at("operational_tets").get<double>() > j.at("sizes").at(0).at("operational_tets").get<double>());
+  }
+
+  TEST_CASE("bench nonlinear: the corotational hybrid frame equals the whole-mesh Newton solve, ratios reported") {
+    const fs::path dir = softcut::test::scratch_dir("bench_nonlinear");
+    const auto r = run_cli("bench nonlinear --cells 5 --op-tets 300 --frames 3 --json " + (dir / "n.json").string());
+    REQUIRE_MESSAGE(r.status == 0, r.output);
+    const Json j = read_json(dir / "n.json");
+    CHECK(j["model"] == "box_1500");
+    for (const char* series : {"corotational", "linear", "monolithic"}) {
+      CAPTURE(series);
+      CHECK(j[series]["frame_ms_median"].get<double>() > 0);
+      CHECK(j[series]["pcg_iterations_mean"].is_number());
+    }
+    CHECK(j["corotational"]["newton_iterations_mean"].get<double>() >= 1);
+    CHECK(j["monolithic"]["newton_iterations_mean"].get<double>() >= 1);
+    CHECK(j["linear"]["newton_iterations_mean"] == 0);
+    CHECK(j["relative_difference_vs_monolithic"].get<double>() < 1e-8);
+    CHECK(j["rotation_max_deg"].get<double>() > 5);  // the press turns tets well past the linear law's reach
+    CHECK(j["speedup_vs_monolithic"].get<double>() > 0);
+    CHECK(j["cost_vs_linear"].get<double>() > 0);
+    CHECK(contains(r.output, "| corotational |"));
+  }
+
+  TEST_CASE("bench nonlinear: bad options") {
+    CHECK(run_cli("bench nonlinear --help").status == 0);
+    check_rejected("nonlinear --cells 1", "--cells");
+    check_rejected("nonlinear --frames x", "--frames");
   }
 
   TEST_CASE("bench cut: bad options") {

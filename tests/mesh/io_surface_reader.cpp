@@ -34,9 +34,11 @@ double enclosed_volume(const SurfaceSoup& s) {
 TEST_SUITE("mesh/io/surface_reader") {
   TEST_CASE("every format reads the same closed surface") {
     const test::Soup c = test::cube(0.02);
-    for (const auto& [ext, bytes] : std::vector<std::pair<std::string, std::string>>{
+    for (const auto& input : std::vector<std::pair<std::string, std::string>>{
              {".off", test::off_text(c)}, {".obj", test::obj_text(c)}, {".stl", test::stl_ascii(c)},
              {".stl", test::stl_binary(c)}, {".ply", test::ply_ascii(c)}, {".ply", test::ply_binary(c)}}) {
+      const std::string& ext = input.first;  // not a structured binding: clang 14's CAPTURE cannot take one
+      const std::string& bytes = input.second;
       CAPTURE(ext);
       const SurfaceSoup s = read(ext, bytes);
       CHECK(s.triangles.rows() == 12);

@@ -103,9 +103,11 @@ TEST_SUITE("mesh/io/surface_scan") {
 
   TEST_CASE("what the scans pass, CGAL reads") {
     const test::Soup c = test::cube(2);
-    for (const auto& [ext, bytes] : std::vector<std::pair<std::string, std::string>>{
+    for (const auto& input : std::vector<std::pair<std::string, std::string>>{
              {".off", "# comment\nOFF # trailing\n\n8 12 0\n" + test::off_text(c).substr(11)},
              {".ply", test::ply_ascii(c)}, {".ply", test::ply_binary(c)}, {".stl", test::stl_binary(c)}}) {
+      const std::string& ext = input.first;  // not a structured binding: clang 14's CAPTURE cannot take one
+      const std::string& bytes = input.second;
       CAPTURE(ext);
       Diagnostics d;
       CHECK(read_surface_bytes("in" + ext, ext, bytes, d).triangles.rows() == 12);

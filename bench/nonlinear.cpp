@@ -1,0 +1,163 @@
+// softcut bench nonlinear: the cost of a large-deformation frame (DESIGN.md
+// §1b, docs/fidelity.md). One box scenario, compiled three ways and stepped
+// through the same frames, all measured in this run:
+//   corotational  the hybrid (backend direct: the operational factor kept),
+//                 its operational region corotational, solved by Newton
+//                 with that factor as the PCG preconditioner;
+//   linear        the same model with the linear law: today's frame;
+//   monolithic    the same mixed model solved on the whole mesh the same
+//                 way (backend monolithic: Newton, the whole-mesh factor kept
+//                 as the preconditioner): the baseline.
+// Ratios: speedup = monolithic / corotational, cost = corotational / linear
+// (median frame times). Issue #43 asks for speedup >= 10 and cost <= 5 on
+// box_111132 (42 x 21 x 21 cells, a 5,000-tet operational hemisphere).
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "app/options.hpp"
+#include "bench/bench.hpp"
+#include "core/atomic_file.hpp"
+#include "core/error.hpp"
+#include "core/json_text.hpp"
+#include "core/threads.hpp"
+#include "core/timer.hpp"
+#include "sim/cutting.hpp"
+#include "sim/model.hpp"
+#include "sim/step.hpp"
+
+namespace softcut::bench {
+
+namespace {
+
+using V = Eigen::Vector3d;
+
+// Box of 2n x n x n cells on 0.1 x 0.05 x 0.05 m (12 n^3 tets), x = 0 fixed,
+// operational hemisphere of about `op_tets` tets at the middle of the top
+// face; a patch of the top around it pressed down, growing over the frames.
+sim::ScenarioSpec box_spec(int n, int op_tets, int frames, const char* model, backend::Backend b) {
+  sim::ScenarioSpec s;
+  s.name = "bench_nonlinear";
+  s.mesh.generator = "box";
+  s.mesh.options = {{"max.x", 0.1}, {"max.y", 0.05}, {"max.z", 0.05}, {"nx", 2 * n}, {"ny", n}, {"nz", n}};
+  sim::MaterialAssignment mat;
+  mat.name = "tissue";
+  mat.young = 3e3;
+  mat.poisson = 0.45;
+  mat.model = fem::parse_material_model(model);
+  s.materials.push_back(mat);
+  // A hemisphere of volume op_tets / (12 n^3) of the box's.
+  const double box_volume = 0.1 * 0.05 * 0.05;
+  const double r = std::cbrt(3.0 * box_volume * op_tets / (12.0 * n * n * n) / (2.0 * M_PI));
+  s.operational.kind = sim::TetSelector::Kind::sphere;
+  s.operational.center = V(0.05, 0.025, 0.05);
+  s.operational.radius = r;
+  s.fixed = sim::NodeSelector::box(V(-1, -1, -1), V(0, 1, 1));
+  sim::LoadSpec press;
+  press.name = "press";
+  press.nodes = sim::NodeSelector::box(V(0.05 - r / 3, 0.025 - r / 3, 0.05), V(0.05 + r / 3, 0.025 + r / 3, 1));
+  press.direction = V(0, 0, -1);
+  press.magnitude = tools::Ramp::linear_ramp(0.0, 0.5, 0.0, 1.0);  // N, to t = 1 s
+  s.loads.push_back(press);
+  s.timeline.duration = 1.0;
+  s.timeline.fps = double(frames);
+  s.outputs.csv = false;
+  s.solver.backend = b;
+  return s;
+}
+
+struct Series {
+  std::string name;
+  double compile_ms = 0, median_ms = 0;
+  double newton_mean = 0, pcg_mean = 0;  // per frame
+  Eigen::MatrixX3d u;                   // the last frame
+  std::vector<char> solved;             // (nodes) the frame solved it (the hybrid leaves interior nodes)
+  double rotation_max = 0;              // rad, largest rotation of a nonlinear-law tet
+};
+
+Series run(const std::string& name, const sim::ScenarioSpec& spec) {
+  Series r{name};
+  Timer t;
+  const sim::Model m = sim::compile(spec);
+  r.compile_ms = t.ms();
+  sim::State s = sim::make_state(m);
+  std::vector<double> ms;
+  long long cg = 0;
+  while (s.frame < m.num_frames - 1) {
+    Timer f;
+    sim::step(m, s);
+    ms.push_back(f.ms());
+    cg += s.last_cg_iterations;
+    std::fprintf(stderr, "[bench nonlinear]   %s frame %d: %.1f ms, %d Newton steps, %d CG/PCG iterations\n",
+                 name.c_str(), s.frame, ms.back(), s.last_newton_iterations, s.last_cg_iterations);
+  }
+  ms.erase(ms.begin());  // frame 0 is unloaded
+  std::sort(ms.begin(), ms.end());
+  r.median_ms = ms[ms.size() / 2];
+  r.newton_mean = double(s.stats.newton_iterations_total) / std::max(1, s.stats.newton_frames);
+  r.pcg_mean = double(cg) / std::max(1, s.stats.frames);
+  r.u = s.displacement;
+  for (int v = 0; v < m.mesh.num_nodes(); ++v)
+    r.solved.push_back(sim::node_set(m, s, v) != hybrid::NodeSet::interior || m.solver->interior_valid());
+  r.rotation_max = s.stats.nonlinear_rotation_max;
+  return r;
+}
+
+}  // namespace
+
+int bench_nonlinear(const Args& args) {
+  app::Options o("softcut bench nonlinear",
+                 "Times a corotational hybrid frame against the same mixed model solved on the whole mesh by Newton "
+                 "with a kept factor (backend monolithic) and against the linear hybrid frame, on a box of 2n x n x n "
+                 "cells with an operational hemisphere pressed down (n = 21: box_111132, 5,000 operational tets; "
+                 "--quick: n = 8).");
+  bool quick = false;
+  int n = 21, op_tets = 5000, frames = 6;
+  std::string json_path;
+  o.app().add_flag("--quick", quick, "n = 8, 800 operational tets");
+  o.app().add_option("--cells", n, "n (the box has 2n x n x n cells, 12 n^3 tets)")->check(CLI::Range(2, 40));
+  o.app().add_option("--op-tets", op_tets, "operational tets (about)")->check(CLI::Range(50, 200000));
+  o.app().add_option("--frames", frames, "loaded frames (the load grows to 0.5 N over them)")->check(CLI::Range(2, 100));
+  o.app().add_option("--json", json_path, "also write the results as JSON")->type_name("FILE");
+  if (!o.parse(args)) return 0;
+  if (quick) n = 8, op_tets = 800;
+  const std::string name = cat("box_", 12 * n * n * n);
+  std::fprintf(stderr, "[bench nonlinear] %s, about %d operational tets, %d frames\n", name.c_str(), op_tets, frames);
+  const Series corot = run("corotational", box_spec(n, op_tets, frames, "corotational", backend::Backend::direct));
+  const Series linear = run("linear", box_spec(n, op_tets, frames, "linear", backend::Backend::direct));
+  const Series mono = run("monolithic", box_spec(n, op_tets, frames, "corotational", backend::Backend::monolithic));
+  // The same answer: the hybrid's surface and operational nodes against the whole-mesh solve.
+  double diff = 0;
+  for (int v = 0; v < corot.u.rows(); ++v)
+    if (corot.solved[size_t(v)]) diff = std::max(diff, (corot.u.row(v) - mono.u.row(v)).norm());
+  diff /= std::max(1e-300, mono.u.rowwise().norm().maxCoeff());
+  const double speedup = mono.median_ms / corot.median_ms, cost = corot.median_ms / linear.median_ms;
+  std::printf("%s (E = 3 kPa, nu = 0.45, x = 0 fixed), a patch of the operational hemisphere pressed to 0.5 N over "
+              "%d frames; median frame ms, Newton steps and CG/PCG iterations per frame\n\n"
+              "| series | compile ms | frame ms | Newton | CG/PCG |\n|---|---:|---:|---:|---:|\n",
+              name.c_str(), frames);
+  for (const Series* s : {&corot, &linear, &mono})
+    std::printf("| %s | %.0f | %.2f | %.1f | %.1f |\n", s->name.c_str(), s->compile_ms, s->median_ms, s->newton_mean,
+                s->pcg_mean);
+  std::printf("\nspeedup (monolithic / corotational) %.1f (goal >= 10), cost (corotational / linear) %.2f (goal <= "
+              "5), max |u - u_monolithic| / max |u| = %.1e; largest rotation of a corotational tet %.1f deg\n",
+              speedup, cost, diff, corot.rotation_max * 180 / M_PI);
+  if (!json_path.empty()) {
+    Json j = {{"benchmark", "nonlinear"}, {"quick", quick}, {"threads", thread_policy().threads},
+              {"model", name}, {"tets", 12 * n * n * n}, {"operational_tets_target", op_tets}, {"frames", frames}};
+    for (const Series* s : {&corot, &linear, &mono})
+      j[s->name] = {{"compile_ms", json_number(s->compile_ms, 6)}, {"frame_ms_median", json_number(s->median_ms, 6)},
+                    {"newton_iterations_mean", json_number(s->newton_mean, 6)},
+                    {"pcg_iterations_mean", json_number(s->pcg_mean, 6)}};
+    j["speedup_vs_monolithic"] = json_number(speedup, 6);
+    j["cost_vs_linear"] = json_number(cost, 6);
+    j["relative_difference_vs_monolithic"] = json_number(diff, 6);
+    j["rotation_max_deg"] = json_number(corot.rotation_max * 180 / M_PI, 6);
+    write_file_atomic(json_path, json_text(j));
+  }
+  return 0;
+}
+
+}  // namespace softcut::bench
