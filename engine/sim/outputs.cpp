@@ -121,11 +121,22 @@ void Recorder::finish(const Model& m, const State& s, const RunResult& run_resul
       render_failure = std::current_exception();
       if (r.reason != ExitReason::error) r.reason = ExitReason::error, r.message = e.what();
     }
-  if (record_) record_->finish();
-  if (csv_) csv_->finish();
-  if (tools_) tools_->finish();
-  if (validity_) validity_->finish();
-  if (m.spec.outputs.vtu) {
+  // A log that cannot be finished (a full disk, a file-size limit) makes the
+  // run an error, but the summary is still written, saying so.
+  std::exception_ptr write_failure;
+  const auto attempt = [&](auto&& finish_one) {
+    try {
+      finish_one();
+    } catch (const std::exception& e) {
+      if (!write_failure) write_failure = std::current_exception();
+      if (r.reason != ExitReason::error) r.reason = ExitReason::error, r.message = e.what();
+    }
+  };
+  if (record_) attempt([&] { record_->finish(); });
+  if (csv_) attempt([&] { csv_->finish(); });
+  if (tools_) attempt([&] { tools_->finish(); });
+  if (validity_) attempt([&] { validity_->finish(); });
+  if (m.spec.outputs.vtu) attempt([&] {
     // ParaView's collection of the frames, by pugixml (names and numbers escaped as XML needs).
     pugi::xml_document doc;
     pugi::xml_node decl = doc.append_child(pugi::node_declaration);
@@ -145,9 +156,10 @@ void Recorder::finish(const Model& m, const State& s, const RunResult& run_resul
     doc.save(pvd, "  ", pugi::format_indent, pugi::encoding_utf8);
     if (budget_) budget_->charge(pvd.str().size(), "series.pvd");
     write_file_atomic(dir_ / "series.pvd", pvd.str());
-  }
+  });
   write_file_atomic(dir_ / "summary.json", summary_json(m, s, r, this));
   if (render_failure) std::rethrow_exception(render_failure);
+  if (write_failure) std::rethrow_exception(write_failure);
 }
 
 }  // namespace softcut::sim

@@ -500,6 +500,11 @@ TEST_SUITE("hardening/command_escape") {
     CHECK(!fs::exists(root / "out" / "displacements.csv"));
     CHECK(count_files(root, ".tmp") == 0);
     CHECK(count_files(root, ".partial") == 0);
+    // The run's own summary says why (it was not written before: the log's
+    // failed finish ended the run's outputs).
+    const auto own = softcut::test::read_json(root / "out" / "summary.json");
+    CHECK(own["run"]["exit_reason"] == "error");
+    CHECK(contains(own["run"]["message"].get<std::string>(), "failed (disk full?)"));
     // A sweep's run: the same, and the run's summary (written by the sweep) says so.
     const auto sweep = run_softcut("sweep s.lua --grid f=0.01 --no-render --out sw", root,
                                    "export SOFTCUT_CACHE_DIR=" + (root / "cache").string() + "; ulimit -f 32;");
