@@ -36,8 +36,9 @@ using V = Eigen::Vector3d;
 
 // Box of 2n x n x n cells on 0.1 x 0.05 x 0.05 m (12 n^3 tets), x = 0 fixed,
 // operational hemisphere of about `op_tets` tets at the middle of the top
-// face; a patch of the top around it pressed down, growing over the frames.
-sim::ScenarioSpec box_spec(int n, int op_tets, int frames, const char* model, backend::Backend b) {
+// face; a patch of the top around it pressed down by `force` N at the last
+// frame, growing over the frames.
+sim::ScenarioSpec box_spec(int n, int op_tets, int frames, double force, const char* model, backend::Backend b) {
   sim::ScenarioSpec s;
   s.name = "bench_nonlinear";
   s.mesh.generator = "box";
@@ -59,7 +60,7 @@ sim::ScenarioSpec box_spec(int n, int op_tets, int frames, const char* model, ba
   press.name = "press";
   press.nodes = sim::NodeSelector::box(V(0.05 - r / 3, 0.025 - r / 3, 0.05), V(0.05 + r / 3, 0.025 + r / 3, 1));
   press.direction = V(0, 0, -1);
-  press.magnitude = tools::Ramp::linear_ramp(0.0, 0.5, 0.0, 1.0);  // N, to t = 1 s
+  press.magnitude = tools::Ramp::linear_ramp(0.0, force, 0.0, 1.0);  // N, to t = 1 s
   s.loads.push_back(press);
   s.timeline.duration = 1.0;
   s.timeline.fps = double(frames);
@@ -115,29 +116,32 @@ int bench_nonlinear(const Args& args) {
                  "--quick: n = 8).");
   bool quick = false;
   int n = 21, op_tets = 5000, frames = 6;
+  double force = 0.1;
   std::string json_path;
   o.app().add_flag("--quick", quick, "n = 8, 800 operational tets");
   o.app().add_option("--cells", n, "n (the box has 2n x n x n cells, 12 n^3 tets)")->check(CLI::Range(2, 40));
   o.app().add_option("--op-tets", op_tets, "operational tets (about)")->check(CLI::Range(50, 200000));
-  o.app().add_option("--frames", frames, "loaded frames (the load grows to 0.5 N over them)")->check(CLI::Range(2, 100));
+  o.app().add_option("--frames", frames, "loaded frames (the load grows over them)")->check(CLI::Range(2, 100));
+  o.app().add_option("--force", force, "the press at the last frame, N (default 0.1: its tets turn by about 30 deg)")
+      ->check(CLI::Range(1e-6, 10.0));
   o.app().add_option("--json", json_path, "also write the results as JSON")->type_name("FILE");
   if (!o.parse(args)) return 0;
   if (quick) n = 8, op_tets = 800;
   const std::string name = cat("box_", 12 * n * n * n);
   std::fprintf(stderr, "[bench nonlinear] %s, about %d operational tets, %d frames\n", name.c_str(), op_tets, frames);
-  const Series corot = run("corotational", box_spec(n, op_tets, frames, "corotational", backend::Backend::direct));
-  const Series linear = run("linear", box_spec(n, op_tets, frames, "linear", backend::Backend::direct));
-  const Series mono = run("monolithic", box_spec(n, op_tets, frames, "corotational", backend::Backend::monolithic));
+  const Series corot = run("corotational", box_spec(n, op_tets, frames, force, "corotational", backend::Backend::direct));
+  const Series linear = run("linear", box_spec(n, op_tets, frames, force, "linear", backend::Backend::direct));
+  const Series mono = run("monolithic", box_spec(n, op_tets, frames, force, "corotational", backend::Backend::monolithic));
   // The same answer: the hybrid's surface and operational nodes against the whole-mesh solve.
   double diff = 0;
   for (int v = 0; v < corot.u.rows(); ++v)
     if (corot.solved[size_t(v)]) diff = std::max(diff, (corot.u.row(v) - mono.u.row(v)).norm());
   diff /= std::max(1e-300, mono.u.rowwise().norm().maxCoeff());
   const double speedup = mono.median_ms / corot.median_ms, cost = corot.median_ms / linear.median_ms;
-  std::printf("%s (E = 3 kPa, nu = 0.45, x = 0 fixed), a patch of the operational hemisphere pressed to 0.5 N over "
+  std::printf("%s (E = 3 kPa, nu = 0.45, x = 0 fixed), a patch of the operational hemisphere pressed to %g N over "
               "%d frames; median frame ms, Newton steps and CG/PCG iterations per frame\n\n"
               "| series | compile ms | frame ms | Newton | CG/PCG |\n|---|---:|---:|---:|---:|\n",
-              name.c_str(), frames);
+              name.c_str(), force, frames);
   for (const Series* s : {&corot, &linear, &mono})
     std::printf("| %s | %.0f | %.2f | %.1f | %.1f |\n", s->name.c_str(), s->compile_ms, s->median_ms, s->newton_mean,
                 s->pcg_mean);
@@ -146,7 +150,8 @@ int bench_nonlinear(const Args& args) {
               speedup, cost, diff, corot.rotation_max * 180 / M_PI);
   if (!json_path.empty()) {
     Json j = {{"benchmark", "nonlinear"}, {"quick", quick}, {"threads", thread_policy().threads},
-              {"model", name}, {"tets", 12 * n * n * n}, {"operational_tets_target", op_tets}, {"frames", frames}};
+              {"model", name}, {"tets", 12 * n * n * n}, {"operational_tets_target", op_tets}, {"frames", frames},
+              {"force_n", force}};
     for (const Series* s : {&corot, &linear, &mono})
       j[s->name] = {{"compile_ms", json_number(s->compile_ms, 6)}, {"frame_ms_median", json_number(s->median_ms, 6)},
                     {"newton_iterations_mean", json_number(s->newton_mean, 6)},

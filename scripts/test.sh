@@ -42,7 +42,10 @@ t1=$(stamp)
 # of dlopen'ed libraries on glibc 2.36 (Mesa's, once EGL threads have run) and
 # crashes in ScanRangeForPointers ("Tracer caught signal 11") after a passing
 # test; without DTLS tracking it still finds leaks (heap, stacks, static TLS).
-export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:strict_string_checks=1:detect_stack_use_after_return=1:check_initialization_order=1:intercept_tls_get_addr=0"
+# No detect_stack_use_after_return here (scripts/sanitize.sh keeps it): its
+# fake stacks made the suite about 40 % slower (bench springs 126 s -> 76 s)
+# and CI past its time budget; use-after-scope, on by default, stays.
+export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:strict_string_checks=1:check_initialization_order=1:intercept_tls_get_addr=0"
 export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1"
 export LSAN_OPTIONS="suppressions=$PWD/tests/hardening/lsan.supp:print_suppressions=0"
 rc=0

@@ -40,8 +40,6 @@ double evaluate(const NonlinearTets& set, const Eigen::VectorXd& x, const Eigen:
   const int n = set.size();
   work.D.resize(size_t(n));
   work.x.resize(size_t(n));
-  work.max_rotation = work.max_strain = 0;
-  work.inverted = 0;
   work.force_unit = 0;
   double energy = 0;
   Vec12 f, uf;
@@ -74,15 +72,22 @@ double evaluate(const NonlinearTets& set, const Eigen::VectorXd& x, const Eigen:
       for (int k = 0; k < 4; ++k)
         if (unk[size_t(k)] < 0) D.middleRows<3>(3 * k).setZero(), D.middleCols<3>(3 * k).setZero();
     }
-    if (r.model != MaterialModel::linear) {
-      const Eigen::Matrix3d F = deformation_gradient(r, xe);
-      const Deformation def = deformation(F);
-      work.max_rotation = std::max(work.max_rotation, def.rotation);
-      work.max_strain = std::max(work.max_strain, def.strain);
-      work.inverted += F.determinant() <= 0;
-    }
   }
   return energy;
+}
+
+void measure_deformation(const NonlinearTets& set, NonlinearWork& work) {
+  work.max_rotation = work.max_strain = 0;
+  work.inverted = 0;
+  for (int e = 0; e < set.size() && size_t(e) < work.x.size(); ++e) {
+    const TetRest& r = set.rest(e);
+    if (r.model == MaterialModel::linear) continue;
+    const Eigen::Matrix3d F = deformation_gradient(r, work.x[size_t(e)]);
+    const Deformation def = deformation(F);
+    work.max_rotation = std::max(work.max_rotation, def.rotation);
+    work.max_strain = std::max(work.max_strain, def.strain);
+    work.inverted += F.determinant() <= 0;
+  }
 }
 
 void project(const NonlinearTets& set, NonlinearWork& work) {

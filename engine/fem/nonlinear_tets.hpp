@@ -60,8 +60,9 @@ class NonlinearTets {
 struct NonlinearWork {
   std::vector<Mat12> D;        // (size()) K_T,e - K_e, rows and columns of fixed corners zero
   std::vector<TetCorners> x;   // (size()) corner positions of the last evaluate(), m
-  // Of the last evaluate(): the largest rotation and strain of any of these tets
-  // (fem::deformation), and how many are inverted (det F <= 0).
+  // Of measure_deformation() (at the last evaluate()'s positions): the
+  // largest rotation and strain of any of these tets (fem::deformation), and
+  // how many are inverted (det F <= 0).
   double max_rotation = 0, max_strain = 0;
   int inverted = 0;
   // sum_e mu_e V_e^(2/3), N: the force a unit strain of the tets makes, for
@@ -77,6 +78,9 @@ struct NonlinearWork {
 // gradient is d (J).
 double evaluate(const NonlinearTets& set, const Eigen::VectorXd& x, const Eigen::MatrixX3d& prescribed,
                 Eigen::VectorXd& d, NonlinearWork& work, bool tangent = true);
+// work.max_rotation, max_strain and inverted at the positions of the last
+// evaluate() (once per solve: a polar decomposition and an eigensolve a tet).
+void measure_deformation(const NonlinearTets& set, NonlinearWork& work);
 // Replaces work.D by the projected (positive semidefinite) element tangents
 // at the positions of the last evaluate().
 void project(const NonlinearTets& set, NonlinearWork& work);

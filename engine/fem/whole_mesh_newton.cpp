@@ -50,7 +50,9 @@ solve::NewtonReport solve_nonlinear(const NonlinearSolve& s, const Eigen::Matrix
     spring_correction(springs, map, z);
   };
   p.scale = [&](const Eigen::VectorXd&) { return scale; };
-  return solve::newton(p, x, s.options, what);
+  const solve::NewtonReport rep = solve::newton(p, x, s.options, what);
+  measure_deformation(*s.set, work);
+  return rep;
 }
 
 }  // namespace softcut::fem

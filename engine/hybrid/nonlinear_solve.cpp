@@ -43,6 +43,7 @@ NonlinearReport solve_nonlinear(const OperationalSystem& sys, const Eigen::Vecto
   };
   p.scale = [&](const Eigen::VectorXd&) { return scale; };
   rep.newton = solve::newton(p, x, frame.newton, what);
+  fem::measure_deformation(set, work);
   rep.max_rotation = work.max_rotation;
   rep.max_strain = work.max_strain;
   rep.inverted = work.inverted;
