@@ -38,8 +38,8 @@ Validity measure_validity(const Model& m, const State& s) {
     const bool linear_law = mat[size_t(t)].model == fem::MaterialModel::linear || (!operational && !whole_body);
     if (!linear_law) continue;  // its own law carries its rotation
     const bool condensed = !operational && !monolithic;
-    bool solved = true;
-    for (int k = 0; k < 4 && condensed && !interior; ++k) {
+    bool solved = true;  // a condensed tet with an interior node the frame did not solve is not measured
+    for (int k = 0; k < 4 && condensed && !interior && solved; ++k) {
       const int n = mesh.tets(t, k);
       solved = !(n < m.mesh.num_nodes() && m.partition.node_set[size_t(n)] == hybrid::NodeSet::interior);
     }

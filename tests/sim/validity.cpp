@@ -53,6 +53,13 @@ TEST_SUITE("sim/validity") {
           CHECK(v.condensed_rotation == 0);  // no condensed region
         } else {
           CHECK(v.condensed_rotation == doctest::Approx(theta).epsilon(1e-10));
+          // Interior nodes the frame left unsolved (zero, or anything) are not read.
+          REQUIRE_FALSE(m.solver->interior_valid());
+          int interior = 0;
+          for (int n = 0; n < m.mesh.num_nodes(); ++n)
+            if (m.partition.node_set[size_t(n)] == hybrid::NodeSet::interior) s.displacement.row(n).setConstant(1.0), ++interior;
+          REQUIRE(interior > 0);
+          CHECK(sim::measure_validity(m, s).condensed_rotation == doctest::Approx(theta).epsilon(1e-10));
         }
       }
     }
