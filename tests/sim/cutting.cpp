@@ -36,19 +36,7 @@ sim::ScenarioSpec bar_cut_spec(const std::string& name, double cut_pressure, con
   top.direction = V(0, 0, -1);
   top.magnitude = tools::Ramp::linear_ramp(0.0, 0.01, 0.0, 0.2);
   s.loads.push_back(top);
-  tools::ToolSpec blade;
-  blade.name = "blade";
-  blade.kind = tools::ToolSpec::Kind::scalpel;
-  blade.blade_length = 0.04;
-  blade.blade_axis = V(0, 1, 0);
-  blade.radius = 0.0015;
-  blade.cut_pressure = cut_pressure;
-  blade.direction = V(0, 0, -1);
-  blade.force = tools::Ramp::linear_ramp(0.0, 0.2, 0.0, 0.2);  // N: 0.2 N = 1667 Pa over 40 mm x 3 mm
-  blade.path.kind = tools::Path::Kind::polyline;
-  blade.path.times = {0.0, 0.3, 1.0};
-  blade.path.points = {V(0.0512, 0.01, 0.0205), V(0.0512, 0.01, 0.0205), V(0.0512, 0.01, -0.004)};
-  s.tools.push_back(blade);
+  s.tools.push_back(softcut::test::through_cut_blade(cut_pressure));
   s.timeline.duration = 1.0;
   s.timeline.fps = 20.0;
   s.outputs.dir = softcut::test::scratch_dir(name);

@@ -107,6 +107,25 @@ inline tools::ToolSpec cutting_blade(const Eigen::Vector3d& axis, const Eigen::V
   return blade;
 }
 
+// A scalpel with a 40 mm edge along y (wider than a 20 mm bar) that presses
+// the top of the bar at x = 0.0512 with a force growing to 0.2 N over 0.2 s
+// (1667 Pa over 40 mm x 3 mm), waits, and goes down through it by t = 1 s.
+inline tools::ToolSpec through_cut_blade(double cut_pressure) {
+  using V = Eigen::Vector3d;
+  tools::ToolSpec blade;
+  blade.name = "blade";
+  blade.kind = tools::ToolSpec::Kind::scalpel;
+  blade.blade_length = 0.04;
+  blade.blade_axis = V(0, 1, 0);
+  blade.radius = 0.0015;
+  blade.cut_pressure = cut_pressure;
+  blade.direction = V(0, 0, -1);
+  blade.force = tools::Ramp::linear_ramp(0.0, 0.2, 0.0, 0.2);
+  blade.path = tools::Path::polyline({0.0, 0.3, 1.0}, {V(0.0512, 0.01, 0.0205), V(0.0512, 0.01, 0.0205),
+                                                        V(0.0512, 0.01, -0.004)});
+  return blade;
+}
+
 // W (3p x 3m) of a grasper's grip: row block p holds point p's barycentric
 // weights on the columns of its nodes' DOFs, the nodes ordered as ts.nodes.
 inline Eigen::MatrixXd grip_weights(const tools::ToolState& ts) {

@@ -122,18 +122,7 @@ TEST_SUITE("sim/step_nonlinear") {
     top.direction = V(0, 0, -1);
     top.magnitude = tools::Ramp::linear_ramp(0.0, 0.05, 0.0, 0.2);
     spec.loads.push_back(top);
-    tools::ToolSpec blade;
-    blade.name = "blade";
-    blade.kind = tools::ToolSpec::Kind::scalpel;
-    blade.blade_length = 0.04;
-    blade.blade_axis = V(0, 1, 0);
-    blade.radius = 0.0015;
-    blade.cut_pressure = 1000;
-    blade.direction = V(0, 0, -1);
-    blade.force = tools::Ramp::linear_ramp(0.0, 0.2, 0.0, 0.2);
-    blade.path = tools::Path::polyline({0.0, 0.3, 1.0}, {V(0.0512, 0.01, 0.0205), V(0.0512, 0.01, 0.0205),
-                                                          V(0.0512, 0.01, -0.004)});
-    spec.tools.push_back(blade);
+    spec.tools.push_back(softcut::test::through_cut_blade(1000));
     spec.timeline.duration = 1.0;
     spec.timeline.fps = 10.0;
     spec.outputs.dir = softcut::test::scratch_dir("nonlinear_cut");
