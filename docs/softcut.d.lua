@@ -257,7 +257,7 @@ function Scenario:camera(args) end
 ---@class Scenario_solver_args
 ---@field tolerance? number relative CG residual
 ---@field max_iterations? integer CG iteration cap (0: automatic)
----@field backend? string operational solver: auto (direct: the fastest exact solver measured), cpu (the paper's CG), gpu (CG in compute shaders, also on llvmpipe), direct (CHOLMOD, factor kept between frames), monolithic (whole mesh, no condensation: a reference)
+---@field backend? string operational solver: auto (direct: the fastest exact solver measured), cpu (the paper's CG), gpu (CG in compute shaders, also on llvmpipe), direct (CHOLMOD, factor kept between frames), monolithic (whole mesh, no condensation: a reference). A nonlinear frame (a nonlinear law, a prescribed motion) is solved by Newton on every backend: its steps' PCG is preconditioned by the kept factor (direct, monolithic) or by block Jacobi on the CPU (cpu, gpu)
 ---@field gpu_fp64? boolean gpu: fp64 kernels instead of fp32 with fp64 refinement
 ---@field mode? string nonoperational data: auto (product or factor, by memory and cost), dense (the paper's blocks, O(surface^2) memory), product (K*^-1 P* dense, columns of loaded nodes on demand), factor (a K22 solve per full-surface frame)
 ---@field newton_tolerance? number nonlinear frames: Newton's relative residual

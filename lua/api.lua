@@ -273,7 +273,9 @@ api.functions = {
       F("max_iterations", "integer", "CG iteration cap (0: automatic)", { ge = 0, default = 0 }),
       F("backend", "string", "operational solver: auto (direct: the fastest exact solver measured), cpu (the paper's "
         .. "CG), gpu (CG in compute shaders, also on llvmpipe), direct (CHOLMOD, factor kept between frames), "
-        .. "monolithic (whole mesh, no condensation: a reference)",
+        .. "monolithic (whole mesh, no condensation: a reference). A nonlinear frame (a nonlinear law, a prescribed "
+        .. "motion) is solved by Newton on every backend: its steps' PCG is preconditioned by the kept factor "
+        .. "(direct, monolithic) or by block Jacobi on the CPU (cpu, gpu)",
         { values = { "auto", "cpu", "gpu", "direct", "monolithic" }, default = "auto" }),
       F("gpu_fp64", "boolean", "gpu: fp64 kernels instead of fp32 with fp64 refinement", { default = false }),
       F("mode", "string", "nonoperational data: auto (product or factor, by memory and cost), dense (the paper's "

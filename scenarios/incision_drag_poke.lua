@@ -15,6 +15,7 @@ local P = softcut.params{
   poke = 0.25,          -- N, probe force on the other lip
   tension = -0.04,      -- initial in-plane strain of the outer layer (negative: under tension when held)
   layer = 0.01,         -- m, thickness of the tensioned layer
+  model = "neohookean", -- the dragged lip stretches by half and turns by 50 deg: "linear" (the paper's law) smears it
 }
 
 local s = softcut.scenario{
@@ -31,8 +32,8 @@ local s = softcut.scenario{
 local xc, yc = 0.03, 0.0
 local m = s:mesh{ file = "meshes/liver.vtu" }  -- 1260 nodes, 5979 tets; labels 1 (liver), 2 (lesion)
 local top = m.max[3]  -- the dome's top, m
-s:material{ tissue = "liver" }
-s:material{ label = 2, young = 3e4, poisson = 0.45 }  -- the lesion: stiffer
+s:material{ tissue = "liver", model = P.model }
+s:material{ label = 2, young = 3e4, poisson = 0.45, model = P.model }  -- the lesion: stiffer
 -- The outer layer of the dome would shrink by 4 % in its plane if freed (with
 -- the vertical strain that leaves its top free of traction); the tissue below
 -- holds it, so it is under tension and an incision gapes.

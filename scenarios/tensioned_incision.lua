@@ -12,6 +12,7 @@ local P = softcut.params{
   tension = -0.04,      -- initial in-plane strain (negative: under tension when held)
   press = 0.6,          -- N, blade force at full ramp
   cut_pressure = 6e3,   -- Pa
+  model = "corotational",  -- the lips turn by 5 deg as they part
 }
 
 local s = softcut.scenario{
@@ -21,7 +22,7 @@ local s = softcut.scenario{
 local w, d, h = 0.06, 0.04, 0.006
 s:mesh{ generate = "box", options = { min = { 0, 0, 0 }, max = { w, d, h }, nx = 12, ny = 8, nz = 3 } }
 local E, nu = 2e4, 0.45  -- dermis-like at small strain
-s:material{ young = E, poisson = nu }
+s:material{ young = E, poisson = nu, model = P.model }
 s:prestress{ tensor = { xx = P.tension, yy = P.tension, zz = -2 * nu / (1 - nu) * P.tension } }
 local frame = softcut.select.box{ min = { -1, -1, -1 }, max = { 0, 1, 1 } } + softcut.select.box{ min = { w, -1, -1 }, max = { 1, 1, 1 } }
             + softcut.select.box{ min = { -1, -1, -1 }, max = { 1, 0, 1 } } + softcut.select.box{ min = { -1, d, -1 }, max = { 1, 1, 1 } }

@@ -7,6 +7,7 @@
 local P = softcut.params{
   push = 0.05,          -- N, probe force on the right piece after the cut
   cut_pressure = 1e3,   -- Pa
+  model = "corotational",  -- each piece bends as a cantilever, its root turning by 20 deg
 }
 
 local s = softcut.scenario{
@@ -14,11 +15,14 @@ local s = softcut.scenario{
   description = "a bar held at both ends cut through; the right piece then pushed (two pieces, decoupled)",
 }
 s:mesh{ generate = "box", options = { min = { 0, 0, 0 }, max = { 0.1, 0.02, 0.02 }, nx = 10, ny = 4, nz = 4 } }
-s:material{ young = 5e3, poisson = 0.4 }
+s:material{ young = 5e3, poisson = 0.4, model = P.model }
 local left = softcut.select.box{ min = { -1, -1, -1 }, max = { 0, 1, 1 } }
 local right = softcut.select.box{ min = { 0.1, -1, -1 }, max = { 1, 1, 1 } }
 s:fix{ nodes = left + right }
-s:operational{ box = { min = { 0.03, -1, -1 }, max = { 0.07, 1, 1 } } }
+-- Operational but for the held ends: a cut piece bends as a cantilever from
+-- its held end, and a condensed (linear) root would turn by 20 deg, past the
+-- 10 deg softcut warns at (condensed_rotation, docs/fidelity.md).
+s:operational{ box = { min = { 0.003, -1, -1 }, max = { 0.097, 1, 1 } } }
 
 -- Blade: a 40 mm edge along y (wider than the bar), pressing the top at
 -- x = 51.2 mm, then down through the 20 mm section.

@@ -225,6 +225,7 @@ class HybridSolver final : public Solver {
     if (rep.newton) {
       stats.newton_iterations = rep.nonlinear.newton.iterations;
       stats.projected_steps = rep.nonlinear.newton.projected_steps;
+      stats.at_floor = rep.nonlinear.newton.at_floor;
       stats.max_rotation = rep.nonlinear.max_rotation;
       stats.max_strain = rep.nonlinear.max_strain;
       stats.inverted = rep.nonlinear.inverted;

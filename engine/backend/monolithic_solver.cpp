@@ -130,6 +130,7 @@ class MonolithicSolver final : public Solver {
       stats.newton = true;
       stats.newton_iterations = rep.iterations;
       stats.projected_steps = rep.projected_steps;
+      stats.at_floor = rep.at_floor;
       stats.max_rotation = rs.work.max_rotation;
       stats.max_strain = rs.work.max_strain;
       stats.inverted = rs.work.inverted;

@@ -73,12 +73,6 @@ std::unique_ptr<Solver> make_solver(const mesh::TetMesh& m, const std::vector<fe
   if (spec.gpu_fp64 && choice.backend != Backend::gpu)
     diag.warn("solver: gpu_fp64 ignored: the operational backend is ", to_string(choice.backend), " (", choice.reason,
               ")");
-  if (choice.backend == Backend::cpu || choice.backend == Backend::gpu)
-    for (int t : partition.operational_tets)
-      if (tet_material[size_t(t)].model != fem::MaterialModel::linear)
-        fail("solver: operational tet ", t, " has the ", fem::to_string(tet_material[size_t(t)].model),
-             " law, whose Newton iteration is preconditioned by the kept factor of the direct solver; backend '",
-             to_string(choice.backend), "' keeps none: use backend \"auto\" (or \"direct\", \"monolithic\")");
   if (choice.backend == Backend::monolithic)
     return make_monolithic_solver(m, tet_material, partition, std::move(choice), spec);
   return make_hybrid_solver(m, tet_material, partition, spec, need_interior, std::move(choice), resources.context,

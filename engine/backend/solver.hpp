@@ -86,6 +86,7 @@ struct SolveStats {
   bool newton = false;
   int newton_iterations = 0;
   int projected_steps = 0;        // steps that needed projected element tangents
+  bool at_floor = false;          // Newton ended at its residual's rounding floor (solve/newton.hpp)
   double max_rotation = 0;        // rad, largest rotation of a nonlinear tet
   double max_strain = 0;          // largest |principal stretch - 1| of a nonlinear tet
   int inverted = 0;               // nonlinear tets inverted at the solution

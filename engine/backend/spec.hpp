@@ -16,7 +16,10 @@ namespace softcut::backend {
 // CG, the paper's solver), gpu (compute-shader CG in the application's EGL
 // context, also on llvmpipe; an error without a context), direct (CHOLMOD,
 // what automatic picks on a CPU), monolithic (no hybrid: whole-mesh CHOLMOD
-// reference, for checks). Parsed once, where the text enters (Lua, CLI).
+// reference, for checks). Nonlinear frames go through Newton on each: PCG
+// preconditioned by the kept factor (direct, monolithic) or, on the CG
+// backends, block Jacobi on the CPU (hybrid/nonlinear_solve). Parsed once,
+// where the text enters (Lua, CLI).
 enum class Backend { automatic, cpu, gpu, direct, monolithic };
 // The names users write: "auto", "cpu", "gpu", "direct", "monolithic".
 const char* to_string(Backend b);

@@ -35,6 +35,14 @@ double add_spring_forces(const GripSprings& s, const SpringMap& map, const Eigen
   return energy;
 }
 
+void apply_spring_stiffness(const GripSprings& s, const SpringMap& map, const Eigen::VectorXd& v, Eigen::VectorXd& y) {
+  for (const auto& p : s.points) {
+    Eigen::Vector3d up = Eigen::Vector3d::Zero();
+    for (const auto& [n, w] : p.nodes) up += w * v.segment<3>(3 * Eigen::Index(map.unknown[size_t(n)]));
+    for (const auto& [n, w] : p.nodes) y.segment<3>(3 * Eigen::Index(map.unknown[size_t(n)])) += w * p.k * up;
+  }
+}
+
 std::vector<Eigen::Vector3d> spring_point_forces(const GripSprings& s, const SpringMap& map, const Eigen::VectorXd& x) {
   std::vector<Eigen::Vector3d> f;
   for (const auto& p : s.points) f.push_back(p.k * (p.target - point_displacement(p, map, x)));

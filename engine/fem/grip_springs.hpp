@@ -48,6 +48,8 @@ void check_springs(const GripSprings& s, const SpringMap& map, const char* what)
 // r += W^T k (c - W u) on the unknowns (x: the unknowns' values); returns the
 // springs' energy 1/2 sum k |c - u_p|^2 (J).
 double add_spring_forces(const GripSprings& s, const SpringMap& map, const Eigen::VectorXd& x, Eigen::VectorXd& r);
+// y += N^T W^T k W N v: the springs' part of the tangent times v.
+void apply_spring_stiffness(const GripSprings& s, const SpringMap& map, const Eigen::VectorXd& v, Eigen::VectorXd& y);
 // z -= R W^T A^-1 W N z: turns z = P^-1 r into (P + springs)^-1 r.
 void spring_correction(const GripSprings& s, const SpringMap& map, Eigen::VectorXd& z);
 // Each point's spring force f_p at the unknowns' values x (N).

@@ -1,5 +1,7 @@
 #include "hybrid/nonlinear_solve.hpp"
 
+#include <algorithm>
+
 namespace softcut::hybrid {
 
 bool needs_nonlinear_solve(const OperationalSystem& sys, const NonlinearFrame& frame) {
@@ -22,7 +24,7 @@ NonlinearReport solve_nonlinear(const OperationalSystem& sys, const Eigen::Vecto
                      "is not an unknown of the operational system (a nonoperational or fixed node): with a nonlinear "
                      "model a grasper must hold operational nodes; enlarge s:operational{} to take in the grasp");
   double scale = 0;
-  Eigen::VectorXd Ax(n);
+  Eigen::VectorXd Ax(n), Ax_base(n);
   solve::NewtonProblem p;
   p.residual = [&](const Eigen::VectorXd& at, Eigen::VectorXd& r) {
     Eigen::VectorXd d = Eigen::VectorXd::Zero(n);
@@ -37,12 +39,25 @@ NonlinearReport solve_nonlinear(const OperationalSystem& sys, const Eigen::Vecto
   };
   p.project = [&] { fem::project(set, work); };
   p.tangent_difference = [&](const Eigen::VectorXd& v, Eigen::VectorXd& y) { fem::apply_difference(set, work, v, y); };
-  p.precondition = [&](const Eigen::VectorXd& r, Eigen::VectorXd& z) {
-    solver.precondition(sys, r, z);
-    fem::spring_correction(springs, map, z);
-  };
+  if (solver.keeps_factor()) {  // P^-1 exactly, the springs by Woodbury
+    p.precondition = [&](const Eigen::VectorXd& r, Eigen::VectorXd& z) {
+      solver.precondition(sys, r, z);
+      fem::spring_correction(springs, map, z);
+    };
+  } else {  // block Jacobi (the CG backends): P p formed each PCG iteration
+    p.precondition = [&](const Eigen::VectorXd& r, Eigen::VectorXd& z) { solver.precondition(sys, r, z); };
+    p.apply_base = [&](const Eigen::VectorXd& v, Eigen::VectorXd& y) {
+      sys.apply(v, Ax_base);
+      y += Ax_base;
+      fem::apply_spring_stiffness(springs, map, v, y);
+    };
+  }
   p.scale = [&](const Eigen::VectorXd&) { return scale; };
-  rep.newton = solve::newton(p, x, frame.newton, what);
+  solve::NewtonOptions options = frame.newton;
+  // Block Jacobi needs more PCG iterations per step than the factor: up to
+  // the system's size (where CG in exact arithmetic is done).
+  if (!solver.keeps_factor()) options.max_cg_iterations = std::max(options.max_cg_iterations, int(n));
+  rep.newton = solve::newton(p, x, options, what);
   fem::measure_deformation(set, work);
   rep.max_rotation = work.max_rotation;
   rep.max_strain = work.max_strain;

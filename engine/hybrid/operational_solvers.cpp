@@ -197,10 +197,15 @@ void CholmodSolver::dense_product(const Eigen::VectorXd& b, Eigen::VectorXd& x) 
 }
 
 void OperationalSolver::precondition(const OperationalSystem& sys, const Eigen::VectorXd& r, Eigen::VectorXd& z) {
-  (void)sys, (void)r, (void)z;
-  fail("the operational solver '", name(), "' keeps no factor to precondition a nonlinear frame with; a nonlinear ",
-       "material model (corotational, neohookean) or a prescribed motion needs the direct solver: backend \"auto\" ",
-       "or \"direct\"");
+  if (node_blocks_generation_ != sys.generation) {
+    node_blocks_ = solve::BlockJacobi(sys.K);
+    const int n1 = sys.interface_offset();
+    if (sys.size() > n1) node_blocks_.add_dense(*sys.K_prime, n1);
+    node_blocks_.finalize();
+    node_blocks_generation_ = sys.generation;
+  }
+  z.resize(r.size());
+  node_blocks_.apply(r, z);
 }
 
 void CholmodSolver::precondition(const OperationalSystem& sys, const Eigen::VectorXd& r, Eigen::VectorXd& z) {

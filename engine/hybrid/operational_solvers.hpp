@@ -34,14 +34,20 @@ class OperationalSolver {
   virtual ~OperationalSolver() = default;
   virtual std::string name() const = 0;
   virtual SolveReport solve(const OperationalSystem& sys, const Eigen::VectorXd& b, Eigen::VectorXd& x) = 0;
-  // z = A^-1 r through what solve() keeps, without its residual check: the
-  // preconditioner of a nonlinear frame (nonlinear_solve.hpp), whose Newton
-  // iteration checks the true residual. Solvers that keep no factor (CG)
-  // throw, naming the backend to use.
+  // The preconditioner of a nonlinear frame (nonlinear_solve.hpp), whose
+  // Newton iteration checks the true residual: z = A^-1 r through the kept
+  // factor where keeps_factor(), else z = M^-1 r with M the 3x3 node blocks
+  // of A (block Jacobi, made once per system), what the CG backends'
+  // Newton steps use: more PCG iterations, the same answer.
   virtual void precondition(const OperationalSystem& sys, const Eigen::VectorXd& r, Eigen::VectorXd& z);
+  virtual bool keeps_factor() const { return false; }
   // The run's second thread for dense products (hybrid::State::helper);
   // solvers without such products ignore it.
   virtual void share_helper(std::shared_ptr<HelperThread> helper) { (void)helper; }
+
+ private:
+  solve::BlockJacobi node_blocks_;  // precondition() without a factor
+  long node_blocks_generation_ = -1;
 };
 
 // Preconditioned CG, warm-started. Preconditioners:
@@ -96,6 +102,7 @@ class CholmodSolver : public OperationalSolver {
   std::string name() const override { return "cholmod"; }
   SolveReport solve(const OperationalSystem& sys, const Eigen::VectorXd& b, Eigen::VectorXd& x) override;
   void precondition(const OperationalSystem& sys, const Eigen::VectorXd& r, Eigen::VectorXd& z) override;
+  bool keeps_factor() const override { return true; }
   bool uses_dense() const { return bool(dense_); }  // for the current system
   long refactors() const { return refactors_; }      // factors made (the first included)
   long adopted() const { return adopted_; }          // of those, made on the second thread

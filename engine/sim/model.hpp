@@ -105,6 +105,7 @@ struct RunStatistics {
   long long newton_iterations_total = 0;
   int newton_iterations_max = 0;
   int projected_steps = 0;           // Newton steps that needed projected element tangents
+  int floor_stops = 0;               // Newton frames that ended at the residual's rounding floor
   double nonlinear_rotation_max = 0; // rad, nonlinear-law tets
   double nonlinear_strain_max = 0;
   int inverted_max = 0;              // nonlinear-law tets inverted at a solution

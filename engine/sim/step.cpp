@@ -139,6 +139,7 @@ void step(const Model& m, State& s) {
     r.newton_iterations_total += st.newton_iterations;
     r.newton_iterations_max = std::max(r.newton_iterations_max, st.newton_iterations);
     r.projected_steps += st.projected_steps;
+    r.floor_stops += st.at_floor;
     r.nonlinear_rotation_max = std::max(r.nonlinear_rotation_max, st.max_rotation);
     r.nonlinear_strain_max = std::max(r.nonlinear_strain_max, st.max_strain);
     r.inverted_max = std::max(r.inverted_max, st.inverted);

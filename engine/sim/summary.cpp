@@ -176,6 +176,7 @@ std::string summary_json(const Model& m, const State& s, const RunResult& r, con
   j["newton"] = {{"frames", st.newton_frames}, {"iterations_total", st.newton_iterations_total},
                  {"iterations_mean", jms(st.newton_frames ? double(st.newton_iterations_total) / st.newton_frames : 0.0)},
                  {"iterations_max", st.newton_iterations_max}, {"projected_steps", st.projected_steps},
+                 {"floor_stops", st.floor_stops},
                  {"rotation_max_deg", jms(st.nonlinear_rotation_max * kDeg)},
                  {"strain_max", jnum(st.nonlinear_strain_max)}, {"inverted_tets_max", st.inverted_max}};
   j["validity"] = {{"linear_rotation_max_deg", jms(st.linear_rotation_max * kDeg)},

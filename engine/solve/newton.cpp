@@ -25,7 +25,13 @@ CgStatus pcg_step(const NewtonProblem& p, const Eigen::VectorXd& r, Eigen::Vecto
   for (int k = 0; k < max_iterations; ++k) {
     Dq.setZero();
     p.tangent_difference(dir, Dq);
-    q = Pdir + Dq;  // T dir
+    if (p.apply_base) {
+      q.setZero();
+      p.apply_base(dir, q);
+      q += Dq;
+    } else {
+      q = Pdir + Dq;  // T dir
+    }
     const double curvature = dir.dot(q);
     if (!(curvature > 0)) return CgStatus::negative_curvature;
     const double alpha = rz / curvature;
@@ -38,7 +44,7 @@ CgStatus pcg_step(const NewtonProblem& p, const Eigen::VectorXd& r, Eigen::Vecto
     const double beta = rz_next / rz;
     rz = rz_next;
     dir = z + beta * dir;
-    Pdir = rr + beta * Pdir;
+    if (!p.apply_base) Pdir = rr + beta * Pdir;
   }
   return CgStatus::max_iterations;
 }
@@ -49,7 +55,7 @@ NewtonReport newton(const NewtonProblem& p, Eigen::VectorXd& x, const NewtonOpti
   NewtonReport rep;
   Eigen::VectorXd r, d, xt, rt;
   double energy = p.residual(x, r);
-  double rn = r.norm();
+  double rn = r.norm(), rn_before = HUGE_VAL;
   auto scale_at = [&](const Eigen::VectorXd& at) { return std::max(p.scale(at), 1e-300); };
   double scale = scale_at(x);
   auto too_large = [] {
@@ -61,6 +67,11 @@ NewtonReport newton(const NewtonProblem& p, Eigen::VectorXd& x, const NewtonOpti
       fail(what, ": the residual is not finite after ", rep.iterations, " Newton steps (an element degenerated?)");
     rep.relative_residual = rn / scale;
     if (rn == 0 || rep.relative_residual <= opt.tolerance) return rep;
+    const bool near_floor = rep.relative_residual <= opt.floor_tolerance;
+    if (near_floor && rn > 0.5 * rn_before) {  // the last step stopped halving |r|: stagnation at the floor
+      rep.at_floor = true;
+      return rep;
+    }
     if (rep.iterations >= opt.max_iterations)
       fail(what, ": Newton's method did not converge in ", opt.max_iterations, " steps (relative residual ",
            rep.relative_residual, ", tolerance ", opt.tolerance, "; ", rep.cg_iterations, " CG iterations, ",
@@ -89,6 +100,7 @@ NewtonReport newton(const NewtonProblem& p, Eigen::VectorXd& x, const NewtonOpti
                                 et <= energy + 1e-4 * alpha * slope;
       if (lower_residual || lower_energy) {
         accepted = true;
+        rn_before = rn;
         x.swap(xt);
         r.swap(rt);
         rn = rtn;
@@ -99,6 +111,10 @@ NewtonReport newton(const NewtonProblem& p, Eigen::VectorXd& x, const NewtonOpti
       ++rep.line_search_cuts;
     }
     ++rep.iterations;
+    if (!accepted && near_floor) {  // no direction lowers |r| any more: at the floor
+      rep.at_floor = true;
+      return rep;
+    }
     if (!accepted)
       fail(what, ": Newton's line search found no decrease of the residual (step ", rep.iterations,
            ", relative residual ", rn / scale, ")", too_large());

@@ -9,6 +9,7 @@
 
 #include <Eigen/Cholesky>
 #include <cmath>
+#include <functional>
 #include <random>
 
 #include "core/error.hpp"
@@ -114,6 +115,55 @@ TEST_SUITE("solve/newton") {
     CHECK(pr.projected_calls >= 1);
     CHECK(rep.relative_residual <= 1e-10);
     CHECK((pr.b - pr.F(x)).norm() <= 1e-9 * pr.b.norm());
+  }
+
+  TEST_CASE("block Jacobi in place of the factor (apply_base set): the same answer") {
+    Problem pr(40, 11);
+    pr.c = 2.0;
+    pr.b *= 5;
+    Eigen::VectorXd x_factor = Eigen::VectorXd::Zero(40), x_jacobi = x_factor;
+    const solve::NewtonReport with_factor = solve::newton(pr.problem(), x_factor);
+    solve::NewtonProblem p = pr.problem();
+    const Eigen::VectorXd inv_diag = pr.A.diagonal().cwiseInverse();
+    p.precondition = [&](const Eigen::VectorXd& r, Eigen::VectorXd& z) { z = inv_diag.cwiseProduct(r); };
+    p.apply_base = [&](const Eigen::VectorXd& v, Eigen::VectorXd& y) { y += pr.A * v; };
+    const solve::NewtonReport with_jacobi = solve::newton(p, x_jacobi);
+    CHECK(with_jacobi.relative_residual <= 1e-10);
+    CHECK((x_jacobi - x_factor).norm() <= 1e-9 * x_factor.norm());
+    CHECK(with_factor.relative_residual <= 1e-10);
+  }
+
+  TEST_CASE("a residual with a rounding floor: converged at the floor below 1e-8, an error above") {
+    // r carries a deterministic noise of `floor` x its scale that changes
+    // with every x (as rounding does): Newton cannot get below it.
+    for (const double floor : {3e-10, 3e-9, 1e-6}) {
+      CAPTURE(floor);
+      Problem pr(30, 5);
+      pr.c = 2.0;
+      pr.b *= 5;
+      solve::NewtonProblem p = pr.problem();
+      auto plain = p.residual;
+      p.residual = [&](const Eigen::VectorXd& at, Eigen::VectorXd& r) {
+        const double e = plain(at, r);
+        std::seed_seq seq{std::hash<double>{}(at.sum()), std::hash<double>{}(at(0))};
+        std::mt19937 rng(seq);
+        std::uniform_real_distribution<double> unit(-1, 1);
+        const double size = floor * (pr.b.norm() + pr.F(at).norm()) / std::sqrt(double(at.size()));
+        for (Eigen::Index i = 0; i < r.size(); ++i) r(i) += size * unit(rng);
+        return e;
+      };
+      Eigen::VectorXd x = Eigen::VectorXd::Zero(30);
+      if (floor < 1e-8) {
+        const solve::NewtonReport rep = solve::newton(p, x);
+        CHECK(rep.at_floor);
+        CHECK(rep.relative_residual > 1e-10);
+        CHECK(rep.relative_residual <= 1e-8);
+        CHECK(rep.iterations < 20);  // stops when the floor is reached, not at the step limit
+        CHECK((pr.b - pr.F(x)).norm() <= 1e-8 * (pr.b.norm() + pr.F(x).norm()));
+      } else {
+        CHECK(test::contains(test::error_of([&] { solve::newton(p, x, {}, "frame 9"); }), "frame 9: Newton's"));
+      }
+    }
   }
 
   TEST_CASE("not converging is an error naming the solve, never a result") {
