@@ -3,7 +3,9 @@
 # render by default: the flagship's frame 40 and contact sheet (README), and
 # docs/images/scenarios_sheet.png, two frames (the middle and the last) of
 # every scenario in scenarios/ (those that render nothing by themselves:
-# every 4th frame, 960x600), each labelled with its name. Needs ffmpeg
+# every 4th frame, 960x600), each labelled with its name; and the retraction
+# and the flagship with the linear law beside their shipped nonlinear one
+# (docs/images/*_laws.png). Needs ffmpeg
 # (./scripts/install-deps.sh --video) for the labelled grid.
 #   scripts/docs_images.sh build/softcut
 set -euo pipefail
@@ -30,6 +32,18 @@ for s in scenarios/*.lua; do
   done
 done
 cp "$work/incision_drag_poke/frames/frame_000040.png" docs/images/incision_drag_poke_040.png
+# The paper's linear law (--set model=linear) beside the shipped nonlinear one,
+# where the two differ most: the lobe lifted (retraction, last frame), the lip
+# dragged open (flagship, frame 40). docs/fidelity.md shows them.
+for pair in liver_retraction:60:corotational incision_drag_poke:40:neo-Hookean; do
+  IFS=: read -r name frame law <<<"$pair"
+  "$bin" run "scenarios/$name.lua" --quiet --out "$work/$name.linear" --set model=linear >/dev/null
+  f=$(printf 'frame_%06d.png' "$frame")
+  label() { [ -n "$font" ] && echo ",drawtext=fontfile=$font:text='$1':x=10:y=10:fontsize=22:fontcolor=white:box=1:boxcolor=black@0.55:boxborderw=5"; }
+  ffmpeg -v error -y -i "$work/$name.linear/frames/$f" -i "$work/$name/frames/$f" -filter_complex \
+    "[0]scale=640:-2$(label "linear law (the paper)")[a];[1]scale=640:-2$(label "$law (as shipped)")[b];[a][b]hstack" \
+    "docs/images/${name}_laws.png"
+done
 cp "$work/incision_drag_poke/contact_sheet.png" docs/images/incision_drag_poke_sheet.png
 # The grid: 4 tiles a row.
 inputs=() layout=()
@@ -44,4 +58,4 @@ while [ $(( ${#layout[@]} % 4 )) -ne 0 ]; do  # fill the last row
 done
 (IFS='|'; ffmpeg -v error -y "${inputs[@]}" -filter_complex "xstack=inputs=${#layout[@]}:layout=${layout[*]}" \
   -frames:v 1 docs/images/scenarios_sheet.png)
-echo "docs/images: incision_drag_poke_040.png, incision_drag_poke_sheet.png, scenarios_sheet.png (${#tiles[@]} tiles)"
+echo "docs/images: incision_drag_poke_040.png, incision_drag_poke_sheet.png, scenarios_sheet.png (${#tiles[@]} tiles), liver_retraction_laws.png, incision_drag_poke_laws.png"
