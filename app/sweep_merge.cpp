@@ -136,6 +136,23 @@ RunSummary parse_run_summary(const std::string& text, const std::string& file) {
         s.tools.push_back(std::move(t));
       }
     }
+    if (const auto* list = R::find(j, "", "metrics", false)) {  // older summaries have none
+      if (!list->is_array()) R::bad("metrics", "is not a list");
+      if (list->size() > kMaxSummaryMetrics)
+        fail("'metrics' lists ", list->size(), " metrics, more than the ", kMaxSummaryMetrics, " a summary holds");
+      for (std::size_t i = 0; i < list->size(); ++i) {
+        const std::string at = field_path("metrics", i);
+        RunSummary::Metric mt;
+        mt.name = R::text(*R::find((*list)[i], at, "name", true), field_path(at, "name"));
+        if (mt.name.size() > kMaxExpectationName)
+          fail("'", field_path(at, "name"), "' is ", mt.name.size(), " bytes long, more than ", kMaxExpectationName);
+        mt.entry = {{"name", mt.name}};
+        for (const char* f : {"value", "min", "max", "mean", "samples"})
+          mt.entry[f] = R::number(*R::find((*list)[i], at, f, true), field_path(at, f), false);
+        mt.value = mt.entry["value"];
+        s.metrics.push_back(std::move(mt));
+      }
+    }
   } catch (const Error& e) {
     fail(file, ": not a summary softcut wrote: ", e.what(), " (rerun the run)");
   }
@@ -201,6 +218,15 @@ SweepMerge merge_sweep(const fs::path& dir) {
     fail((dir / "sweep_plan.json").string(), ": the table would hold ", summaries.size(), " runs x ",
          3 * tool_names.size(), " tool columns, more than ", kMaxMergeCells, " cells; merge fewer runs");
   const char* const tool_fields[] = {"peak_force_n", "mean_force_n", "frames_engaged"};
+  // Metric columns (Frame:record): every name, in the order runs first report them.
+  std::vector<std::string> metric_names;
+  std::unordered_map<std::string, std::size_t> metric_column;
+  for (const RunSummary& s : summaries)
+    for (const auto& mt : s.metrics)
+      if (metric_column.emplace(mt.name, metric_names.size()).second) metric_names.push_back(mt.name);
+  if (double(summaries.size()) * double(metric_names.size()) > double(kMaxMergeCells))
+    fail((dir / "sweep_plan.json").string(), ": the table would hold ", summaries.size(), " runs x ",
+         metric_names.size(), " metric columns, more than ", kMaxMergeCells, " cells; merge fewer runs");
   // A key named like a fixed column ("frames") gets the column "param.frames".
   const std::vector<std::string> fixed = {"id", "pass", "exit_reason", "frames", "last_time_s", "cut_events",
                                           "detached_pieces"};
@@ -211,6 +237,7 @@ SweepMerge merge_sweep(const fs::path& dir) {
   for (const auto& n : expect_names) header.push_back("expect." + n);
   for (const auto& n : tool_names)
     for (const char* f : tool_fields) header.push_back("tool." + n + "." + f);
+  for (const auto& n : metric_names) header.push_back("metric." + n);
   auto line = [](const std::vector<std::string>& cells) {
     std::string l;
     for (size_t i = 0; i < cells.size(); ++i) l += (i ? "," : "") + csv_field(cells[i]);
@@ -252,15 +279,27 @@ SweepMerge merge_sweep(const fs::path& dir) {
     for (const auto& t : s.tools)
       if (!tool_of[tool_column.at(t.name)]) tool_of[tool_column.at(t.name)] = &t;
     for (const RunSummary::Tool* t : tool_of) {
-      for (const nlohmann::json* v : {&t->peak_force_n, &t->mean_force_n, &t->frames_engaged})
-        cells.push_back(t ? text_of(*v) : "");
-      if (t) tools.emplace_back(t->entry);
+      if (!t) {  // a run without this tool: empty cells
+        cells.insert(cells.end(), std::size(tool_fields), "");
+        continue;
+      }
+      for (const nlohmann::json* v : {&t->peak_force_n, &t->mean_force_n, &t->frames_engaged}) cells.push_back(text_of(*v));
+      tools.emplace_back(t->entry);
+    }
+    json metrics = json::array();
+    std::vector<const RunSummary::Metric*> metric_of(metric_names.size(), nullptr);
+    for (const auto& mt : s.metrics)
+      if (!metric_of[metric_column.at(mt.name)]) metric_of[metric_column.at(mt.name)] = &mt;
+    for (const RunSummary::Metric* mt : metric_of) {
+      cells.push_back(mt ? text_of(mt->value) : "");
+      if (mt) metrics.emplace_back(mt->entry);
     }
     m.csv += line(cells);
     const json row = {{"id", r.id}, {"params", params}, {"pass", pass}, {"exit_reason", s.exit_reason},
                       {"message", s.message}, {"frames", s.frames}, {"last_time_s", s.last_time_s},
                       {"cut_events", s.cut_events}, {"detached_pieces", s.detached_pieces},
-                      {"expectations", expectations}, {"tools", tools}, {"summary", r.id + "/summary.json"}};
+                      {"expectations", expectations}, {"tools", tools}, {"metrics", metrics},
+                      {"summary", r.id + "/summary.json"}};
     // Indented as a member of the document's "rows" list (JSON text holds no
     // raw line break inside a string: every one is structure).
     rows_text += i ? ",\n  " : "  ";

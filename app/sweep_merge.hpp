@@ -25,8 +25,10 @@ constexpr std::size_t kMaxMergeCells = 10000000;
 // Longest expectation name kept (longer: an error), and message kept (longer: cut).
 constexpr std::size_t kMaxExpectationName = 1000;
 constexpr std::size_t kMaxMergedMessage = 1000;
-// Most tools a summary may list (a scenario has a handful).
+// Most tools a summary may list (a scenario has a handful); most metrics
+// (Frame:record; softcut records at most 256).
 constexpr std::size_t kMaxSummaryTools = 1000;
+constexpr std::size_t kMaxSummaryMetrics = 1000;
 
 // What merge reads of a run's summary.json.
 struct RunSummary {
@@ -48,6 +50,13 @@ struct RunSummary {
     nlohmann::json entry;  // the three with the name, for sweep.json
   };
   std::vector<Tool> tools;
+  // Per recorded metric (summary.json "metrics"; sweep.csv's metric.<name> columns: the last value).
+  struct Metric {
+    std::string name;
+    nlohmann::json value;  // a number
+    nlohmann::json entry;  // name, value, min, max, mean, samples, for sweep.json
+  };
+  std::vector<Metric> metrics;
 };
 
 // Reads one summary's text (`file` names it in messages). Throws

@@ -531,3 +531,8 @@ function Frame:set_load(name, args) end
 
 ---Ends the run after this frame (summary: stopped).
 function Frame:stop() end
+
+---Records a named number this frame (a jaw's force, a gap, a volume): summary.json `metrics` keeps its last value (and frame, time), min, max, mean and samples; softcut sweep gives it the column metric.<name> (the last value). Call it every frame or once at the end; a run records at most 256 names.
+---@param name string 1 to 64 letters, digits, _ . or -, starting with a letter or _
+---@param value number a finite number, in the unit the name says
+function Frame:record(name, value) end

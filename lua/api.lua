@@ -453,6 +453,15 @@ api.functions = {
     example = "f:set_load(\"press\", { scale = 2 })" },
   { name = "Frame:stop", summary = "Ends the run after this frame (summary: stopped).", positional = {}, fields = {},
     example = "f:stop()" },
+  { name = "Frame:record", summary = "Records a named number this frame (a jaw's force, a gap, a volume): "
+      .. "summary.json `metrics` keeps its last value (and frame, time), min, max, mean and samples; softcut sweep "
+      .. "gives it the column metric.<name> (the last value). Call it every frame or once at the end; a run records "
+      .. "at most 256 names.",
+    positional = { F("name", "string", "1 to 64 letters, digits, _ . or -, starting with a letter or _",
+                     { required = true }),
+                   F("value", "number", "a finite number, in the unit the name says", { required = true }) },
+    fields = {},
+    example = "f:record(\"jaw_force\", softcut.vec.length(f:tool(\"jaw\").force))" },
 }
 
 -- Lookup by qualified name, with the short name used in messages

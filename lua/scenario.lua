@@ -329,6 +329,10 @@ function Frame:set_load(name, args)
   check.fail("set_load", "no load '%s'%s", name, #names > 0 and check.suggest(name, names) or " (the scenario has no loads)")
 end
 function Frame:stop() internal.frame_stop(self._ctx) end
+function Frame:record(name, value)
+  name = check.positional("Frame:record", 1, name)
+  internal.frame_record(self._ctx, name, check.positional("Frame:record", 2, value))
+end
 function Frame:cutting() return internal.frame_cutting(self._ctx) end
 
 -- Called by the C++ run loop after every frame with a context handle (after

@@ -1,11 +1,15 @@
 // Frame bindings for on_frame and expectations: read the State, steer tools
 // and loads between frames, request a stop.
 #include <cmath>
+#include <optional>
+#include <string_view>
 
 #include "bindings.hpp"
 #include "convert.hpp"
 #include "runtime.hpp"
 #include "wrap_frame.hpp"
+
+#include "sim/control.hpp"
 
 namespace softcut::lua {
 
@@ -129,16 +133,13 @@ int frame_cutting(lua_State* L) {
   });
 }
 
+// The run-control calls: arguments converted here, the change made by
+// sim/control.hpp.
 int frame_move_tool(lua_State* L) {
   return protect(L, [L] {
     FrameContext& c = ctx(L);
-    tools::ToolState& t = c.state->tools[tool_index(L, c.state->tools, 2)];
-    if (lua_isnoneornil(L, 3)) {
-      t.override_tip = false;
-    } else {
-      t.tip = to_vec3(L, 3);
-      t.override_tip = true;
-    }
+    const int i = tool_index(L, c.state->tools, 2);
+    sim::move_tool(*c.state, i, lua_isnoneornil(L, 3) ? std::nullopt : std::optional(to_vec3(L, 3)));
     return 0;
   });
 }
@@ -146,7 +147,7 @@ int frame_move_tool(lua_State* L) {
 int frame_enable_tool(lua_State* L) {
   return protect(L, [L] {
     FrameContext& c = ctx(L);
-    c.state->tool_specs[tool_index(L, c.state->tool_specs, 2)].enabled = lua_toboolean(L, 3);
+    sim::enable_tool(*c.state, tool_index(L, c.state->tool_specs, 2), lua_toboolean(L, 3));
     return 0;
   });
 }
@@ -155,16 +156,26 @@ int frame_enable_tool(lua_State* L) {
 int frame_set_load(lua_State* L) {
   return protect(L, [L] {
     FrameContext& c = ctx(L);
-    sim::ActiveLoad& l = c.state->loads[tool_index(L, c.state->loads, 2)];
-    if (!lua_isnoneornil(L, 3)) l.scale = luaL_checknumber(L, 3);
-    if (!lua_isnoneornil(L, 4)) l.enabled = lua_toboolean(L, 4);
+    const int i = tool_index(L, c.state->loads, 2);
+    sim::set_load(*c.state, i, lua_isnoneornil(L, 3) ? std::nullopt : std::optional(luaL_checknumber(L, 3)),
+                  lua_isnoneornil(L, 4) ? std::nullopt : std::optional(bool(lua_toboolean(L, 4))));
     return 0;
   });
 }
 
 int frame_stop(lua_State* L) {
   return protect(L, [L] {
-    ctx(L).state->stop_requested = true;
+    sim::request_stop(*ctx(L).state);
+    return 0;
+  });
+}
+
+// frame_record(ctx, name, value)
+int frame_record(lua_State* L) {
+  return protect(L, [L] {
+    size_t len = 0;
+    const char* name = luaL_checklstring(L, 2, &len);
+    sim::record_metric(*ctx(L).state, std::string_view(name, len), luaL_checknumber(L, 3));
     return 0;
   });
 }
@@ -195,6 +206,7 @@ const luaL_Reg kFrameFunctions[] = {
     {"frame_enable_tool", frame_enable_tool},
     {"frame_set_load", frame_set_load},
     {"frame_stop", frame_stop},
+    {"frame_record", frame_record},
     {nullptr, nullptr}};
 
 }  // namespace softcut::lua

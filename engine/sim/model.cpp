@@ -248,6 +248,7 @@ State copy_state(const Model& m, const State& s) {
   c.stats = s.stats;
   c.warnings = s.warnings;
   c.cut_events = s.cut_events;
+  c.metrics = s.metrics;
   c.springs.enabled = s.springs.enabled;
   if (m.solver) {
     const std::optional<backend::CutBody> body = c.cut ? std::optional(cut_body(*c.cut)) : std::nullopt;

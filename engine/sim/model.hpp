@@ -12,6 +12,7 @@
 #include "hybrid/partition.hpp"
 #include "mesh/surface.hpp"
 #include "mesh/tet_mesh.hpp"
+#include "sim/control.hpp"
 #include "sim/cutting.hpp"
 #include "sim/expectations.hpp"
 #include "sim/scenario_spec.hpp"
@@ -146,6 +147,7 @@ struct RunBookkeeping {
   std::vector<std::string> warnings;  // runtime, deduplicated by the writer
   std::vector<CutEvent> cut_events;   // every cut so far
   std::vector<ExpectationOutcome> expectations;  // (spec.expectations) sim/expectations.hpp
+  std::vector<Metric> metrics;       // recorded by the script (sim/control.hpp), first-recorded order
 };
 
 // One run: move-only (it owns its cut mesh and solver data); copy_state()

@@ -213,6 +213,11 @@ std::string summary_json(const Model& m, const State& s, const RunResult& r, con
   j["tools"] = rec ? rec->tool_statistics().json() : Json::array();
   j["cutting"] = cutting_json(m, s);
   j["expectations"] = expectations_json(m, s);
+  Json& metrics = j["metrics"] = Json::array();  // Frame:record (sim/control.hpp), first-recorded order
+  for (const Metric& mt : s.metrics)
+    metrics.push_back({{"name", mt.name}, {"value", jnum(mt.value)}, {"min", jnum(mt.min)}, {"max", jnum(mt.max)},
+                       {"mean", jnum(mt.sum / mt.samples)}, {"samples", mt.samples}, {"frame", mt.frame},
+                       {"time", jnum(mt.time)}});
   std::set<std::string> seen;
   Json& warnings = j["warnings"] = Json::array();
   for (const auto* list : {&m.warnings, &s.warnings})

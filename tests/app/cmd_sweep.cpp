@@ -185,4 +185,54 @@ TEST_SUITE("app/cmd_sweep") {
     const auto sweep = softcut::test::read_json(dir / "t" / "sweep.json");
     CHECK(sweep.at("rows").at(1).at("tools").at(0).at("name") == "jaw");
   }
+
+  TEST_CASE("numbers a scenario records (Frame:record) land in summary.json and as metric columns of sweep.csv") {
+    // The jaw's force magnitude recorded every frame: its max must be the
+    // tool's own peak force (tools.csv's statistics), its last the last frame's.
+    const fs::path dir = softcut::test::scratch_dir("sweep_metrics");
+    std::ofstream(dir / "pull.lua")
+        << "local P = softcut.params{ k = 100 }\n"
+           "local s = softcut.scenario{ name = 'pull', duration = 0.2, fps = 10 }\n"
+           "s:mesh{ generate = 'box', options = { max = { 0.1, 0.02, 0.02 }, nx = 10, ny = 4, nz = 4 } }\n"
+           "s:material{ young = 5e3, poisson = 0.4 }\n"
+           "s:fix{ nodes = softcut.select.box{ min = { -1, -1, -1 }, max = { 0, 1, 1 } } }\n"
+           "s:grasper{ name = 'jaw', radius = 0.006, stiffness = P.k, path = softcut.path.polyline{ times = { 0, 0.2 },\n"
+           "           points = { { 0.08, 0.01, 0.021 }, { 0.08, 0.01, 0.028 } } } }\n"
+           "s:on_frame(function(f)\n"
+           "  f:record('jaw_force', softcut.vec.length(f:tool('jaw').force))\n"
+           "  if f.frame == 2 then f:record('lift.mm', 1000 * f:mean_displacement(softcut.select.surface())[3]) end\n"
+           "end)\n"
+           "return s\n";
+    CHECK(run_cli("sweep pull.lua --grid k=100,400 -j 1 --out t", dir).status == 0);
+    CHECK(run_cli("sweep merge t", dir).status == 0);
+    const std::string csv = slurp(dir / "t" / "sweep.csv");
+    CHECK(contains(csv, ",tool.jaw.frames_engaged,metric.jaw_force,metric.lift.mm\n"));
+    for (const char* run : {"run_0000", "run_0001"}) {
+      CAPTURE(run);
+      const auto summary = softcut::test::read_json(dir / "t" / run / "summary.json");
+      const auto& metrics = summary.at("metrics");
+      REQUIRE(metrics.size() == 2);
+      const auto& force = metrics.at(0);
+      CHECK(force.at("name") == "jaw_force");
+      CHECK(force.at("samples") == 3);
+      CHECK(force.at("frame") == 2);
+      CHECK(force.at("max").get<double>() == doctest::Approx(summary.at("tools").at(0).at("peak_force_n").get<double>()));
+      CHECK(force.at("min").get<double>() <= force.at("mean").get<double>());
+      CHECK(metrics.at(1).at("samples") == 1);
+      CHECK(metrics.at(1).at("value").get<double>() > 0);
+      CHECK(contains(csv, "," + force.at("value").dump() + "," + metrics.at(1).at("value").dump() + "\n"));
+    }
+    const auto sweep = softcut::test::read_json(dir / "t" / "sweep.json");
+    CHECK(sweep.at("rows").at(1).at("metrics").at(0).at("name") == "jaw_force");
+    // A name that cannot be a column is the script's error, at its line.
+    std::ofstream(dir / "bad.lua") << "local s = softcut.scenario{ duration = 0.1, fps = 10 }\n"
+                                      "s:mesh{ generate = 'box' }\n"
+                                      "s:fix{ nodes = softcut.select.box{ min = { -1, -1, -1 }, max = { 0, 1, 1 } } }\n"
+                                      "s:on_frame(function(f) f:record('jaw force', 1) end)\n"
+                                      "return s\n";
+    const auto bad = run_cli("run bad.lua --no-render --out b", dir);
+    CHECK(bad.status != 0);
+    CHECK(contains(bad.output, "bad.lua:4:"));
+    CHECK(contains(bad.output, "metric name 'jaw force' is not 1 to 64 letters"));
+  }
 }
