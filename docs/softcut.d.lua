@@ -333,7 +333,7 @@ function softcut.select.halfspace(args) end
 ---@return Selection
 function softcut.select.nodes(ids) end
 
----A node set the mesh provides (e.g. "hole" of the tube / upper_leg generator).
+---A node set the mesh provides: "hole" of the tube / upper_leg generator; a generated organ's landmarks (liver: right_lobe, left_lobe, underside, dome, lesion; kidney: hilum, convex, upper_pole, lower_pole, underside, top; knee_ligament: tibial, femoral; docs/meshing.md).
 ---@param name string set name
 ---@return Selection
 function softcut.select.named(name) end

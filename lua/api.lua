@@ -327,7 +327,9 @@ api.functions = {
   { name = "softcut.select.nodes", summary = "Explicit 0-based node ids (as in the mesh file and the CSV).",
     positional = { F("ids", "integer[]", "node ids", { required = true, ge = 0 }) }, fields = {}, returns = "Selection",
     example = "softcut.select.nodes{ 0, 5, 17 }" },
-  { name = "softcut.select.named", summary = "A node set the mesh provides (e.g. \"hole\" of the tube / upper_leg generator).",
+  { name = "softcut.select.named", summary = "A node set the mesh provides: \"hole\" of the tube / upper_leg "
+      .. "generator; a generated organ's landmarks (liver: right_lobe, left_lobe, underside, dome, lesion; kidney: "
+      .. "hilum, convex, upper_pole, lower_pole, underside, top; knee_ligament: tibial, femoral; docs/meshing.md).",
     positional = { F("name", "string", "set name", { required = true }) }, fields = {}, returns = "Selection",
     example = 'softcut.select.named("hole")' },
   { name = "Selection:union", summary = "Nodes in either (also `a + b`).",

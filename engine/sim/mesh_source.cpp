@@ -243,6 +243,7 @@ LoadedMesh generate(const std::string& gen, const std::map<std::string, double>&
       } catch (const Error& e) {
         fail(what, ": ", e.what());  // where the scenario asked for it
       }
+      out.named_sets = mesh::organ_landmarks(gen, out.mesh, g);  // hilum, lobes, insertions, ...
       out.description = cat("generator ", gen, " (CGAL Mesh_3: ", r.tets, " tets, min dihedral ", std::round(r.min_dihedral_deg * 10) / 10, " deg)");
     }
   } else if (gen == "surface") {

@@ -2,6 +2,7 @@
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <set>
 
 #include "generate_checks.hpp"
@@ -48,6 +49,16 @@ TEST_SUITE("mesh/mesher/organs") {
         // shape's sampled volume.
         const auto want = label_volumes(s, 96);
         for (int l : s.labels) CHECK(label_volume(m, l) / want[size_t(l)] == doctest::Approx(1).epsilon(0.1));
+        if (kind == "knee_ligament") {  // its insertions: the end faces' nodes, nothing between
+          const auto sets = organ_landmarks(kind, m, o);
+          const double z0 = m.nodes.col(2).minCoeff(), z1 = m.nodes.col(2).maxCoeff();
+          int ends = 0;
+          for (int n = 0; n < m.num_nodes(); ++n) ends += m.node(n).z() <= z0 + 1e-9 || m.node(n).z() >= z1 - 1e-9;
+          CHECK(ends > 0);
+          CHECK(int(sets.at("tibial").size() + sets.at("femoral").size()) >= ends);
+          for (int n : sets.at("tibial")) CHECK(m.node(n).z() <= z0 + 5e-4 + 1e-12);
+          for (int n : sets.at("femoral")) CHECK(m.node(n).z() >= z1 - 5e-4 - 1e-12);
+        }
       }
   }
 
@@ -67,6 +78,46 @@ TEST_SUITE("mesh/mesher/organs") {
         }
       CHECK(inner > 0);
       CHECK(on_surface == 0);
+
+      // Landmarks (organ_landmarks): where the organ's shape puts them,
+      // read from the mesh's own nodes.
+      const auto sets = organ_landmarks(kind, m, o);
+      auto mean = [&](const std::string& name) {
+        REQUIRE(sets.count(name));
+        const std::vector<int>& ids = sets.at(name);
+        REQUIRE(!ids.empty());
+        Eigen::Vector3d c = Eigen::Vector3d::Zero();
+        for (int n : ids) c += m.node(n);
+        return Eigen::Vector3d(c / double(ids.size()));
+      };
+      const double zmin = m.nodes.col(2).minCoeff();
+      if (kind == "liver") {
+        std::vector<int> lobes = sets.at("right_lobe");
+        lobes.insert(lobes.end(), sets.at("left_lobe").begin(), sets.at("left_lobe").end());
+        std::sort(lobes.begin(), lobes.end());
+        CHECK(int(std::unique(lobes.begin(), lobes.end()) - lobes.begin()) == m.num_nodes());  // a partition
+        CHECK(int(lobes.size()) == m.num_nodes());
+        CHECK(mean("right_lobe").x() > 0);
+        CHECK(mean("left_lobe").x() < -0.03);
+        for (int n : sets.at("underside")) CHECK(m.node(n).z() <= zmin + 1e-3);
+        CHECK(mean("dome").z() > 0.035);
+        for (int n : sets.at("lesion")) CHECK((m.node(n) - o.lesion_center).norm() <= o.lesion_radius + 0.006);
+        int lesion_tet_nodes = 0;
+        std::set<int> lesion(sets.at("lesion").begin(), sets.at("lesion").end());
+        for (int t = 0; t < m.num_tets(); ++t)
+          if (m.labels(t) == 2)
+            for (int v = 0; v < 4; ++v) lesion_tet_nodes += lesion.count(m.tets(t, v)) > 0 ? 0 : 1;
+        CHECK(lesion_tet_nodes == 0);
+      } else {
+        CHECK(mean("hilum").y() > 0.01);
+        CHECK(mean("convex").y() < -0.02);
+        CHECK(mean("upper_pole").x() > 0.04);
+        CHECK(mean("lower_pole").x() < -0.04);
+        CHECK(mean("underside").z() < -0.016);
+        CHECK(mean("top").z() > 0.016);
+        for (const auto& [name, ids] : sets)
+          for (int n : ids) CHECK(outer.count(n) == 1);  // surface landmarks
+      }
     }
   }
 

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "mesh/surface.hpp"
+
 namespace softcut::mesh {
 
 namespace {
@@ -46,6 +48,53 @@ double knee_ligament(const V& p) {
 }
 
 }  // namespace
+
+std::map<std::string, std::vector<int>> organ_landmarks(const std::string& kind, const TetMesh& m,
+                                                        const OrganOptions& o) {
+  const double s = o.scale;
+  const std::vector<int> surface = extract_surface(m).nodes;
+  std::map<std::string, std::vector<int>> sets;
+  auto add = [&](const char* name, const std::vector<int>& nodes, auto&& keep) {
+    std::vector<int>& out = sets[name];
+    for (int n : nodes)
+      if (keep(V(m.node(n) / s))) out.push_back(n);
+  };
+  std::vector<int> all(size_t(m.num_nodes()));
+  for (int n = 0; n < m.num_nodes(); ++n) all[size_t(n)] = n;
+  if (kind == "liver") {
+    auto right = [](const V& q) {
+      return ellipsoid(q, {0.025, 0, 0}, {0.075, 0.065, 0.045}) <= ellipsoid(q, {-0.06, 0.02, 0.012}, {0.06, 0.045, 0.02});
+    };
+    add("right_lobe", all, right);
+    add("left_lobe", all, [&](const V& q) { return !right(q); });
+    add("underside", surface, [](const V& q) { return q.z() <= -0.021; });
+    add("dome", surface, [](const V& q) { return (q - V(0.025, 0, 0.045)).norm() <= 0.015; });
+    std::vector<char> in_lesion(size_t(m.num_nodes()), 0);
+    for (int t = 0; t < m.num_tets(); ++t)
+      if (m.labels.size() && m.labels(t) == 2)
+        for (int k = 0; k < 4; ++k) in_lesion[size_t(m.tets(t, k))] = 1;
+    std::vector<int> lesion;
+    for (int n = 0; n < m.num_nodes(); ++n)
+      if (in_lesion[size_t(n)]) lesion.push_back(n);
+    if (!lesion.empty()) sets["lesion"] = std::move(lesion);
+  } else if (kind == "kidney") {
+    auto bent = [](const V& p) {
+      V q = p;
+      q.y() += 0.006 * (p.x() / 0.055) * (p.x() / 0.055);
+      return q;
+    };
+    add("hilum", surface, [&](const V& p) { return sphere(bent(p), {0, 0.036, 0}, 0.017) <= 0.004; });
+    add("convex", surface, [&](const V& p) { return bent(p).y() < -0.02 && std::abs(p.x()) < 0.035; });
+    add("upper_pole", surface, [](const V& p) { return p.x() > 0.04; });
+    add("lower_pole", surface, [](const V& p) { return p.x() < -0.04; });
+    add("underside", surface, [](const V& p) { return p.z() < -0.016; });
+    add("top", surface, [](const V& p) { return p.z() > 0.016; });
+  } else if (kind == "knee_ligament") {
+    add("tibial", all, [](const V& p) { return p.z() <= 0.0005; });
+    add("femoral", all, [](const V& p) { return p.z() >= kLigamentLength - 0.0005; });
+  }
+  return sets;
+}
 
 const std::vector<std::string>& organ_kinds() {
   static const std::vector<std::string> kinds = {"liver", "kidney", "knee_ligament"};

@@ -14,6 +14,7 @@
 // Meshed by mesh_shape() at a resolution picked to meet target_tets.
 #include <atomic>
 #include <functional>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -73,6 +74,21 @@ inline TetMesh generate_organ(const std::string& kind, const OrganOptions& o, do
 using Mesher = std::function<TetMesh(const MesherOptions&, MesherReport*)>;
 TetMesh mesh_to_target(const LabeledShape& shape, const OrganOptions& o, const MeshLimit& limit, const Mesher& mesh,
                        MesherReport* report = nullptr);
+
+// Named node sets of a generated organ (landmarks to put tools and fixes
+// on; a scenario selects them with softcut.select.named), from
+// the organ's own shape in its axes (lengths below at scale 1):
+//   liver          right_lobe, left_lobe (every node, by the nearer lobe);
+//                  underside (the flattened face, z <= -0.021), dome (the
+//                  surface within 15 mm of the right lobe's top (0.025, 0,
+//                  0.045)), lesion (the nodes of label-2 tets; absent without)
+//   kidney         hilum (the surface of the hilum's hollow, on +y), convex
+//                  (the lateral border: surface with y < -0.02, |x| < 0.035),
+//                  upper_pole (x > 0.04), lower_pole (x < -0.04), underside
+//                  (z < -0.016), top (z > 0.016): surface nodes
+//   knee_ligament  tibial (z <= 0.0005), femoral (z >= 0.0345): its insertions
+std::map<std::string, std::vector<int>> organ_landmarks(const std::string& kind, const TetMesh& m,
+                                                        const OrganOptions& o);
 
 // "about 12345 tetrahedra, over this run's limit of 2000000; ..." (printable for any count, also inf).
 std::string over_limit(double tets, const MeshLimit& limit);
