@@ -4,6 +4,8 @@
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
+
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 
@@ -291,6 +293,51 @@ TEST_SUITE("sim/step") {
     }
     CHECK(patch[2] <= 2.5);               // the scale of a rigid punch (2.09), far below one node's 22
     CHECK(patch[2] <= 0.15 * single[2]);
+  }
+
+  // Issue #43's realism check: the grasp's effect on the tissue around it
+  // must not depend on where the mesh's nodes happen to lie. The same slab
+  // and 2 mm lift by a 4 mm patch jaw (off every node) as above, at 16, 24
+  // and 32 cells across: the mean lift of the top nodes 4-8 mm from the jaw
+  // varies by at most 1.3x (a one-node jaw: 1.64x when the issue measured).
+  // Measured 2026-11-29: 1.388, 1.202, 1.074 mm (1.29x): inside the bound,
+  // but still falling with refinement, not settled.
+  TEST_CASE("the ring 4-8 mm around a grasp lifts alike on meshes of 16, 24 and 32 cells") {
+    const V center(0.0207, 0.0211, 0.02);
+    std::vector<double> rings;
+    for (const int n : {16, 24, 32}) {
+      sim::ScenarioSpec spec;
+      spec.name = "slab";
+      spec.mesh.generator = "box";
+      spec.mesh.options = {{"max.x", 0.04}, {"max.y", 0.04}, {"max.z", 0.02}, {"nx", n}, {"ny", n}, {"nz", n / 2}};
+      sim::MaterialAssignment mat;
+      mat.name = "tissue";
+      mat.young = 5e3;
+      mat.poisson = 0.45;
+      spec.materials.push_back(mat);
+      spec.fixed = sim::NodeSelector::box(V(-1, -1, -1), V(1, 1, 0));
+      spec.solver.backend = backend::parse_backend("monolithic");
+      spec.timeline.duration = 0.1;
+      spec.timeline.fps = 10.0;
+      spec.outputs.dir = softcut::test::scratch_dir("sim_springs_ring");
+      spec.tools.push_back(softcut::test::spring_grasper(1e5, 4e-3, tools::Path::polyline({0.0, 0.1}, {center, center + V(0, 0, 2e-3)})));
+      const sim::Model m = sim::compile(spec);
+      sim::State s = sim::make_state(m);
+      for (int i = 0; i < m.num_frames; ++i) sim::step(m, s);
+      double ring = 0;
+      int count = 0;
+      for (int v = 0; v < m.mesh.num_nodes(); ++v) {
+        const V x = m.mesh.node(v);
+        const double d = (x - center).norm();
+        if (x.z() == 0.02 && d > 4e-3 && d <= 8e-3) ring += s.displacement(v, 2), ++count;
+      }
+      REQUIRE(count >= 8);
+      rings.push_back(ring / count);
+      MESSAGE("cells ", n, ": ring mean lift ", 1e3 * rings.back(), " mm over ", count, " nodes");
+    }
+    const double lo = *std::min_element(rings.begin(), rings.end()), hi = *std::max_element(rings.begin(), rings.end());
+    REQUIRE(lo > 0);
+    CHECK(hi / lo <= 1.3);
   }
 
   TEST_CASE("a jaw that would hold too many nodes is a clear error, not hours of solves") {
