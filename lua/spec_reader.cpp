@@ -140,8 +140,7 @@ sim::ScenarioSpec spec_from_table(lua_State* L, int s, const fs::path& source) {
     push_field(L, l, "nodes");
     ls.nodes = to_node_selector(L, -1);
     lua_pop(L, 1);
-    ls.direction_kind = get_string(L, l, "kind") == "normal" ? sim::LoadSpec::Direction::normal
-                                                             : sim::LoadSpec::Direction::world;
+    ls.direction_kind = sim::parse_load_direction(get_string(L, l, "kind"));
     ls.direction = get_vec3(L, l, "direction", ls.direction);
     push_field(L, l, "magnitude");
     ls.magnitude = to_ramp(L, -1);
@@ -162,11 +161,8 @@ sim::ScenarioSpec spec_from_table(lua_State* L, int s, const fs::path& source) {
       push_field(L, e, "nodes");
       es.nodes = to_node_selector(L, -1);
       lua_pop(L, 1);
-      es.measure = get_string(L, e, "measure") == "max" ? sim::ExpectationSpec::Measure::max
-                                                        : sim::ExpectationSpec::Measure::mean;
-      const std::string c = get_string(L, e, "component");
-      using C = sim::ExpectationSpec::Component;
-      es.component = c == "x" ? C::x : c == "y" ? C::y : c == "z" ? C::z : C::magnitude;
+      es.measure = sim::parse_measure(get_string(L, e, "measure", "mean"));
+      es.component = sim::parse_component(get_string(L, e, "component", "magnitude"));
       if (has_field(L, e, "min")) es.min = get_number(L, e, "min", 0.0);
       if (has_field(L, e, "max")) es.max = get_number(L, e, "max", 0.0);
     }
@@ -177,11 +173,8 @@ sim::ScenarioSpec spec_from_table(lua_State* L, int s, const fs::path& source) {
     tools::ToolSpec ts;
     ts.name = get_string(L, t, "name");
     ts.where = get_string(L, t, "where");
-    const std::string kind = get_string(L, t, "kind");
-    ts.kind = kind == "grasper"   ? tools::ToolSpec::Kind::grasper
-              : kind == "scalpel" ? tools::ToolSpec::Kind::scalpel
-                                  : tools::ToolSpec::Kind::probe;
-    ts.drive = get_string(L, t, "drive") == "spring" ? tools::ToolSpec::Drive::spring : tools::ToolSpec::Drive::force;
+    ts.kind = tools::parse_tool_kind(get_string(L, t, "kind"));
+    ts.drive = tools::parse_drive(get_string(L, t, "drive"));
     push_field(L, t, "path");
     ts.path = to_path(L, -1);
     lua_pop(L, 1);
@@ -232,10 +225,7 @@ sim::ScenarioSpec spec_from_table(lua_State* L, int s, const fs::path& source) {
       rs.msaa_samples = get_int(L, r, "msaa", rs.msaa_samples);
       rs.wireframe = get_bool(L, r, "wireframe", false);
       rs.show_interface = get_bool(L, r, "show_interface", rs.show_interface);
-      const std::string style = get_string(L, r, "style", "clinical");
-      rs.style = style == "paper"   ? sim::RenderSettings::Style::paper
-                 : style == "debug" ? sim::RenderSettings::Style::debug
-                                    : sim::RenderSettings::Style::clinical;
+      rs.style = sim::parse_render_style(get_string(L, r, "style", "clinical"));
       const bool debug = rs.style == sim::RenderSettings::Style::debug;
       rs.show_forces = get_bool(L, r, "show_forces", debug);
       rs.show_loads = get_bool(L, r, "show_loads", debug);
@@ -257,7 +247,7 @@ sim::ScenarioSpec spec_from_table(lua_State* L, int s, const fs::path& source) {
     const int c = lua_gettop(L);
     sim::CameraSpec& cam = spec.outputs.camera;
     cam.where = get_string(L, c, "where");
-    cam.kind = get_string(L, c, "kind") == "follow" ? sim::CameraSpec::Kind::follow : sim::CameraSpec::Kind::path;
+    cam.kind = sim::parse_camera_kind(get_string(L, c, "kind"));
     if (push_field(L, c, "eye") == LUA_TTABLE) cam.eye = to_path(L, -1);
     lua_pop(L, 1);
     if (push_field(L, c, "target") == LUA_TTABLE) {

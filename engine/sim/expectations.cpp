@@ -3,6 +3,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "core/printable.hpp"
+#include "core/suggest.hpp"
 #include "sim/model.hpp"
 
 namespace softcut::sim {
@@ -83,6 +85,21 @@ void mark_unreached_expectations(const Model& m, State& s) {
     if (!s.expectations[i].reached)
       s.expectations[i].message =
           cat("not reached: the run ended at t = ", s.time, " s before at = ", m.spec.expectations[i].at, " s");
+}
+
+ExpectationSpec::Measure parse_measure(std::string_view text) {
+  if (text == "mean") return ExpectationSpec::Measure::mean;
+  if (text == "max") return ExpectationSpec::Measure::max;
+  fail("expect: unknown measure '", printable(text), "'", suggest(text, {"mean", "max"}));
+}
+
+ExpectationSpec::Component parse_component(std::string_view text) {
+  using C = ExpectationSpec::Component;
+  if (text == "magnitude") return C::magnitude;
+  if (text == "x") return C::x;
+  if (text == "y") return C::y;
+  if (text == "z") return C::z;
+  fail("expect: unknown component '", printable(text), "'", suggest(text, {"magnitude", "x", "y", "z"}));
 }
 
 }  // namespace softcut::sim

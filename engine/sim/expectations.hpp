@@ -8,6 +8,7 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -61,5 +62,10 @@ void mark_unreached_expectations(const Model& m, State& s);
 
 const char* to_string(ExpectationSpec::Measure v);
 const char* to_string(ExpectationSpec::Component v);
+
+// "mean"/"max" and "magnitude"/"x"/"y"/"z": throw naming the accepted
+// values with a did-you-mean.
+ExpectationSpec::Measure parse_measure(std::string_view text);
+ExpectationSpec::Component parse_component(std::string_view text);
 
 }  // namespace softcut::sim

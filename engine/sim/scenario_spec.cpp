@@ -5,6 +5,7 @@
 
 #include "core/error.hpp"
 #include "core/printable.hpp"
+#include "core/suggest.hpp"
 
 namespace softcut::sim {
 
@@ -157,6 +158,25 @@ const char* to_string(LoadSpec::Direction d) { return d == LoadSpec::Direction::
 
 std::array<double, 6> voigt_strain(const Eigen::Matrix3d& e) {
   return {e(0, 0), e(1, 1), e(2, 2), 2 * e(1, 2), 2 * e(2, 0), 2 * e(0, 1)};
+}
+
+LoadSpec::Direction parse_load_direction(std::string_view text) {
+  if (text == "world") return LoadSpec::Direction::world;
+  if (text == "normal") return LoadSpec::Direction::normal;
+  fail("load: unknown direction kind '", printable(text), "'", suggest(text, {"world", "normal"}));
+}
+
+RenderSettings::Style parse_render_style(std::string_view text) {
+  if (text == "clinical") return RenderSettings::Style::clinical;
+  if (text == "paper") return RenderSettings::Style::paper;
+  if (text == "debug") return RenderSettings::Style::debug;
+  fail("render: unknown style '", printable(text), "'", suggest(text, {"clinical", "paper", "debug"}));
+}
+
+CameraSpec::Kind parse_camera_kind(std::string_view text) {
+  if (text == "path") return CameraSpec::Kind::path;
+  if (text == "follow") return CameraSpec::Kind::follow;
+  fail("camera: unknown kind '", printable(text), "'", suggest(text, {"path", "follow"}));
 }
 
 }  // namespace softcut::sim

@@ -244,4 +244,12 @@ std::array<double, 6> voigt_strain(const Eigen::Matrix3d& eps);
 
 const char* to_string(LoadSpec::Direction d);
 
+// The spec's enums from the names users write (Lua, JSON): each throws
+// softcut::Error naming the field and the accepted values, with a
+// did-you-mean (core/suggest.hpp). "world"/"normal"; "clinical"/"paper"/
+// "debug"; "path"/"follow".
+LoadSpec::Direction parse_load_direction(std::string_view text);
+RenderSettings::Style parse_render_style(std::string_view text);
+CameraSpec::Kind parse_camera_kind(std::string_view text);
+
 }  // namespace softcut::sim

@@ -7,6 +7,8 @@
 #include <Eigen/Geometry>
 
 #include "core/error.hpp"
+#include "core/printable.hpp"
+#include "core/suggest.hpp"
 
 namespace softcut::tools {
 
@@ -206,5 +208,18 @@ const char* to_string(ToolSpec::Kind k) {
   return "?";
 }
 const char* to_string(ToolSpec::Drive d) { return d == ToolSpec::Drive::force ? "force" : "spring"; }
+
+ToolSpec::Kind parse_tool_kind(std::string_view text) {
+  if (text == "probe") return ToolSpec::Kind::probe;
+  if (text == "grasper") return ToolSpec::Kind::grasper;
+  if (text == "scalpel") return ToolSpec::Kind::scalpel;
+  fail("tool: unknown kind '", printable(text), "'", suggest(text, {"probe", "grasper", "scalpel"}));
+}
+
+ToolSpec::Drive parse_drive(std::string_view text) {
+  if (text == "force") return ToolSpec::Drive::force;
+  if (text == "spring") return ToolSpec::Drive::spring;
+  fail("tool: unknown drive '", printable(text), "'", suggest(text, {"force", "spring"}));
+}
 
 }  // namespace softcut::tools

@@ -10,6 +10,7 @@
 #include <Eigen/Core>
 #include <limits>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "tools/collision.hpp"
@@ -152,5 +153,10 @@ bool is_implicit_spring(const ToolSpec& spec);
 
 const char* to_string(ToolSpec::Kind k);
 const char* to_string(ToolSpec::Drive d);
+
+// "probe"/"grasper"/"scalpel" and "force"/"spring": throw naming the
+// accepted values with a did-you-mean.
+ToolSpec::Kind parse_tool_kind(std::string_view text);
+ToolSpec::Drive parse_drive(std::string_view text);
 
 }  // namespace softcut::tools

@@ -61,6 +61,17 @@ double mean_z(const sim::State& s, const std::vector<int>& nodes) {
 }  // namespace
 
 TEST_SUITE("sim/expectations") {
+  TEST_CASE("parse_measure, parse_component: the names, and a misspelt one named") {
+    CHECK(sim::parse_measure("mean") == sim::ExpectationSpec::Measure::mean);
+    CHECK(sim::parse_measure("max") == sim::ExpectationSpec::Measure::max);
+    for (const auto& [name, c] : {std::pair{"magnitude", sim::ExpectationSpec::Component::magnitude},
+                                  {"x", sim::ExpectationSpec::Component::x}, {"y", sim::ExpectationSpec::Component::y},
+                                  {"z", sim::ExpectationSpec::Component::z}})
+      CHECK(sim::parse_component(name) == c);
+    CHECK_THROWS_WITH(sim::parse_measure("maximum"), doctest::Contains("unknown measure 'maximum'"));
+    CHECK_THROWS_WITH(sim::parse_component("magnitud"), doctest::Contains("(did you mean 'magnitude'?)"));
+  }
+
   TEST_CASE("bounds are measured on the frame at their time, checks go through the hook in order") {
     const fs::path dir = softcut::test::scratch_dir("sim_expect_bounds");
     const sim::Model m = sim::compile(spec_with_expectations(dir));

@@ -28,6 +28,19 @@ const double kInf = std::numeric_limits<double>::infinity();
 }  // namespace
 
 TEST_SUITE("sim/scenario_spec") {
+  TEST_CASE("parse_X: every name users write, and a misspelt one named with a did-you-mean") {
+    CHECK(sim::parse_load_direction("world") == sim::LoadSpec::Direction::world);
+    CHECK(sim::parse_load_direction("normal") == sim::LoadSpec::Direction::normal);
+    CHECK(sim::parse_render_style("clinical") == sim::RenderSettings::Style::clinical);
+    CHECK(sim::parse_render_style("paper") == sim::RenderSettings::Style::paper);
+    CHECK(sim::parse_render_style("debug") == sim::RenderSettings::Style::debug);
+    CHECK(sim::parse_camera_kind("path") == sim::CameraSpec::Kind::path);
+    CHECK(sim::parse_camera_kind("follow") == sim::CameraSpec::Kind::follow);
+    CHECK_THROWS_WITH(sim::parse_load_direction("normals"), doctest::Contains("unknown direction kind 'normals' (did you mean 'normal'?)"));
+    CHECK_THROWS_WITH(sim::parse_render_style("clincal"), doctest::Contains("(did you mean 'clinical'?)"));
+    CHECK_THROWS_WITH(sim::parse_camera_kind("none"), doctest::Contains("camera: unknown kind 'none'"));
+  }
+
   TEST_CASE("the default spec and the edges of each range are accepted") {
     ScenarioSpec s;
     CHECK_NOTHROW(check_spec(s));

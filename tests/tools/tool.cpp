@@ -33,6 +33,16 @@ struct BoxContact {
 }  // namespace
 
 TEST_SUITE("tools/tool") {
+  TEST_CASE("parse_tool_kind, parse_drive: the names, and a misspelt one named") {
+    CHECK(tools::parse_tool_kind("probe") == tools::ToolSpec::Kind::probe);
+    CHECK(tools::parse_tool_kind("grasper") == tools::ToolSpec::Kind::grasper);
+    CHECK(tools::parse_tool_kind("scalpel") == tools::ToolSpec::Kind::scalpel);
+    CHECK(tools::parse_drive("force") == tools::ToolSpec::Drive::force);
+    CHECK(tools::parse_drive("spring") == tools::ToolSpec::Drive::spring);
+    CHECK_THROWS_WITH(tools::parse_tool_kind("grasp"), doctest::Contains("(did you mean 'grasper'?)"));
+    CHECK_THROWS_WITH(tools::parse_drive("sprung"), doctest::Contains("unknown drive 'sprung'"));
+  }
+
   TEST_CASE("force-driven probe spreads its ramp over its contact circle, pushing against the normal") {
     BoxContact b;
     tools::ToolSpec spec;
