@@ -120,7 +120,10 @@ TEST_SUITE("app/cmd_check") {
     fs::copy_file(softcut::test::source("scenarios/liver_retraction.ref.csv"), softcut::app::reference_path(s));
     std::string text = slurp(s);
     std::ofstream(s) << text.replace(text.find("max = 1.02 * P.lift"), 19, "max = 0.9 * P.lift");
-    const auto r = run_cli("check --backend cpu " + s.string());
+    // The default backend: the retraction's corotational lobe took the CG
+    // backend's block-Jacobi Newton 142 s under ASan (CI); the kept factor's
+    // Newton is 2.3x faster in Release (1.6 s against 3.7 s).
+    const auto r = run_cli("check " + s.string());
     CHECK(r.status == 1);
     CHECK(contains(r.output, "liver_retraction.lua:59: expect 'edge lifted' failed: mean uz of 6 nodes at t = 2 s is "));
     const fs::path dir = s.parent_path();
