@@ -183,8 +183,8 @@ sim::ScenarioSpec spec_from_table(lua_State* L, int s, const fs::path& source) {
     lua_pop(L, 1);
     ts.direction = get_vec3(L, t, "direction", Eigen::Vector3d::Zero());
     ts.stiffness = get_number(L, t, "stiffness", 0.0);
-    ts.active_from = get_number(L, t, "start", 0.0);
-    ts.active_until = get_number(L, t, "stop", std::numeric_limits<double>::infinity());
+    ts.start = get_number(L, t, "start", 0.0);
+    ts.stop = get_number(L, t, "stop", std::numeric_limits<double>::infinity());
     ts.implicit = get_bool(L, t, "implicit", ts.implicit);
     ts.blade_length = get_number(L, t, "length", ts.blade_length);
     ts.blade_axis = get_vec3(L, t, "axis", ts.blade_axis);
@@ -269,7 +269,7 @@ sim::ScenarioSpec spec_from_table(lua_State* L, int s, const fs::path& source) {
     spec.solver.cg_tolerance = get_number(L, v, "tolerance", spec.solver.cg_tolerance);
     spec.solver.cg_max_iterations = get_int(L, v, "max_iterations", 0);
     spec.solver.backend = backend::parse_backend(get_string(L, v, "backend", "auto"));
-    spec.solver.storage = hybrid::parse_storage(get_string(L, v, "mode", "auto"));
+    spec.solver.mode = hybrid::parse_storage(get_string(L, v, "mode", "auto"));
     spec.solver.gpu_fp64 = get_bool(L, v, "gpu_fp64", spec.solver.gpu_fp64);
     spec.solver.newton.tolerance = get_number(L, v, "newton_tolerance", spec.solver.newton.tolerance);
     spec.solver.newton.max_iterations = get_int(L, v, "newton_max_iterations", spec.solver.newton.max_iterations);

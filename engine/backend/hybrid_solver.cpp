@@ -31,7 +31,7 @@ class HybridSolver final : public Solver {
                const StopFlags& stop)
       : spec_(spec), need_interior_(need_interior), choice_(std::move(choice)) {
     hybrid::PrecomputeOptions opt;
-    opt.storage = spec.storage;
+    opt.storage = spec.mode;
     opt.max_bytes = spec.max_bytes;
     opt.stop = stop;
     model_ = hybrid::precompute_cached(m, tet_material, p, opt, {spec.cache_dir}, &cache_);

@@ -31,8 +31,9 @@ struct SolverSpec {
   int cg_max_iterations = 0;    // 0: automatic
   Backend backend = Backend::automatic;
   bool gpu_fp64 = false;        // gpu: fp64 kernels instead of fp32 + fp64 refinement
-  // Nonoperational data (hybrid/precompute.hpp; Lua's `mode`).
-  hybrid::Storage storage = hybrid::Storage::automatic;
+  // How the nonoperational data is kept (hybrid/precompute.hpp's Storage;
+  // named as in Lua, s:solver{ mode }).
+  hybrid::Storage mode = hybrid::Storage::automatic;
   // The most the precomputed nonoperational data may take, bytes (the
   // runner sets the sandbox's memory budget); more is an error.
   double max_bytes = std::numeric_limits<double>::infinity();

@@ -76,7 +76,7 @@ void prepend_entry(const RestBody& rest, const StageFrame& s, const tools::ToolS
     return blade_depth(rest, s, p[0], p[1], at) > spec.radius;
   };
   if (!inside(t_prev)) return;
-  const double t_first = std::max(0.0, spec.active_from);
+  const double t_first = std::max(0.0, spec.start);
   double t_in = t_prev, t_out = -1;
   for (int k = 1; k <= 64 && t_in > t_first; ++k) {
     const double tk = std::max(t_first, t_prev - k * s.dt);
@@ -128,7 +128,7 @@ std::vector<CutEvent> cut_stage(const RestBody& rest, StageFrame& s) {
     const tools::ToolSpec& spec = s.specs[k];
     tools::ToolState& ts = s.tools[k];
     if (spec.kind != tools::ToolSpec::Kind::scalpel) continue;
-    const bool active = spec.enabled && t >= spec.active_from && t <= spec.active_until;
+    const bool active = spec.enabled && t >= spec.start && t <= spec.stop;
     const bool pressing = ts.engaged && ts.pressure >= spec.cut_pressure;
     if (!active || !(pressing || ts.in_cut)) {
       ts.in_cut = false;

@@ -63,8 +63,8 @@ render::SceneContent scene_content(const Model& m, const State& s) {
   for (size_t k = 0; k < s.tools.size() && k < s.tool_specs.size(); ++k) {
     const tools::ToolSpec& spec = s.tool_specs[k];
     const tools::ToolState& ts = s.tools[k];
-    // Drawn only while it acts: not before active_from, not after active_until.
-    if (!spec.enabled || s.time < spec.active_from || s.time > spec.active_until) continue;
+    // Drawn only while it acts: not before start, not after stop.
+    if (!spec.enabled || s.time < spec.start || s.time > spec.stop) continue;
     c.tool_labels.push_back(k < legend.tool.size() ? legend.tool[k] : 0);
     for (int n : ts.nodes) c.manipulated.push_back({n, ts.tip});
     const Eigen::Vector3d shaft = shaft_axis(spec, ts, rs.up);

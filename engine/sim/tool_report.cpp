@@ -35,7 +35,7 @@ std::vector<std::string> idle_tool_warnings(const Model& m, const State& s, bool
       out.push_back(coded_warning(
           "tool_never_active",
           cat(who, " was never active: ",
-              spec.active_from > end ? cat("its start = ", number(spec.active_from, "s"), " comes after the run's last "
+              spec.start > end ? cat("its start = ", number(spec.start, "s"), " comes after the run's last "
                                            "frame at t = ", number(end, "s"), "; start it earlier or run longer")
                                      : std::string("it was switched off (f:enable_tool) for the whole run"))));
     } else if (!ts.touched) {

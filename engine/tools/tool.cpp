@@ -27,8 +27,8 @@ void check_tool(const ToolSpec& t, const std::string& where) {
   check_path(t.path, w + " path");
   if (!t.direction.allFinite()) fail(w, ": direction must be finite");
   if (!t.shaft.allFinite()) fail(w, ": shaft must be finite");
-  if (!(t.active_until >= t.active_from) || std::isnan(t.active_from))
-    fail(w, ": active_until (", t.active_until, " s) must not be before active_from (", t.active_from, " s)");
+  if (!(t.stop >= t.start) || std::isnan(t.start))
+    fail(w, ": stop (", t.stop, " s) must not be before start (", t.start, " s)");
   if (t.kind == ToolSpec::Kind::scalpel) {
     if (!(t.blade_length > 0) || !std::isfinite(t.blade_length))
       fail(w, ": blade_length must be > 0 m, got ", t.blade_length);
@@ -64,7 +64,7 @@ void update_tool(const ToolSpec& spec, ToolState& st, double t, const ContactSur
     st.pressure = 0.0;
     st.cutting = false;
   }
-  const bool active = spec.enabled && t >= spec.active_from && t <= spec.active_until;
+  const bool active = spec.enabled && t >= spec.start && t <= spec.stop;
   if (!active) {
     st.engaged = false;
     st.nodes.clear();

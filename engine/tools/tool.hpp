@@ -51,12 +51,12 @@ struct ToolSpec {
   Eigen::Vector3d direction = Eigen::Vector3d::Zero();
   double stiffness = 0.0;  // N/m, total (drive spring), > 0
   bool implicit = true;    // grasper spring: exact within the frame (false: explicit, lags a frame)
-  // probe: in contact only in [active_from, active_until];
-  // grasper: closes at the first frame with t >= active_from that touches the
+  // probe: in contact only in [start, stop];
+  // grasper: closes at the first frame with t >= start that touches the
   // surface, on the patch of surface under its jaw (tools::surface_patch,
-  // radius = `radius`), keeps it, opens at active_until.
-  double active_from = 0.0;                                        // s
-  double active_until = std::numeric_limits<double>::infinity();   // s
+  // radius = `radius`), keeps it, opens at stop.
+  double start = 0.0;                                      // s (Lua: start)
+  double stop = std::numeric_limits<double>::infinity();   // s (Lua: stop)
 
   // Scalpel only. The blade edge is the segment of length blade_length
   // centred on the path point along blade_axis; it touches the nodes within

@@ -309,8 +309,8 @@ return s
     CHECK(t.radius == 0.002);
     CHECK(t.cut_pressure == 5e3);
     CHECK(t.stiffness == 50);
-    CHECK(t.active_from == 0.1);
-    CHECK(t.active_until == 0.4);
+    CHECK(t.start == 0.1);
+    CHECK(t.stop == 0.4);
     CHECK(spec.cutting.snap_fraction == 0.2);
     CHECK(spec.cutting.min_dihedral_deg == 12);
 

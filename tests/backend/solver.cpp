@@ -62,7 +62,7 @@ TEST_SUITE("backend/solver") {
         CAPTURE(storage);
         CAPTURE(vtu);
         auto spec = softcut::test::cantilever_spec(softcut::test::scratch_dir("sim_solver_units"));
-        spec.solver.storage = softcut::hybrid::parse_storage(storage);
+        spec.solver.mode = softcut::hybrid::parse_storage(storage);
         spec.outputs.vtu = vtu;
         const sim::Model m = sim::compile(spec);
         spec.solver.backend = backend::Backend::monolithic;
@@ -166,7 +166,7 @@ TEST_SUITE("backend/solver") {
       return;
     }
     auto spec = gpu_spec("direct");
-    spec.solver.storage = softcut::hybrid::Storage::dense;  // K*^-1 P* kept dense
+    spec.solver.mode = softcut::hybrid::Storage::dense;  // K*^-1 P* kept dense
     const sim::Model cpu = sim::compile(spec);
     REQUIRE(cpu.solver->name().find("on the device") == std::string::npos);
     backend::BackendChoice c = backend::choose_backend(spec.solver, &context().info());

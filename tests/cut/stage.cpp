@@ -112,7 +112,7 @@ TEST_SUITE("cut/stage") {
       CAPTURE(k);
       Bench b;
       if (k == 0) b.tools[0].pressure = 99;  // below cut_pressure
-      if (k == 1) b.specs[0].active_until = 0.05;
+      if (k == 1) b.specs[0].stop = 0.05;
       if (k == 2) b.specs[0].kind = tools::ToolSpec::Kind::probe;
       // Outside the bar, so a blade that does not cut is not refused either.
       b.tools[0].blade_a = V(0.05, 0.05, 0.06), b.tools[0].blade_b = V(0.05, 0.05, 0.05);

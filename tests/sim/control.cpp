@@ -54,7 +54,7 @@ TEST_SUITE("sim/control") {
     CHECK(test::contains(test::error_of([&] { sim::record_metric(s, "one_more", 1.0); }), "at most 256"));
   }
 
-  TEST_CASE("tools and loads change from the next frame; an index out of range is an error") {
+  TEST_CASE("tools and loads change from the next frame, an index out of range is an error") {
     sim::ScenarioSpec spec = test::cantilever_spec(test::scratch_dir("control"));
     const sim::Model m = sim::compile(spec);
     sim::State s = sim::make_state(m);

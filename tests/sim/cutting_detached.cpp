@@ -55,7 +55,7 @@ sim::ScenarioSpec free_cut_spec(const std::string& name, const std::string& back
   probe.path = tools::Path::fixed_at(V(0.1, 0.01, 0.02));
   probe.radius = 0.0045;
   probe.force = tools::Ramp::constant_value(0.001);
-  probe.active_from = 1.05;
+  probe.start = 1.05;
   s.tools.push_back(probe);
   s.timeline.duration = 1.3;
   s.timeline.fps = 20.0;

@@ -66,14 +66,14 @@ TEST_SUITE("sim/frame_scene") {
     CHECK(sim::frame_png_path("out", 12) == std::filesystem::path("out/frames/frame_000012.png"));
   }
 
-  TEST_CASE("a scalpel is drawn until its active_until time, not after") {
+  TEST_CASE("a scalpel is drawn until its stop time, not after") {
     auto spec = softcut::test::cantilever_spec(softcut::test::scratch_dir("sim_frame_scene_scalpel"), 0.3);
     tools::ToolSpec blade;
     blade.name = "blade";
     blade.kind = tools::ToolSpec::Kind::scalpel;
     blade.path = tools::Path::fixed_at(V(0.1, 0.01, 0.5));  // well above the bar: never touches it
     blade.force = tools::Ramp::constant_value(0.001);
-    blade.active_until = 0.15;
+    blade.stop = 0.15;
     spec.tools = {blade};
     const sim::Model m = sim::compile(spec);
     sim::State s = sim::make_state(m);
@@ -93,8 +93,8 @@ TEST_SUITE("sim/frame_scene") {
     probe.path = tools::Path::fixed_at(V(0.1, 0.01, 0.5));
     probe.force = tools::Ramp::constant_value(0.001);
     probe.direction = V(1, 0, -1);
-    probe.active_from = 0.15;
-    probe.active_until = 0.25;
+    probe.start = 0.15;
+    probe.stop = 0.25;
     spec.tools = {probe};
     const sim::Model m = sim::compile(spec);
     sim::State s = sim::make_state(m);

@@ -181,7 +181,7 @@ TEST_SUITE("sim/model") {
     for (const char* backend : {"direct", "cpu", "monolithic"}) {
       CAPTURE(backend);
       spec.solver.backend = softcut::backend::parse_backend(backend);
-      spec.solver.storage = softcut::hybrid::Storage::factor;  // stage 5 through the shared K22 factor
+      spec.solver.mode = softcut::hybrid::Storage::factor;  // stage 5 through the shared K22 factor
       const sim::Model m = sim::compile(spec);
       auto run = [&m](std::vector<Eigen::MatrixX3d>& frames) {
         sim::State s = sim::make_state(m);

@@ -245,7 +245,9 @@ TEST_SUITE("sim/outputs") {
                                            "partition", "solver", "precompute_ms", "precompute_cache", "threads",
                                            "columns", "timeline", "run", "limits", "stage_ms", "springs", "cg",
                                            "newton", "validity", "outputs", "tools", "cutting", "expectations",
-                                           "warnings"});
+                                           "metrics", "warnings"});
+    CHECK(j["metrics"].is_array());
+    CHECK(j["metrics"].empty());  // nothing recorded
     CHECK(j["newton"]["frames"] == 0);  // a linear run
     CHECK(j["validity"]["linear_strain_max"].is_number());
     CHECK(j["validity"]["bounds"]["condensed_rotation_deg"] == 10.0);

@@ -42,7 +42,7 @@ sim::ScenarioSpec cut_bar(const fs::path& dir) {
   probe.radius = 0.004;
   probe.force = tools::Ramp::constant_value(0.01);
   probe.path = tools::Path::polyline({0.0, 1.0}, {V(0.08, 0.01, 0.0235), V(0.08, 0.01, 0.0225)});
-  probe.active_from = 0.2;
+  probe.start = 0.2;
   s.tools.push_back(probe);
   s.timeline.duration = 0.6;
   s.timeline.fps = 20.0;

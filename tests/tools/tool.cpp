@@ -76,7 +76,7 @@ TEST_SUITE("tools/tool") {
     tools::update_tool(spec, st, 1.0, b.contact());
     CHECK((st.total_force - V(2.0, 0, 0)).norm() < 1e-12);
     // Outside the active window: nothing.
-    spec.active_until = 0.9;
+    spec.stop = 0.9;
     tools::update_tool(spec, st, 1.0, b.contact());
     CHECK(st.nodes.empty());
     CHECK(st.total_force.norm() == 0);
@@ -101,8 +101,8 @@ TEST_SUITE("tools/tool") {
     tools::update_tool(spec, st, 0.5, b.contact());
     CHECK(st.nodes == nodes);
     CHECK((st.total_force - V(0, 0, 10.0)).norm() < 1e-12);
-    // Released after active_until.
-    spec.active_until = 0.75;
+    // Released after stop.
+    spec.stop = 0.75;
     tools::update_tool(spec, st, 0.8, b.contact());
     CHECK(st.nodes.empty());
     CHECK(!st.engaged);
