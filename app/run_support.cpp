@@ -61,7 +61,9 @@ extern "C" void on_signal(int sig) {
   clock_gettime(CLOCK_MONOTONIC, &ts);  // async-signal-safe
   const long long now = ts.tv_sec * 1000000000LL + ts.tv_nsec;
   if (SignalGuard::flag().exchange(true)) {
-    if (now - g_first_signal_ns.load() < 1000000000LL) return;
+    // 0: the first copy, on another thread, has not stored its time yet.
+    const long long first = g_first_signal_ns.load();
+    if (first == 0 || now - first < 1000000000LL) return;
     std::signal(sig, SIG_DFL);
     std::raise(sig);
   }
@@ -76,6 +78,7 @@ std::atomic<bool>& SignalGuard::flag() {
 
 SignalGuard::SignalGuard() {
   flag().store(false);
+  g_first_signal_ns.store(0);
   struct sigaction sa {};
   sa.sa_handler = on_signal;
   sigemptyset(&sa.sa_mask);
