@@ -22,6 +22,28 @@ namespace fem = softcut::fem;
 
 namespace {
 
+// A 40 x 40 x 20 mm slab of n x n x n/2 cells held at its base, lifted 2 mm
+// over 0.1 s by a stiff grasper of `radius` at `center` (the grip goes onto
+// its target), solved whole (monolithic).
+sim::ScenarioSpec lifted_slab(int n, double radius, const V& center, const char* dir) {
+  sim::ScenarioSpec spec;
+  spec.name = "slab";
+  spec.mesh.generator = "box";
+  spec.mesh.options = {{"max.x", 0.04}, {"max.y", 0.04}, {"max.z", 0.02}, {"nx", n}, {"ny", n}, {"nz", n / 2}};
+  sim::MaterialAssignment mat;
+  mat.name = "tissue";
+  mat.young = 5e3;
+  mat.poisson = 0.45;
+  spec.materials.push_back(mat);
+  spec.fixed = sim::NodeSelector::box(V(-1, -1, -1), V(1, 1, 0));
+  spec.solver.backend = backend::parse_backend("monolithic");
+  spec.timeline.duration = 0.1;
+  spec.timeline.fps = 10.0;
+  spec.outputs.dir = softcut::test::scratch_dir(dir);
+  spec.tools.push_back(softcut::test::spring_grasper(1e5, radius, tools::Path::polyline({0.0, 0.1}, {center, center + V(0, 0, 2e-3)})));
+  return spec;
+}
+
 // Independent reference: the whole mesh's stiffness with the fixed DOFs
 // eliminated, inverted densely (no CHOLMOD, no hybrid model).
 struct Monolithic {
@@ -245,23 +267,7 @@ TEST_SUITE("sim/step") {
   TEST_CASE("a patch grasp lifts a patch: its peak over the ring around it stays bounded as the mesh is refined") {
     const double radius_ring = 4e-3;  // the patch jaw's radius
     auto peak = [&](int n, double radius, const V& center) {
-      sim::ScenarioSpec spec;
-      spec.name = "slab";
-      spec.mesh.generator = "box";
-      spec.mesh.options = {{"max.x", 0.04}, {"max.y", 0.04}, {"max.z", 0.02}, {"nx", n}, {"ny", n}, {"nz", n / 2}};
-      sim::MaterialAssignment mat;
-      mat.name = "tissue";
-      mat.young = 5e3;
-      mat.poisson = 0.45;
-      spec.materials.push_back(mat);
-      spec.fixed = sim::NodeSelector::box(V(-1, -1, -1), V(1, 1, 0));
-      spec.solver.backend = backend::parse_backend("monolithic");
-      spec.timeline.duration = 0.1;
-      spec.timeline.fps = 10.0;
-      spec.outputs.dir = softcut::test::scratch_dir("sim_springs_patch");
-      // Stiff: the grip goes onto its target.
-      spec.tools.push_back(softcut::test::spring_grasper(1e5, radius, tools::Path::polyline({0.0, 0.1}, {center, center + V(0, 0, 2e-3)})));
-      const sim::Model m = sim::compile(spec);
+      const sim::Model m = sim::compile(lifted_slab(n, radius, center, "sim_springs_patch"));
       sim::State s = sim::make_state(m);
       for (int i = 0; i < m.num_frames; ++i) sim::step(m, s);
       const tools::ToolState& ts = s.tools[0];
@@ -306,22 +312,7 @@ TEST_SUITE("sim/step") {
     const V center(0.0207, 0.0211, 0.02);
     std::vector<double> rings;
     for (const int n : {16, 24, 32}) {
-      sim::ScenarioSpec spec;
-      spec.name = "slab";
-      spec.mesh.generator = "box";
-      spec.mesh.options = {{"max.x", 0.04}, {"max.y", 0.04}, {"max.z", 0.02}, {"nx", n}, {"ny", n}, {"nz", n / 2}};
-      sim::MaterialAssignment mat;
-      mat.name = "tissue";
-      mat.young = 5e3;
-      mat.poisson = 0.45;
-      spec.materials.push_back(mat);
-      spec.fixed = sim::NodeSelector::box(V(-1, -1, -1), V(1, 1, 0));
-      spec.solver.backend = backend::parse_backend("monolithic");
-      spec.timeline.duration = 0.1;
-      spec.timeline.fps = 10.0;
-      spec.outputs.dir = softcut::test::scratch_dir("sim_springs_ring");
-      spec.tools.push_back(softcut::test::spring_grasper(1e5, 4e-3, tools::Path::polyline({0.0, 0.1}, {center, center + V(0, 0, 2e-3)})));
-      const sim::Model m = sim::compile(spec);
+      const sim::Model m = sim::compile(lifted_slab(n, 4e-3, center, "sim_springs_ring"));
       sim::State s = sim::make_state(m);
       for (int i = 0; i < m.num_frames; ++i) sim::step(m, s);
       double ring = 0;
