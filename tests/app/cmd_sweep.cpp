@@ -38,6 +38,19 @@ const char* kGrid = "--grid f=0.001,0.01,0.1,1 --grid young=5e3,1e4";  // 8 runs
 
 }  // namespace
 
+// A bar pulled up by a spring grasper 'jaw' of stiffness parameter k, with
+// `extra` script lines before its return.
+static void write_pull(const fs::path& file, const std::string& extra) {
+  std::ofstream(file) << "local P = softcut.params{ k = 100 }\n"
+                      "local s = softcut.scenario{ name = 'pull', duration = 0.2, fps = 10 }\n"
+                      "s:mesh{ generate = 'box', options = { max = { 0.1, 0.02, 0.02 }, nx = 10, ny = 4, nz = 4 } }\n"
+                      "s:material{ young = 5e3, poisson = 0.4 }\n"
+                      "s:fix{ nodes = softcut.select.box{ min = { -1, -1, -1 }, max = { 0, 1, 1 } } }\n"
+                      "s:grasper{ name = 'jaw', radius = 0.006, stiffness = P.k, path = softcut.path.polyline{ times = { 0, 0.2 },\n"
+                      "           points = { { 0.08, 0.01, 0.021 }, { 0.08, 0.01, 0.028 } } } }\n"
+                      << extra << "return s\n";
+}
+
 TEST_SUITE("app/cmd_sweep") {
   TEST_CASE("8 runs in 3 shards merge to the same table as one local run - a missing shard fails the merge") {
     const fs::path dir = softcut::test::scratch_dir("sweep_shards");
@@ -162,15 +175,7 @@ TEST_SUITE("app/cmd_sweep") {
 
   TEST_CASE("each tool's peak and mean force and engaged frames become columns of sweep.csv") {
     const fs::path dir = softcut::test::scratch_dir("sweep_tools");
-    std::ofstream(dir / "pull.lua")
-        << "local P = softcut.params{ k = 100 }\n"
-           "local s = softcut.scenario{ name = 'pull', duration = 0.2, fps = 10 }\n"
-           "s:mesh{ generate = 'box', options = { max = { 0.1, 0.02, 0.02 }, nx = 10, ny = 4, nz = 4 } }\n"
-           "s:material{ young = 5e3, poisson = 0.4 }\n"
-           "s:fix{ nodes = softcut.select.box{ min = { -1, -1, -1 }, max = { 0, 1, 1 } } }\n"
-           "s:grasper{ name = 'jaw', radius = 0.006, stiffness = P.k, path = softcut.path.polyline{ times = { 0, 0.2 },\n"
-           "           points = { { 0.08, 0.01, 0.021 }, { 0.08, 0.01, 0.028 } } } }\n"
-           "return s\n";
+    write_pull(dir / "pull.lua", "");
     CHECK(run_cli("sweep pull.lua --grid k=100,400 -j 1 --out t", dir).status == 0);
     CHECK(run_cli("sweep merge t", dir).status == 0);
     const std::string csv = slurp(dir / "t" / "sweep.csv");
@@ -190,19 +195,11 @@ TEST_SUITE("app/cmd_sweep") {
     // The jaw's force magnitude recorded every frame: its max must be the
     // tool's own peak force (tools.csv's statistics), its last the last frame's.
     const fs::path dir = softcut::test::scratch_dir("sweep_metrics");
-    std::ofstream(dir / "pull.lua")
-        << "local P = softcut.params{ k = 100 }\n"
-           "local s = softcut.scenario{ name = 'pull', duration = 0.2, fps = 10 }\n"
-           "s:mesh{ generate = 'box', options = { max = { 0.1, 0.02, 0.02 }, nx = 10, ny = 4, nz = 4 } }\n"
-           "s:material{ young = 5e3, poisson = 0.4 }\n"
-           "s:fix{ nodes = softcut.select.box{ min = { -1, -1, -1 }, max = { 0, 1, 1 } } }\n"
-           "s:grasper{ name = 'jaw', radius = 0.006, stiffness = P.k, path = softcut.path.polyline{ times = { 0, 0.2 },\n"
-           "           points = { { 0.08, 0.01, 0.021 }, { 0.08, 0.01, 0.028 } } } }\n"
-           "s:on_frame(function(f)\n"
-           "  f:record('jaw_force', softcut.vec.length(f:tool('jaw').force))\n"
-           "  if f.frame == 2 then f:record('lift.mm', 1000 * f:mean_displacement(softcut.select.surface())[3]) end\n"
-           "end)\n"
-           "return s\n";
+    write_pull(dir / "pull.lua",
+               "s:on_frame(function(f)\n"
+               "  f:record('jaw_force', softcut.vec.length(f:tool('jaw').force))\n"
+               "  if f.frame == 2 then f:record('lift.mm', 1000 * f:mean_displacement(softcut.select.surface())[3]) end\n"
+               "end)\n");
     CHECK(run_cli("sweep pull.lua --grid k=100,400 -j 1 --out t", dir).status == 0);
     CHECK(run_cli("sweep merge t", dir).status == 0);
     const std::string csv = slurp(dir / "t" / "sweep.csv");
