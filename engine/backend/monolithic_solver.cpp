@@ -46,7 +46,8 @@ struct MonolithicRunState final : SolverRunState {
   solve::SolveWorkspace ws;                     // this run's solves with the (shared) factor
   fem::NonlinearWork work;                      // a nonlinear frame's element tangents
   Eigen::VectorXd x;                            // the free DOFs' last solution (a nonlinear frame's warm start)
-  long x_generation = -1;                       // the system x belongs to
+  Eigen::VectorXd x_before;                     // the one before it (Newton's secant start); may be empty
+  long x_generation = -1;                       // the system x and x_before belong to
   Eigen::MatrixX3d last_u;                      // the last frame's field (carried onto a cut mesh)
 };
 
@@ -115,14 +116,18 @@ class MonolithicSolver final : public Solver {
     if (!sys.nonlinear_law && !in.springs) {
       u = sys.solver.solve(forces, rs.ws, prescribed, &stats.relative_residual);
       check_solve_residual(stats.relative_residual, "whole-mesh solve");
+      rs.x_before.resize(0);  // rs.x is not this frame's: no secant through it
     } else {
-      if (rs.x_generation != sys.generation) rs.x.resize(0), rs.x_generation = sys.generation;
+      if (rs.x_generation != sys.generation) rs.x.resize(0), rs.x_before.resize(0), rs.x_generation = sys.generation;
       fem::NonlinearSolve ns;
       ns.linear = &sys.solver;
       ns.set = &sys.nonlinear;
       ns.springs = in.springs;
+      ns.previous = rs.x_before.size() > 0 ? &rs.x_before : nullptr;
       ns.options = newton_;
+      Eigen::VectorXd x_last = rs.x;
       const solve::NewtonReport rep = fem::solve_nonlinear(ns, forces, prescribed, rs.x, rs.work, rs.ws, "whole-mesh solve");
+      rs.x_before.swap(x_last);
       check_solve_residual(rep.relative_residual, "whole-mesh solve");
       u = sys.solver.system().field(rs.x, prescribed);
       stats.relative_residual = rep.relative_residual;

@@ -41,16 +41,23 @@ Eigen::Matrix3d cofactor_derivative(const Eigen::Matrix3d& F, const Eigen::Matri
   return dC;
 }
 
+// The linear law's energy density of a strain e, J/m^3.
+double linear_density(const TetRest& r, const Eigen::Matrix3d& e) {
+  return r.mu * e.squaredNorm() + 0.5 * r.lambda * e.trace() * e.trace();
+}
+
 // The stress measure and its derivative of one law at one F, as the kernel
-// needs them: P (first Piola-Kirchhoff, Pa) and, when asked, dP for a given
-// dF through `dP(dF)`.
+// needs them: P (first Piola-Kirchhoff, Pa), its energy density W (J/m^3 of
+// rest volume), and dP for a given dF through `dP(dF)` or, for the unit dF =
+// e_b e_d^T, `dP_unit(b, d)`.
 struct Linear {
   const TetRest& r;
-  Eigen::Matrix3d P;
+  Eigen::Matrix3d e, P;
   Linear(const TetRest& rest, const Eigen::Matrix3d& F) : r(rest) {
-    const Eigen::Matrix3d e = 0.5 * (F + F.transpose()) - Eigen::Matrix3d::Identity() - r.eps0;
+    e = 0.5 * (F + F.transpose()) - Eigen::Matrix3d::Identity() - r.eps0;
     P = 2 * r.mu * e + r.lambda * e.trace() * Eigen::Matrix3d::Identity();
   }
+  double density() const { return linear_density(r, e); }
   Eigen::Matrix3d dP(const Eigen::Matrix3d& dF) const {
     return r.mu * (dF + dF.transpose()) + r.lambda * dF.trace() * Eigen::Matrix3d::Identity();
   }
@@ -58,19 +65,26 @@ struct Linear {
 
 struct Corotational {
   const TetRest& r;
-  Eigen::Matrix3d R, S, Minv, sig, P;
+  Eigen::Matrix3d R, S, Minv, e, sig, P, RA;
   Corotational(const TetRest& rest, const Eigen::Matrix3d& F) : r(rest) {
     polar(F, R, S, &Minv);
-    const Eigen::Matrix3d e = S - Eigen::Matrix3d::Identity() - r.eps0;
+    e = S - Eigen::Matrix3d::Identity() - r.eps0;
     sig = 2 * r.mu * e + r.lambda * e.trace() * Eigen::Matrix3d::Identity();
     P = R * sig;
+    RA = R * (sig - 2 * r.mu * S);
   }
-  Eigen::Matrix3d dP(const Eigen::Matrix3d& dF) const {
-    const Eigen::Matrix3d B = R.transpose() * dF;
-    const Eigen::Matrix3d W = skew(Minv * axial(B));  // R^T dR
-    const Eigen::Matrix3d dS = B - W * S;
-    const Eigen::Matrix3d dsig = 2 * r.mu * dS + r.lambda * dS.trace() * Eigen::Matrix3d::Identity();
-    return R * (W * sig + dsig);
+  double density() const { return linear_density(r, e); }
+  // With B = R^T dF, W = R^T dR = skew(Minv axial(B)) and dS = B - W S:
+  //   dP = R (W sig + 2 mu dS + lambda tr(dS) I)
+  //      = skew(R w) RA + 2 mu dF + lambda tr(B) R,   w = Minv axial(B),
+  // RA = R (sig - 2 mu S) (R skew(w) = skew(R w) R; tr(W S) = 0). For the
+  // unit dF = e_b e_d^T the tangent is made of, B = (R^T e_b) e_d^T:
+  // axial(B) = e_d x R^T e_b and tr(B) = R(b, d).
+  Eigen::Matrix3d dP_unit(int b, int d) const {
+    const Eigen::Vector3d w = Minv * Eigen::Vector3d::Unit(d).cross(R.row(b).transpose());
+    Eigen::Matrix3d out = skew(R * w) * RA + r.lambda * R(b, d) * R;
+    out(b, d) += 2 * r.mu;
+    return out;
   }
 };
 
@@ -106,6 +120,7 @@ struct NeoHookean {
                                          : Eigen::Matrix3d(c10 * (2 * a * F + I1 * a1 * C));
     P = (iso + k2 * (J - 1) * C) * G.transpose();
   }
+  double density() const { return c10 * (a * I1 - 3) + 0.5 * k2 * (J - 1) * (J - 1); }
   Eigen::Matrix3d dP(const Eigen::Matrix3d& dF_total) const {
     const Eigen::Matrix3d dF = dF_total * G;
     const double dJ = (C.array() * dF.array()).sum();
@@ -117,17 +132,28 @@ struct NeoHookean {
   }
 };
 
+// dP for dF = e_b e_d^T: the law's own shortcut where it has one.
+template <class Law>
+Eigen::Matrix3d unit_derivative(const Law& law, int b, int d) {
+  if constexpr (requires { law.dP_unit(b, d); }) {
+    return law.dP_unit(b, d);
+  } else {
+    Eigen::Matrix3d dF = Eigen::Matrix3d::Zero();
+    dF(b, d) = 1;
+    return law.dP(dF);
+  }
+}
+
 // f and K from P and dP: f_k = V P g_k; K(3k + a, 3l + b) = V sum_cd H(ac, bd) g_k[c] g_l[d].
 template <class Law>
-void assemble(const TetRest& r, const Law& law, Vec12& f, Mat12* K, Tangent tangent) {
+void assemble(const TetRest& r, const Law& law, Vec12& f, Mat12* K, Tangent tangent, double* energy) {
   for (int k = 0; k < 4; ++k) f.segment<3>(3 * k) = r.volume * (law.P * r.grad.row(k).transpose());
+  if (energy) *energy = r.volume * law.density();
   if (!K || tangent == Tangent::none) return;
   Mat9 H;  // H(idx(a, c), idx(b, d)) = dP_ac / dF_bd
   for (int b = 0; b < 3; ++b)
     for (int d = 0; d < 3; ++d) {
-      Eigen::Matrix3d dF = Eigen::Matrix3d::Zero();
-      dF(b, d) = 1;
-      const Eigen::Matrix3d dP = law.dP(dF);
+      const Eigen::Matrix3d dP = unit_derivative(law, b, d);
       for (int a = 0; a < 3; ++a)
         for (int c = 0; c < 3; ++c) H(idx(a, c), idx(b, d)) = dP(a, c);
     }
@@ -158,13 +184,15 @@ void polar(const Eigen::Matrix3d& F, Eigen::Matrix3d& R, Eigen::Matrix3d& S, Eig
   // S - I to about 3e-16 absolute (10x closer than through the SVD, whose
   // singular vectors blur where the stretches are equal: the strain of a
   // nearly rigid tet, which a converged Newton frame's residual is made of).
-  const double f3 = std::pow(F.norm() / std::sqrt(3.0), 3);
+  const double fn = F.norm() / std::sqrt(3.0);
   const double det = F.determinant();
-  if (std::isfinite(det) && det > 1e-2 * f3) {
+  if (std::isfinite(det) && det > 1e-2 * fn * fn * fn) {
     R = F;
     for (int k = 0; k < 30; ++k) {
-      const double g = std::pow(std::abs(R.determinant()), -1.0 / 3.0);
-      const Eigen::Matrix3d next = 0.5 * (g * R + (g * R).inverse().transpose());
+      // (g R)^-T = cof(R) / (g det R), g = |det R|^(-1/3): one determinant
+      // and one cofactor a step (no general inverse, no pow).
+      const double dr = R.determinant(), g = 1.0 / std::cbrt(std::abs(dr));
+      const Eigen::Matrix3d next = 0.5 * (g * R + cofactor(R) / (g * dr));
       const double change = (next - R).lpNorm<Eigen::Infinity>();
       R = next;
       if (change <= 1e-15) break;
@@ -214,31 +242,20 @@ Eigen::Matrix3d deformation_gradient(const TetRest& r, const TetCorners& x) {
   return x.transpose() * r.grad;  // sum_k x_k g_k^T
 }
 
-void element_force(const TetRest& r, const TetCorners& x, Vec12& f, Mat12* K, Tangent tangent) {
+void element_force(const TetRest& r, const TetCorners& x, Vec12& f, Mat12* K, Tangent tangent, double* energy) {
   const Eigen::Matrix3d F = deformation_gradient(r, x);
   switch (r.model) {
-    case MaterialModel::linear: assemble(r, Linear(r, F), f, K, tangent); break;
-    case MaterialModel::corotational: assemble(r, Corotational(r, F), f, K, tangent); break;
-    case MaterialModel::neohookean: assemble(r, NeoHookean(r, F), f, K, tangent); break;
+    case MaterialModel::linear: assemble(r, Linear(r, F), f, K, tangent, energy); break;
+    case MaterialModel::corotational: assemble(r, Corotational(r, F), f, K, tangent, energy); break;
+    case MaterialModel::neohookean: assemble(r, NeoHookean(r, F), f, K, tangent, energy); break;
   }
 }
 
 double element_energy(const TetRest& r, const TetCorners& x) {
-  const Eigen::Matrix3d F = deformation_gradient(r, x);
-  const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
-  auto linear_energy = [&](const Eigen::Matrix3d& e) { return r.mu * e.squaredNorm() + 0.5 * r.lambda * e.trace() * e.trace(); };
-  switch (r.model) {
-    case MaterialModel::linear: return r.volume * linear_energy(0.5 * (F + F.transpose()) - I - r.eps0);
-    case MaterialModel::corotational: {
-      const Corotational law(r, F);
-      return r.volume * linear_energy(law.S - I - r.eps0);
-    }
-    case MaterialModel::neohookean: {
-      const NeoHookean law(r, F);
-      return r.volume * (law.c10 * (law.a * law.I1 - 3) + 0.5 * law.k2 * (law.J - 1) * (law.J - 1));
-    }
-  }
-  return 0;
+  Vec12 f;
+  double energy = 0;
+  element_force(r, x, f, nullptr, Tangent::none, &energy);
+  return energy;
 }
 
 Deformation deformation(const Eigen::Matrix3d& F) {

@@ -46,9 +46,11 @@ enum class Tangent {
 
 // Internal force f (12: corners' x y z, N) of the tet at current corner
 // positions x (4 x 3, m), and its tangent K (12 x 12, N/m) unless
-// Tangent::none. f = 0 at x = rest for eps0 = 0; rigid motions give f = 0.
+// Tangent::none, and its energy (element_energy) into `energy` unless null:
+// one pass of the law (one polar decomposition) for all three. f = 0 at
+// x = rest for eps0 = 0; rigid motions give f = 0.
 void element_force(const TetRest& r, const TetCorners& x, Vec12& f, Mat12* K = nullptr,
-                   Tangent tangent = Tangent::none);
+                   Tangent tangent = Tangent::none, double* energy = nullptr);
 
 // The tet's stored energy at x, J: the potential whose gradient is
 // element_force (for every law but the corotational one with an initial

@@ -32,6 +32,7 @@ NonlinearTets::NonlinearTets(const mesh::TetMesh& m, const std::vector<Material>
       node_[e][size_t(k)] = m.tets(t, k);
       unknown_[e][size_t(k)] = node_unknown[size_t(m.tets(t, k))];
     }
+    force_unit_ += rest_[e].mu * std::cbrt(rest_[e].volume * rest_[e].volume);
   }
 }
 
@@ -40,7 +41,7 @@ double evaluate(const NonlinearTets& set, const Eigen::VectorXd& x, const Eigen:
   const int n = set.size();
   work.D.resize(size_t(n));
   work.x.resize(size_t(n));
-  work.force_unit = 0;
+  work.force_unit = set.force_unit();
   double energy = 0;
   Vec12 f, uf;
   Mat12 K;
@@ -58,12 +59,13 @@ double evaluate(const NonlinearTets& set, const Eigen::VectorXd& x, const Eigen:
     TetCorners& xe = work.x[size_t(e)];
     xe = X + u;
     const TetRest& r = set.rest(e);
-    work.force_unit += r.mu * std::cbrt(r.volume * r.volume);
-    element_force(r, xe, f, tangent ? &K : nullptr, tangent ? Tangent::exact : Tangent::none);
+    double energy_e = 0;
+    element_force(r, xe, f, tangent ? &K : nullptr, tangent ? Tangent::exact : Tangent::none, &energy_e);
     const Mat12& K0 = set.linear_stiffness(e);
     const Vec12& f0 = set.initial_force(e);
-    const Vec12 de = f - K0 * uf + f0;
-    energy += element_energy(r, xe) - 0.5 * uf.dot(K0 * uf) + f0.dot(uf);
+    const Vec12 K0u = K0 * uf;
+    const Vec12 de = f - K0u + f0;
+    energy += energy_e - 0.5 * uf.dot(K0u) + f0.dot(uf);
     for (int k = 0; k < 4; ++k)
       if (unk[size_t(k)] >= 0) d.segment<3>(3 * Eigen::Index(unk[size_t(k)])) += de.segment<3>(3 * k);
     if (tangent) {

@@ -46,6 +46,8 @@ class NonlinearTets {
   const std::array<int, 4>& unknown(int e) const { return unknown_[size_t(e)]; }  // corner -> unknown node or -1
   const std::array<int, 4>& node(int e) const { return node_[size_t(e)]; }        // corner -> mesh node
   const TetCorners& corners(int e) const { return X_[size_t(e)]; }                // rest positions, m
+  // sum_e mu_e V_e^(2/3), N: the force a unit strain of the tets makes.
+  double force_unit() const { return force_unit_; }
 
  private:
   std::vector<int> tets_;
@@ -54,6 +56,7 @@ class NonlinearTets {
   std::vector<Vec12> f0_;
   std::vector<std::array<int, 4>> unknown_, node_;
   std::vector<TetCorners> X_;
+  double force_unit_ = 0;
 };
 
 // One run's evaluation state.
@@ -65,8 +68,8 @@ struct NonlinearWork {
   // how many are inverted (det F <= 0).
   double max_rotation = 0, max_strain = 0;
   int inverted = 0;
-  // sum_e mu_e V_e^(2/3), N: the force a unit strain of the tets makes, for
-  // a Newton scale that never asks for less than rounding (|r| <= 1e-16 of it).
+  // NonlinearTets::force_unit() of the last evaluate(), N: for a Newton
+  // scale that never asks for less than rounding (|r| <= 1e-16 of it).
   double force_unit = 0;
 };
 

@@ -82,7 +82,8 @@ struct State {
   Eigen::VectorXd As_loads;          // (3|s|) m, K*^-1 (Ps0 + Ps_interact)
   Eigen::VectorXd P_prime;           // (3|I|) N, KI2 K22^-1 P2
   Eigen::VectorXd x_operational;     // (operational->size()) m, last solution (warm start)
-  long x_generation = -1;            // system the warm start belongs to
+  Eigen::VectorXd x_before;          // the solution of the frame before it (Newton's secant start); may be empty
+  long x_generation = -1;            // system the warm starts belong to
   long frames = 0;
   FrameReport last;
   std::unique_ptr<ColumnCache> columns;  // product and factor storage: columns of loaded nodes

@@ -49,10 +49,9 @@ CgStatus pcg_step(const NewtonProblem& p, const Eigen::VectorXd& r, Eigen::Vecto
   return CgStatus::max_iterations;
 }
 
-}  // namespace
-
-NewtonReport newton(const NewtonProblem& p, Eigen::VectorXd& x, const NewtonOptions& opt, const std::string& what) {
-  NewtonReport rep;
+// Newton from x, counting into rep: "" when it converged, else why not
+// (what the caller's error says after `what`).
+std::string newton_from(const NewtonProblem& p, Eigen::VectorXd& x, const NewtonOptions& opt, NewtonReport& rep) {
   Eigen::VectorXd r, d, xt, rt;
   double energy = p.residual(x, r);
   double rn = r.norm(), rn_before = HUGE_VAL;
@@ -64,27 +63,31 @@ NewtonReport newton(const NewtonProblem& p, Eigen::VectorXd& x, const NewtonOpti
   };
   for (;;) {
     if (!std::isfinite(rn))
-      fail(what, ": the residual is not finite after ", rep.iterations, " Newton steps (an element degenerated?)");
+      return cat(": the residual is not finite after ", rep.iterations, " Newton steps (an element degenerated?)");
     rep.relative_residual = rn / scale;
-    if (rn == 0 || rep.relative_residual <= opt.tolerance) return rep;
+    if (rn == 0 || rep.relative_residual <= opt.tolerance) return {};
     const bool near_floor = rep.relative_residual <= opt.floor_tolerance;
     if (near_floor && rn > 0.5 * rn_before) {  // the last step stopped halving |r|: stagnation at the floor
       rep.at_floor = true;
-      return rep;
+      return {};
     }
     if (rep.iterations >= opt.max_iterations)
-      fail(what, ": Newton's method did not converge in ", opt.max_iterations, " steps (relative residual ",
-           rep.relative_residual, ", tolerance ", opt.tolerance, "; ", rep.cg_iterations, " CG iterations, ",
-           rep.line_search_cuts, " step halvings)", too_large());
-    const double target = std::min(opt.max_forcing, rep.relative_residual) * rn;
+      return cat(": Newton's method did not converge in ", opt.max_iterations, " steps (relative residual ",
+                 rep.relative_residual, ", tolerance ", opt.tolerance, "; ", rep.cg_iterations, " CG iterations, ",
+                 rep.line_search_cuts, " step halvings)", too_large());
+    // Never solved past what the tolerance needs: a tenth of it leaves room
+    // for the step's quadratic error (bench nonlinear: a frame's last step
+    // from 1.6e-7 took 17 PCG iterations to 1.6e-14, to 1e-11 it takes 11).
+    const double target =
+        std::max(std::min(opt.max_forcing, rep.relative_residual) * rn, 0.1 * opt.tolerance * scale);
     CgStatus status = pcg_step(p, r, d, target, opt.max_cg_iterations, rep.cg_iterations);
     if (status == CgStatus::negative_curvature) {
       ++rep.projected_steps;
       p.project();
       status = pcg_step(p, r, d, target, opt.max_cg_iterations, rep.cg_iterations);
       if (status == CgStatus::negative_curvature)
-        fail(what, ": the tangent is not positive definite even with projected element tangents (step ",
-             rep.iterations + 1, "); is every part of the body held?");
+        return cat(": the tangent is not positive definite even with projected element tangents (step ",
+                   rep.iterations + 1, "); is every part of the body held?");
     }
     // Backtracking: the full step first, halved until |r| or the energy
     // decreases (Armijo; the energy's slope along d is -r.d).
@@ -113,13 +116,39 @@ NewtonReport newton(const NewtonProblem& p, Eigen::VectorXd& x, const NewtonOpti
     ++rep.iterations;
     if (!accepted && near_floor) {  // no direction lowers |r| any more: at the floor
       rep.at_floor = true;
-      return rep;
+      return {};
     }
     if (!accepted)
-      fail(what, ": Newton's line search found no decrease of the residual (step ", rep.iterations,
-           ", relative residual ", rn / scale, ")", too_large());
+      return cat(": Newton's line search found no decrease of the residual (step ", rep.iterations,
+                 ", relative residual ", rn / scale, ")", too_large());
     scale = scale_at(x);
   }
+}
+
+}  // namespace
+
+NewtonReport newton(const NewtonProblem& p, Eigen::VectorXd& x, const NewtonOptions& opt, const std::string& what,
+                    const Eigen::VectorXd* previous) {
+  NewtonReport rep;
+  if (previous && previous->size() == x.size() && x.size() > 0) {
+    Eigen::VectorXd start = 2 * x - *previous;
+    if (newton_from(p, start, opt, rep).empty()) {
+      x.swap(start);
+      return rep;
+    }
+    // The secant overshot (a load that stopped or turned): from x, with the
+    // failed attempt's work still counted.
+    const NewtonReport failed = rep;
+    rep = {};
+    const std::string why = newton_from(p, x, opt, rep);
+    rep.iterations += failed.iterations, rep.cg_iterations += failed.cg_iterations;
+    rep.line_search_cuts += failed.line_search_cuts, rep.projected_steps += failed.projected_steps;
+    if (!why.empty()) fail(what, why);
+    return rep;
+  }
+  const std::string why = newton_from(p, x, opt, rep);
+  if (!why.empty()) fail(what, why);
+  return rep;
 }
 
 }  // namespace softcut::solve

@@ -74,7 +74,13 @@ struct NewtonReport {
 // Solves from x (the warm start; the result is left in x). Throws
 // softcut::Error starting with `what` when |r| does not fall below the
 // tolerance within the options' limits, or the residual is not finite.
+// `previous` (optional): the solution of the frame before x's, of the same
+// system; the solve then starts on the secant through the two,
+// 2 x - previous, and falls back to x if Newton fails from there. A load
+// that ramps over the frames then starts each frame O(dt^2) off instead of
+// O(dt): one Newton step fewer a frame (box_111132 pressed over 30 frames:
+// 2.9 -> 2.1 steps a frame).
 NewtonReport newton(const NewtonProblem& p, Eigen::VectorXd& x, const NewtonOptions& opt = {},
-                    const std::string& what = "Newton solve");
+                    const std::string& what = "Newton solve", const Eigen::VectorXd* previous = nullptr);
 
 }  // namespace softcut::solve

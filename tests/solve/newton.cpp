@@ -1,8 +1,9 @@
 // solve/newton on problems whose answers are known: a linear one (one step,
 // one CG iteration: P is the tangent), a stiffening one checked against its
 // own equations at a tight tolerance with quadratic convergence, one whose
-// exact tangent is indefinite on the way (the projected fallback), and one
-// that cannot converge in the steps it is given (a clear error).
+// exact tangent is indefinite on the way (the projected fallback), one
+// that cannot converge in the steps it is given (a clear error), and a load
+// ramped over frames (the secant start, and its fallback).
 #include "solve/newton.hpp"
 
 #include <doctest/doctest.h>
@@ -93,15 +94,61 @@ TEST_SUITE("solve/newton") {
       CHECK((pr.b - pr.F(x)).norm() <= 1e-12 * (pr.b.norm() + pr.F(x).norm()));
       CHECK(rep.iterations >= 3);
       CHECK(rep.projected_steps == 0);
-      // Quadratic at the end: the last step above round-off took the
-      // residual from about e to about e^2 (relative; a power of 1.5 leaves room).
+      // Quadratic at the end: the step before the last took the residual
+      // from about e to about e^2 (relative; a power of 1.5 leaves room).
+      // The last step's linear solve stops at a tenth of the tolerance (no
+      // digits past what convergence needs), so it lands there, not at e^2.
       const double s = pr.b.norm();
       std::vector<double> rel;
       for (double h : history)
         if (h / s > 1e-14) rel.push_back(h / s);
-      REQUIRE(rel.size() >= 2);
-      CHECK(rel[rel.size() - 1] <= 10 * std::pow(rel[rel.size() - 2], 1.5));
+      REQUIRE(rel.size() >= 3);
+      CHECK(rel[rel.size() - 2] <= 10 * std::pow(rel[rel.size() - 3], 1.5));
+      CHECK(rel[rel.size() - 2] > opt.tolerance);
     }
+  }
+
+  TEST_CASE("a ramped load: the secant start through the last two frames saves Newton steps, same answers") {
+    // The stiffening problem loaded by b k / 10 over ten frames, each solve
+    // warm-started from the frame before, with and without its predecessor.
+    Problem pr(40, 3);
+    pr.c = 2.0;
+    const Eigen::VectorXd full = 5 * pr.b;
+    Eigen::VectorXd plain = Eigen::VectorXd::Zero(40), secant = plain, before;
+    int plain_steps = 0, secant_steps = 0;
+    solve::NewtonOptions opt;
+    opt.tolerance = 1e-12;
+    for (int k = 1; k <= 10; ++k) {
+      pr.b = full * (k / 10.0);
+      plain_steps += solve::newton(pr.problem(), plain, opt).iterations;
+      const Eigen::VectorXd last = secant;
+      secant_steps += solve::newton(pr.problem(), secant, opt, "ramp", before.size() ? &before : nullptr).iterations;
+      before = last;
+      CAPTURE(k);
+      CHECK((pr.b - pr.F(secant)).norm() <= 1e-12 * (pr.b.norm() + pr.F(secant).norm()));
+      CHECK((secant - plain).norm() <= 1e-10 * plain.norm());
+    }
+    CAPTURE(plain_steps);
+    CHECK(secant_steps <= plain_steps - 5);
+  }
+
+  TEST_CASE("a secant start Newton cannot converge from falls back to the warm start, its work counted") {
+    Problem pr(40, 5);
+    pr.c = 2.0;
+    solve::NewtonOptions opt;
+    opt.max_iterations = 12;
+    Eigen::VectorXd x = Eigen::VectorXd::Zero(40), alone = x;
+    const int direct = solve::newton(pr.problem(), alone, opt).iterations;
+    // 2 x - previous lies 1e4 out: the cubic term needs more than 12 steps back.
+    const Eigen::VectorXd previous = Eigen::VectorXd::Constant(40, -1e4);
+    const solve::NewtonReport rep = solve::newton(pr.problem(), x, opt, "fallback", &previous);
+    CHECK((x - alone).norm() <= 1e-9 * alone.norm());
+    CHECK(rep.iterations == direct + opt.max_iterations);
+    // Failing from both is the error of the warm start's attempt.
+    opt.max_iterations = 2;
+    x.setZero();
+    CHECK_THROWS_WITH_AS(solve::newton(pr.problem(), x, opt, "fallback", &previous),
+                         doctest::Contains("fallback: Newton's method did not converge in 2 steps"), Error);
   }
 
   TEST_CASE("an indefinite exact tangent on the way: the projected tangent takes over and converges") {
