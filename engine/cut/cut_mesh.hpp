@@ -48,6 +48,9 @@ struct CutMesh {
   std::vector<char> cut_face;              // (4 ntet) face f of tet t is a boundary face made by cutting
   std::vector<int> origin_tet;             // (ntet) rest-mesh tet each tet comes from
   CutState cut;                       // masks and stroke data of the cutter
+  // Where each stroke (CutState::stroke, from 1) began: its scalpel and time,
+  // s; for messages that name the strokes a piece was cut free by.
+  std::vector<std::pair<std::string, double>> stroke_begun;
 };
 
 // The first cut: the rest body's mesh and masks become the run's.

@@ -70,6 +70,8 @@ struct CutRecord {
   int edges_split = 0;             // edges bisected at a blade crossing
   int nodes_snapped = 0;           // existing nodes newly put on the cut by snapping
   int splits_vetoed = 0;           // splits replaced by a snap to keep quality
+  int locked_snapped = 0;          // locked nodes (never cut) a crossing or the blade snapped onto
+  double locked_snap_reach = 0;    // m, the largest snap distance among those
   int faces_separated = 0;         // faces that became two boundary faces this step
   int faces_pending = 0;           // faces on the cut still joined (the cut front)
   int uncuttable_tets_crossed = 0; // tets the blade crosses that may not be cut (nonoperational)

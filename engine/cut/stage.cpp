@@ -118,6 +118,32 @@ bool changed_mesh(const CutRecord& r) {
   return !r.new_nodes.empty() || !r.changed_tets.empty() || r.nodes_snapped > 0 || r.faces_separated > 0;
 }
 
+// " by the cuts of strokes begun at ..." for a piece cut free: the strokes
+// its nodes last joined the cut in, and, when several, what can make
+// strokes that never met free a piece (issue #40 item 9: eight parallel
+// strokes 0.6 mm apart, inside the 1.5 mm snap distance, freed 91 tets).
+std::string by_strokes(const CutMesh& cm, const DetachedPiece& piece) {
+  std::vector<int> strokes;
+  for (int v : piece.nodes)
+    if (size_t(v) < cm.cut.cut_stroke.size() && cm.cut.cut_stroke[size_t(v)] > 0)
+      strokes.push_back(cm.cut.cut_stroke[size_t(v)]);
+  std::sort(strokes.begin(), strokes.end());
+  strokes.erase(std::unique(strokes.begin(), strokes.end()), strokes.end());
+  if (strokes.empty()) return {};
+  std::string out = strokes.size() == 1 ? " by the cut of the stroke begun at " : " by the cuts of the strokes begun at ";
+  for (size_t i = 0; i < strokes.size(); ++i) {
+    const size_t k = size_t(strokes[i]);
+    out += i == 0 ? "" : i + 1 == strokes.size() ? " and " : ", ";
+    if (k < cm.stroke_begun.size()) out += cat("t = ", cm.stroke_begun[k].second, " s ('", cm.stroke_begun[k].first, "')");
+    else out += cat("stroke ", k);
+  }
+  if (strokes.size() > 1)
+    out += " (strokes closer together than the snap distance merge into one cut on this mesh, and tissue between "
+           "them can come free where no blade closed it: if these strokes did not meet, refine the mesh or space "
+           "them farther apart)";
+  return out;
+}
+
 }  // namespace
 
 std::vector<CutEvent> cut_stage(const RestBody& rest, StageFrame& s) {
@@ -156,7 +182,9 @@ std::vector<CutEvent> cut_stage(const RestBody& rest, StageFrame& s) {
     const bool continuing = ts.in_cut && ts.has_rest;
     if (!ts.in_cut) {  // the blade enters the tissue: a new cut surface
       begin_stroke(cm.cut);
-      ts.warned_uncuttable = false;
+      cm.stroke_begun.resize(size_t(cm.cut.stroke) + 1);
+      cm.stroke_begun[size_t(cm.cut.stroke)] = {spec.name, t};
+      ts.warned_uncuttable = ts.warned_locked_snap = false;
     }
     // Blade corners in the rest configuration, through the operational tets
     // only: their nodes (sets 1 and I) are solved every frame, interior
@@ -232,6 +260,18 @@ std::vector<CutEvent> cut_stage(const RestBody& rest, StageFrame& s) {
                              " tet(s) outside the operational region, which cannot be cut, and cut nothing; only "
                              "s:operational{} tissue is cut: move the path or grow the operational region"));
     }
+    // A blade inside the operational region but within the snap distance of
+    // its boundary snaps onto locked nodes and opens nothing there (issue
+    // #40 item 9: it stopped short silently): once per stroke.
+    if (warnings.empty() && rec.locked_snapped > 0 && !ts.warned_locked_snap) {
+      ts.warned_locked_snap = true;
+      warnings.push_back(cat("the blade (centre ", ts.tip.x(), ", ", ts.tip.y(), ", ", ts.tip.z(),
+                             " m) passes within the snap distance (", rec.locked_snap_reach * 1e3, " mm here) of ",
+                             rec.locked_snapped,
+                             " locked node(s) on the operational region's boundary: its crossings snap onto them and "
+                             "locked nodes are never cut, so the cut stops short of the interface; keep the blade "
+                             "farther inside s:operational{}, enlarge the region, or refine the mesh"));
+    }
     for (const auto& w : warnings) {
       ev.warnings.push_back(w);
       s.warnings.push_back(cat("frame ", frame, " (t = ", t, " s), scalpel '", spec.name, "': ", w));
@@ -255,7 +295,7 @@ std::vector<CutEvent> cut_stage(const RestBody& rest, StageFrame& s) {
                                   : std::string();
         const std::string w =
             cat("piece of ", piece.tets.size(), " tets / ", piece.nodes.size(), " nodes (smallest node id ",
-                piece.nodes.front(), ") cut free at frame ", frame, pinned,
+                piece.nodes.front(), ") cut free at frame ", frame, pinned, by_strokes(cm, piece),
                 "; held at its displacement at separation (no rigid-body motion is simulated); loads and tool "
                 "forces on it are ignored");
         ev.warnings.push_back(w);

@@ -112,6 +112,7 @@ struct ToolState {
   Eigen::Vector3d rest_a = Eigen::Vector3d::Zero(), rest_b = Eigen::Vector3d::Zero(), rest_c = Eigen::Vector3d::Zero();
   bool has_rest = false;   // rest_a/b/c belong to the stroke in progress
   bool warned_uncuttable = false;  // this stroke already warned that it reached tissue it may not cut
+  bool warned_locked_snap = false; // this stroke already warned that it snapped onto the locked interface
   double touch_pressure = 0.0;     // pressure at the last frame it touched the surface, Pa
   double touch_time = -1.0;        // that frame's time, s (-1: never touched)
   bool outside_seen = false;       // the edge lay outside the tissue at some frame since it became active

@@ -135,6 +135,9 @@ int run_and_check_free_piece(const sim::Model& m, sim::State& s) {
       REQUIRE(ev.warnings.size() >= 1);
       CHECK(count_containing(ev.warnings, "cut free at frame " + std::to_string(s.frame)) == 1);
       CHECK(count_containing(ev.warnings, "held at its displacement at separation") == 1);
+      // One stroke cut it, and the warning says which (issue #40 item 9).
+      CHECK(count_containing(ev.warnings, "by the cut of the stroke begun at t = ") == 1);
+      CHECK(count_containing(ev.warnings, "merge into one cut") == 0);
       // Held where the last solve left it (pre-existing nodes keep their rows).
       int held_old = 0;
       for (int v = 0; v < int(before.rows()); ++v)
