@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "core/signal_actions.hpp"
 
 namespace softcut::hybrid {
 
@@ -55,6 +56,7 @@ Eigen::MatrixXd schur_complement(const SparseMatrix& A22_in, const SparseMatrix&
   std::vector<int> perm(static_cast<size_t>(n));
   {
     cholmod_sparse v = lower_view(A22);
+    const KeepSignalActions keep;  // METIS's ordering re-installs SIGTERM's handler
     cholmod_factor* L22 = cholmod_analyze(&v, &cm.c);
     if (!L22) fail(what, ": CHOLMOD could not order the matrix (status ", cm.c.status, ")");
     const int* p = static_cast<const int*>(L22->Perm);

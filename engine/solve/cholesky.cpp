@@ -1,6 +1,7 @@
 #include "solve/cholesky.hpp"
 
 #include "core/error.hpp"
+#include "core/signal_actions.hpp"
 #include "solve/supernodes.hpp"
 
 namespace softcut::solve {
@@ -33,7 +34,10 @@ void Cholesky::factor(const Eigen::SparseMatrix<double>& A, const std::string& w
   // simplicial and the supernodal path (tested).
   llt->cholmod().final_asis = 0;
   llt->cholmod().final_ll = 1;
-  llt->analyzePattern(A);
+  {
+    const KeepSignalActions keep;  // METIS's ordering re-installs SIGTERM's handler
+    llt->analyzePattern(A);
+  }
   // The factor's nonzeros are known after the symbolic analysis: 8 bytes of
   // value and 4-8 of index each (supernodal storage pads a little more).
   const double bytes = 16.0 * llt->cholmod().lnz;
@@ -58,6 +62,7 @@ double Cholesky::symbolic_nonzeros(const Eigen::SparseMatrix<double>& A) {
   llt.cholmod().print = 0;
   llt.cholmod().final_asis = 0;  // as factor() asks
   llt.cholmod().final_ll = 1;
+  const KeepSignalActions keep;  // METIS's ordering re-installs SIGTERM's handler
   llt.analyzePattern(A);
   return double(llt.cholmod().lnz);
 }

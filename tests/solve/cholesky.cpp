@@ -6,6 +6,7 @@
 
 #include <Eigen/Dense>
 #include <array>
+#include <csignal>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -86,6 +87,34 @@ struct SavedSupernodal {
     return err;
   }
 };
+
+extern "C" void stop_handler(int) {}
+
+// SIGTERM's action now.
+struct sigaction sigterm_action() {
+  struct sigaction now {};
+  sigaction(SIGTERM, nullptr, &now);
+  return now;
+}
+
+// The 7-point Laplacian of an n^3 grid plus its diagonal: a 3D system whose
+// fill makes CHOLMOD try METIS after AMD.
+Eigen::SparseMatrix<double> grid_laplacian(int n) {
+  auto id = [n](int i, int j, int k) { return (k * n + j) * n + i; };
+  std::vector<Eigen::Triplet<double>> t;
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        t.emplace_back(id(i, j, k), id(i, j, k), 7.0);
+        if (i + 1 < n) t.emplace_back(id(i + 1, j, k), id(i, j, k), -1.0);
+        if (j + 1 < n) t.emplace_back(id(i, j + 1, k), id(i, j, k), -1.0);
+        if (k + 1 < n) t.emplace_back(id(i, j, k + 1), id(i, j, k), -1.0);
+      }
+  Eigen::SparseMatrix<double> A(n * n * n, n * n * n);
+  A.setFromTriplets(t.begin(), t.end());
+  return A;
+}
+
 
 }  // namespace
 
@@ -359,5 +388,23 @@ TEST_SUITE("solve/cholesky") {
       const std::string err = f.load();
       CHECK(err.find("crafted.bin: the saved Cholesky factor is inconsistent") == 0);
     }
+  }
+
+  TEST_CASE("a CHOLMOD factor ordered by METIS leaves SIGTERM's action as it found it") {
+    // The run's stop handler (app/run_support.cpp SignalGuard); METIS traps
+    // SIGTERM while it orders and put ours back with SA_RESETHAND, so a run's
+    // second stop killed it (docs/hardening.md #38.11).
+    struct sigaction sa {}, old{};
+    sa.sa_handler = stop_handler;
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGTERM, &sa, &old);
+    solve::Cholesky factor;
+    factor.factor(grid_laplacian(24), "grid");
+    const struct sigaction now = sigterm_action();
+    sigaction(SIGTERM, &old, nullptr);
+    REQUIRE(factor.factored());
+    const bool ours = now.sa_handler == stop_handler;
+    CHECK(ours);
+    CHECK((now.sa_flags & (SA_RESETHAND | SA_NODEFER)) == 0);
   }
 }
