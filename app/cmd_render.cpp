@@ -160,6 +160,7 @@ int cmd_render(const Args& args) {
   if (fs::equivalent(out, run_dir, ec))
     usage_fail("softcut render: --out ", out.string(), " is the run's own folder; give another (default RUNDIR/rendered)");
   sim::clear_earlier_outputs(out);
+  sim::remove_stale_video_folders(out);  // a killed render's (before this one's encoder starts)
 
   Watchdog dog(limit_s, std::clamp(limit_s / 10, 5.0, 60.0),
                cat("softcut render: the wall-clock limit of ", limit_s, " s (--timeout) passed and it did not stop"));

@@ -113,7 +113,11 @@ RunOutcome run_watched(const RunRequest& req, const OpenScript& open, const Watc
   // outputs are written must not leave the last run's summary there, where
   // it would read as this run's.
   std::error_code ec;
-  if (!req.out_dir.empty() && fs::is_directory(req.out_dir, ec)) sim::clear_earlier_outputs(req.out_dir);
+  // And a killed run's video folder goes (before this run's encoder starts).
+  if (!req.out_dir.empty() && fs::is_directory(req.out_dir, ec)) {
+    sim::clear_earlier_outputs(req.out_dir);
+    sim::remove_stale_video_folders(req.out_dir);
+  }
   OutputBudget output(req.max_output);
   const std::unique_ptr<sim::ScenarioScript> script = open(req, &output, &dog);
   sim::ScenarioSpec spec = script->spec();

@@ -1,8 +1,11 @@
 #include "sim/output_folder.hpp"
 
+#include <algorithm>
+#include <cctype>
 #include <string>
 #include <system_error>
 #include <tuple>
+#include <vector>
 
 namespace softcut::sim {
 
@@ -63,6 +66,30 @@ int clear_earlier_outputs(const fs::path& dir) {
     if (fs::is_directory(fs::symlink_status(dir / sub, ec))) fs::remove(dir / sub, ec);  // only when now empty
   }
   return n;
+}
+
+int remove_stale_video_folders(const fs::path& dir) {
+  constexpr std::string_view prefix = ".softcut-video-";
+  std::error_code ec;
+  if (!fs::is_directory(fs::symlink_status(dir, ec))) return 0;
+  std::vector<fs::path> stale;
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    if (name.size() != prefix.size() + 6 || !name.starts_with(prefix) ||
+        !std::all_of(name.begin() + long(prefix.size()), name.end(), [](char c) { return std::isalnum((unsigned char)c); }))
+      continue;
+    if (!fs::is_directory(it->symlink_status(ec))) continue;
+    bool only_video = true;
+    for (fs::directory_iterator in(it->path(), ec), stop; !ec && in != stop && only_video; in.increment(ec))
+      only_video = in->path().filename() == "video.mp4" && fs::is_regular_file(in->symlink_status(ec));
+    if (!ec && only_video) stale.push_back(it->path());
+  }
+  int removed = 0;
+  for (const fs::path& folder : stale) {
+    fs::remove(folder / "video.mp4", ec);
+    removed += fs::remove(folder, ec) ? 1 : 0;
+  }
+  return removed;
 }
 
 }  // namespace softcut::sim

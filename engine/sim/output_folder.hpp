@@ -13,4 +13,13 @@ namespace softcut::sim {
 // unlinked, never followed. Returns the number of files removed.
 int clear_earlier_outputs(const std::filesystem::path& dir);
 
+// Removes from `dir` the private folders of videos being encoded
+// (render::VideoEncoder: ".softcut-video-" and mkdtemp's six letters and
+// digits) that a run killed while encoding left behind (SIGKILL: no
+// destructor ran), each only when it holds nothing but its partial
+// video.mp4 (a plain file); a link, or a folder holding anything else, is
+// left alone. Call it before this run's own encoder starts (it would take
+// that one's folder too). Returns how many were removed.
+int remove_stale_video_folders(const std::filesystem::path& dir);
+
 }  // namespace softcut::sim
