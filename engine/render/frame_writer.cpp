@@ -24,6 +24,16 @@ struct FrameWriter::Impl {
     Scene scene;
     FramePaths paths;
   };
+  // A frame drawn and read back, waiting for its PNGs (worker mode: the
+  // encoder thread encodes and writes frame N while the drawing thread draws
+  // N + 1; on llvmpipe the PNG was a third of the drawing side's time).
+  struct Drawn {
+    Image image;
+    LabelImages aux;
+    FramePaths paths;
+    FrameTimings timings;  // of the drawing so far
+    int samples = 0;
+  };
 
   gl::EglContext& ctx;
   OutputBudget* budget = nullptr;  // bytes written, all outputs of the run (optional)
@@ -34,13 +44,14 @@ struct FrameWriter::Impl {
   std::uintmax_t video_bytes = 0;
 
   mutable std::mutex mutex;
-  std::condition_variable changed;  // queue, busy or failure changed
-  std::deque<Job> queue;
-  bool busy = false, stop = false;
+  std::condition_variable changed;  // a queue, busy or failure changed
+  std::deque<Job> queue;            // to draw
+  std::deque<Drawn> drawn;          // to encode and write (at most one waits)
+  bool busy = false, encoding = false, stop = false;
   std::exception_ptr failure;
   FrameWriterStats stats;
   int samples = 0;
-  std::thread worker;
+  std::thread worker, encoder;
 
   Impl(gl::EglContext& c, Mode m, int pending, OutputBudget* b)
       : ctx(c), budget(b), mode(m), max_pending(size_t(std::max(1, pending))) {
@@ -63,13 +74,17 @@ struct FrameWriter::Impl {
       sigaddset(&block, SIGTERM);
       pthread_sigmask(SIG_BLOCK, &block, &old);
       worker = std::thread([this, &setup_failure, &ready] { run(setup_failure, ready); });
+      encoder = std::thread([this] { encode_loop(); });
       pthread_sigmask(SIG_SETMASK, &old, nullptr);
     }
     std::unique_lock lock(mutex);
     changed.wait(lock, [&] { return ready; });
     if (setup_failure) {
+      stop = true;
       lock.unlock();
+      changed.notify_all();
       worker.join();
+      encoder.join();
       std::rethrow_exception(setup_failure);
     }
   }
@@ -80,22 +95,35 @@ struct FrameWriter::Impl {
       std::lock_guard lock(mutex);
       stop = true;
       queue.clear();
+      drawn.clear();
     }
     changed.notify_all();
     worker.join();
+    encoder.join();
   }
 
-  // Draws, encodes and writes one frame (its depth and label images and its
-  // video frame too, when asked); returns its timings.
-  static FrameTimings write_frame(Renderer& r, const Job& job, OutputBudget* budget, VideoEncoder* video) {
-    const FramePaths& p = job.paths;
+  // Draws one frame and reads it back (its depth and label images too, when asked).
+  static Drawn draw_frame(Renderer& r, Job& job) {
     try {
-      FrameTimings t;
-      LabelImages aux;
-      const bool want_aux = !p.depth.empty() || !p.labels.empty();
-      const Image img = r.draw(job.scene, &t, want_aux ? &aux : nullptr);
+      Drawn d;
+      d.paths = std::move(job.paths);
+      const bool want_aux = !d.paths.depth.empty() || !d.paths.labels.empty();
+      d.image = r.draw(job.scene, &d.timings, want_aux ? &d.aux : nullptr);
+      d.samples = r.samples();
+      return d;
+    } catch (const Error& e) {
+      fail("frame ", job.paths.rgb.string(), ": ", e.what());
+    }
+  }
+
+  // Encodes and writes a drawn frame's PNGs (and hands it to the video);
+  // returns its timings, the drawing's included.
+  static FrameTimings write_frame(const Drawn& d, OutputBudget* budget, VideoEncoder* video) {
+    const FramePaths& p = d.paths;
+    try {
+      FrameTimings t = d.timings;
       Timer timer;
-      const std::string png = encode_png(img);
+      const std::string png = encode_png(d.image);
       t.encode_ms = timer.ms();
       timer.reset();
       if (budget) budget->charge(png.size(), p.rgb.filename().string());
@@ -104,7 +132,7 @@ struct FrameWriter::Impl {
       for (const auto& [path, depth] : {std::pair{&p.depth, true}, std::pair{&p.labels, false}}) {
         if (path->empty()) continue;
         timer.reset();
-        const std::string gray = depth ? encode_png(depth_image(aux)) : encode_png(label_image(aux));
+        const std::string gray = depth ? encode_png(depth_image(d.aux)) : encode_png(label_image(d.aux));
         t.labels_encode_ms += timer.ms();
         timer.reset();
         if (budget) budget->charge(gray.size(), path->filename().string());
@@ -113,7 +141,7 @@ struct FrameWriter::Impl {
       }
       if (video) {
         timer.reset();
-        video->add(img);
+        video->add(d.image);
         t.video_ms = timer.ms();
       }
       return t;
@@ -154,25 +182,60 @@ struct FrameWriter::Impl {
       busy = true;
       lock.unlock();
       std::exception_ptr error;
-      FrameTimings t;
+      std::optional<Drawn> d;
       try {
-        t = write_frame(*r, job, budget, video.get());
+        d = draw_frame(*r, job);
       } catch (...) {
         error = std::current_exception();
       }
       lock.lock();
-      busy = false;
       if (error) {
-        failure = error;
-        queue.clear();  // later frames would only repeat the failure
+        fail_all(error);
       } else {
-        account(t, r->samples());
+        // One drawn frame waits at most: the next draw overlaps its encoding.
+        changed.wait(lock, [&] { return stop || failure || drawn.empty(); });
+        if (!stop && !failure) drawn.push_back(std::move(*d));
       }
+      busy = false;
       lock.unlock();
       changed.notify_all();
     }
     r.reset();  // GL objects go while the context is still current here
     ctx.release_current();
+  }
+
+  // A failure on either thread: later frames would only repeat it.
+  void fail_all(std::exception_ptr error) {
+    if (!failure) failure = error;
+    queue.clear();
+    drawn.clear();
+  }
+
+  // The encoder thread: PNGs, files and the video of drawn frames, in order.
+  void encode_loop() {
+    for (;;) {
+      std::unique_lock lock(mutex);
+      changed.wait(lock, [&] { return stop || !drawn.empty(); });
+      if (stop) break;
+      Drawn d = std::move(drawn.front());
+      drawn.pop_front();
+      encoding = true;
+      lock.unlock();
+      changed.notify_all();  // the drawing thread may hand over the next
+      std::exception_ptr error;
+      FrameTimings t;
+      try {
+        t = write_frame(d, budget, video.get());
+      } catch (...) {
+        error = std::current_exception();
+      }
+      lock.lock();
+      encoding = false;
+      if (error) fail_all(error);
+      else account(t, d.samples);
+      lock.unlock();
+      changed.notify_all();
+    }
   }
 
   void rethrow_failure(std::unique_lock<std::mutex>& lock) {
@@ -185,9 +248,11 @@ struct FrameWriter::Impl {
   void submit(Scene scene, FramePaths paths) {
     if (mode == Mode::inline_draw) {
       Timer timer;
-      const FrameTimings t = write_frame(*renderer, Job{std::move(scene), std::move(paths)}, budget, video.get());
+      Job job{std::move(scene), std::move(paths)};
+      const Drawn d = draw_frame(*renderer, job);
+      const FrameTimings t = write_frame(d, budget, video.get());
       stats.wait_ms += timer.ms();
-      account(t, renderer->samples());
+      account(t, d.samples);
       return;
     }
     Timer timer;
@@ -204,11 +269,11 @@ struct FrameWriter::Impl {
     if (mode == Mode::worker) {
       Timer timer;
       std::unique_lock lock(mutex);
-      changed.wait(lock, [&] { return failure || (queue.empty() && !busy); });
+      changed.wait(lock, [&] { return failure || (queue.empty() && !busy && drawn.empty() && !encoding); });
       stats.wait_ms += timer.ms();
       rethrow_failure(lock);
     }
-    // Every frame is in the video now (the worker is idle): end it.
+    // Every frame is in the video now (both threads are idle): end it.
     if (video) {
       std::unique_ptr<VideoEncoder> v = std::move(video);
       video_bytes = v->finish();

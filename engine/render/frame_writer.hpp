@@ -1,7 +1,8 @@
 #pragma once
 // Turns extracted scenes into PNG files, off the simulation's thread when it
-// may: rasterising, reading back, PNG encoding and the atomic file write of
-// frame N run on a worker thread while the simulation computes frame N + 1.
+// may: rasterising and reading back frame N run on a worker thread while the
+// simulation computes frame N + 1, and its PNG encoding, atomic file writes
+// and video frame on an encoder thread while the worker draws N + 1.
 //
 // The worker owns the renderer and makes the application's EGL context
 // current on itself, so the worker mode needs a context nobody else uses
