@@ -6,6 +6,7 @@
 #include <numeric>
 
 #include "core/error.hpp"
+#include "core/warning.hpp"
 #include "cut/separate.hpp"
 #include "cut/tet_quality.hpp"
 
@@ -315,9 +316,9 @@ CutRecord cut_step(mesh::TetMesh& m, CutState& st, const SweptSurface& blade, co
   for (int t = 0; t < m.num_tets(); ++t)
     if (st.cuttable[size_t(t)]) rec.worst_dihedral_deg = std::min(rec.worst_dihedral_deg, st.quality[size_t(t)]);
   if (locked_edges > 0 || blocked > 0)
-    rec.warnings.push_back(cat("cut reached the locked interface: ", blocked,
-                               " face(s) with locked nodes kept joined and ", locked_edges,
-                               " edge(s) between locked nodes not split; the cut stops there"));
+    rec.warnings.push_back(coded_warning("cut_at_interface", cat("cut reached the locked interface: ", blocked,
+                                         " face(s) with locked nodes kept joined and ", locked_edges,
+                                         " edge(s) between locked nodes not split; the cut stops there")));
   return rec;
 }
 

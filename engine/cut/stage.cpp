@@ -6,6 +6,7 @@
 
 #include "core/error.hpp"
 #include "core/timer.hpp"
+#include "core/warning.hpp"
 #include "cut/blade.hpp"
 #include "cut/rest_map.hpp"
 #include "fem/anchoring.hpp"
@@ -255,22 +256,25 @@ std::vector<CutEvent> cut_stage(const RestBody& rest, StageFrame& s) {
     if (warnings.empty() && rec.uncuttable_tets_crossed > 0 && rec.new_nodes.empty() && rec.faces_separated == 0 &&
         !ts.warned_uncuttable) {
       ts.warned_uncuttable = true;
-      warnings.push_back(cat("the blade (centre ", ts.tip.x(), ", ", ts.tip.y(), ", ", ts.tip.z(), " m) reaches ",
-                             rec.uncuttable_tets_crossed,
-                             " tet(s) outside the operational region, which cannot be cut, and cut nothing; only "
-                             "s:operational{} tissue is cut: move the path or grow the operational region"));
+      warnings.push_back(coded_warning(
+          "blade_outside_operational",
+          cat("the blade (centre ", ts.tip.x(), ", ", ts.tip.y(), ", ", ts.tip.z(), " m) reaches ",
+              rec.uncuttable_tets_crossed,
+              " tet(s) outside the operational region, which cannot be cut, and cut nothing; only s:operational{} "
+              "tissue is cut: move the path or grow the operational region")));
     }
     // A blade inside the operational region but within the snap distance of
     // its boundary snaps onto locked nodes and opens nothing there (issue
     // #40 item 9: it stopped short silently): once per stroke.
     if (warnings.empty() && rec.locked_snapped > 0 && !ts.warned_locked_snap) {
       ts.warned_locked_snap = true;
-      warnings.push_back(cat("the blade (centre ", ts.tip.x(), ", ", ts.tip.y(), ", ", ts.tip.z(),
-                             " m) passes within the snap distance (", rec.locked_snap_reach * 1e3, " mm here) of ",
-                             rec.locked_snapped,
-                             " locked node(s) on the operational region's boundary: its crossings snap onto them and "
-                             "locked nodes are never cut, so the cut stops short of the interface; keep the blade "
-                             "farther inside s:operational{}, enlarge the region, or refine the mesh"));
+      warnings.push_back(coded_warning(
+          "cut_stopped_short",
+          cat("the blade (centre ", ts.tip.x(), ", ", ts.tip.y(), ", ", ts.tip.z(),
+              " m) passes within the snap distance (", rec.locked_snap_reach * 1e3, " mm here) of ", rec.locked_snapped,
+              " locked node(s) on the operational region's boundary: its crossings snap onto them and locked nodes "
+              "are never cut, so the cut stops short of the interface; keep the blade farther inside "
+              "s:operational{}, enlarge the region, or refine the mesh")));
     }
     for (const auto& w : warnings) {
       ev.warnings.push_back(w);
@@ -293,11 +297,12 @@ std::vector<CutEvent> cut_stage(const RestBody& rest, StageFrame& s) {
         const std::string pinned =
             piece.fixed_nodes > 0 ? cat(" (its ", piece.fixed_nodes, " fixed nodes lie at one point or on one line)")
                                   : std::string();
-        const std::string w =
+        const std::string w = coded_warning(
+            "piece_cut_free",
             cat("piece of ", piece.tets.size(), " tets / ", piece.nodes.size(), " nodes (smallest node id ",
                 piece.nodes.front(), ") cut free at frame ", frame, pinned, by_strokes(cm, piece),
                 "; held at its displacement at separation (no rigid-body motion is simulated); loads and tool "
-                "forces on it are ignored");
+                "forces on it are ignored"));
         ev.warnings.push_back(w);
         s.warnings.push_back(cat("frame ", frame, " (t = ", t, " s), scalpel '", spec.name, "': ", w));
       }

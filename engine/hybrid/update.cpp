@@ -188,7 +188,6 @@ const FrameReport& update(const Model& M, State& S, std::span<const Load> loads,
     S.x_before.resize(0);
     S.x_generation = op.generation;
   }
-  Eigen::VectorXd x_last = S.x_operational;
   const Eigen::VectorXd b = op.rhs(S.forces, S.P_prime);
   for (int v : S.loaded_operational)  // back to the initial loads before anything can throw
     S.forces.row(v) = v < M.num_nodes ? Eigen::RowVector3d(M.initial_loads.row(v)) : Eigen::RowVector3d::Zero();
@@ -196,14 +195,16 @@ const FrameReport& update(const Model& M, State& S, std::span<const Load> loads,
   const NonlinearFrame& nl = opt.nonlinear ? *opt.nonlinear : linear_frame;
   if (needs_nonlinear_solve(op, nl)) {
     rep.newton = true;
+    Eigen::VectorXd x_last = S.x_operational;
     rep.nonlinear = solve_nonlinear(op, b, S.x_operational, solver, S.nonlinear, nl, "operational solve",
                                     S.x_before.size() > 0 ? &S.x_before : nullptr);
+    S.x_before.swap(x_last);
     rep.solve.iterations = rep.nonlinear.newton.cg_iterations;
     rep.solve.relative_residual = rep.nonlinear.newton.relative_residual;
   } else {
     rep.solve = solver.solve(op, b, S.x_operational);
+    S.x_before.resize(0);  // a linear frame keeps no secant (no copy a frame on the fast path)
   }
-  S.x_before.swap(x_last);
   scatter_nodes(S.x_operational, op.nodes, S.u);
   rep.operational_ms = t.ms();
 

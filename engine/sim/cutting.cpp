@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "core/error.hpp"
+#include "core/warning.hpp"
 #include "cut/cutter.hpp"
 #include "sim/model.hpp"
 
@@ -61,8 +62,9 @@ void drop_loads_on_held(State& s, int frame, double t) {
   auto warn_once = [&](const std::string& key, const std::string& what) {
     if (std::find(cm.ignored_on_held.begin(), cm.ignored_on_held.end(), key) != cm.ignored_on_held.end()) return;
     cm.ignored_on_held.push_back(key);
-    s.warnings.push_back(cat("frame ", frame, " (t = ", t, " s), ", what,
-                             " acts on a piece cut free; its force there is ignored (the piece is held)"));
+    s.warnings.push_back(coded_warning("force_on_held_piece",
+                                       cat("frame ", frame, " (t = ", t, " s), ", what,
+                                           " acts on a piece cut free; its force there is ignored (the piece is held)")));
   };
   // Tool forces on fixed (and so held) nodes never reach s.forces (step());
   // rows of held nodes that carry a force come from loads.
