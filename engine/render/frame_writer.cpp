@@ -106,10 +106,10 @@ struct FrameWriter::Impl {
   static Drawn draw_frame(Renderer& r, Job& job) {
     try {
       Drawn d;
-      d.paths = std::move(job.paths);
-      const bool want_aux = !d.paths.depth.empty() || !d.paths.labels.empty();
+      const bool want_aux = !job.paths.depth.empty() || !job.paths.labels.empty();
       d.image = r.draw(job.scene, &d.timings, want_aux ? &d.aux : nullptr);
       d.samples = r.samples();
+      d.paths = std::move(job.paths);  // after the draw: a failure names the file
       return d;
     } catch (const Error& e) {
       fail("frame ", job.paths.rgb.string(), ": ", e.what());
