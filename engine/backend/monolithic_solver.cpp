@@ -46,8 +46,8 @@ struct MonolithicRunState final : SolverRunState {
   solve::SolveWorkspace ws;                     // this run's solves with the (shared) factor
   fem::NonlinearWork work;                      // a nonlinear frame's element tangents
   Eigen::VectorXd x;                            // the free DOFs' last solution (a nonlinear frame's warm start)
-  Eigen::VectorXd x_before;                     // the one before it (Newton's secant start); may be empty
-  long x_generation = -1;                       // the system x and x_before belong to
+  solve::SecantStart secant;                    // a nonlinear frame's predicted Newton start
+  long x_generation = -1;                       // the system x and secant belong to
   Eigen::MatrixX3d last_u;                      // the last frame's field (carried onto a cut mesh)
 };
 
@@ -116,18 +116,18 @@ class MonolithicSolver final : public Solver {
     if (!sys.nonlinear_law && !in.springs) {
       u = sys.solver.solve(forces, rs.ws, prescribed, &stats.relative_residual);
       check_solve_residual(stats.relative_residual, "whole-mesh solve");
-      rs.x_before.resize(0);  // rs.x is not this frame's: no secant through it
+      rs.secant.clear();  // rs.x is not this frame's: no history through it
     } else {
-      if (rs.x_generation != sys.generation) rs.x.resize(0), rs.x_before.resize(0), rs.x_generation = sys.generation;
+      if (rs.x_generation != sys.generation) rs.x.resize(0), rs.secant.clear(), rs.x_generation = sys.generation;
       fem::NonlinearSolve ns;
       ns.linear = &sys.solver;
       ns.set = &sys.nonlinear;
       ns.springs = in.springs;
-      ns.previous = rs.x_before.size() > 0 ? &rs.x_before : nullptr;
+      ns.start = rs.secant.predict(rs.x);
       ns.options = newton_;
-      Eigen::VectorXd x_last = rs.x;
+      const Eigen::VectorXd x_last = rs.x;
       const solve::NewtonReport rep = fem::solve_nonlinear(ns, forces, prescribed, rs.x, rs.work, rs.ws, "whole-mesh solve");
-      rs.x_before.swap(x_last);
+      rs.secant.record(x_last, rs.x);
       check_solve_residual(rep.relative_residual, "whole-mesh solve");
       u = sys.solver.system().field(rs.x, prescribed);
       stats.relative_residual = rep.relative_residual;

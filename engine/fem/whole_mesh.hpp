@@ -101,7 +101,7 @@ struct NonlinearSolve {
   const WholeMeshSolver* linear = nullptr;
   const NonlinearTets* set = nullptr;
   const GripSprings* springs = nullptr;  // null: none
-  const Eigen::VectorXd* previous = nullptr;  // the frame before x's solution: Newton's secant start (solve::newton)
+  const Eigen::VectorXd* start = nullptr;  // a predicted start (solve::newton, SecantStart); null: x
   solve::NewtonOptions options;
 };
 solve::NewtonReport solve_nonlinear(const NonlinearSolve& sys, const Eigen::MatrixX3d& forces,

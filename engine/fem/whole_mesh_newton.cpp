@@ -50,7 +50,7 @@ solve::NewtonReport solve_nonlinear(const NonlinearSolve& s, const Eigen::Matrix
     spring_correction(springs, map, z);
   };
   p.scale = [&](const Eigen::VectorXd&) { return scale; };
-  const solve::NewtonReport rep = solve::newton(p, x, s.options, what, s.previous);
+  const solve::NewtonReport rep = solve::newton(p, x, s.options, what, s.start);
   measure_deformation(*s.set, work);
   return rep;
 }

@@ -10,7 +10,7 @@ bool needs_nonlinear_solve(const OperationalSystem& sys, const NonlinearFrame& f
 
 NonlinearReport solve_nonlinear(const OperationalSystem& sys, const Eigen::VectorXd& b, Eigen::VectorXd& x,
                                 OperationalSolver& solver, fem::NonlinearWork& work, const NonlinearFrame& frame,
-                                const std::string& what, const Eigen::VectorXd* previous) {
+                                const std::string& what, const Eigen::VectorXd* start) {
   const Eigen::Index n = sys.size();
   if (x.size() != n) x.setZero(n);
   NonlinearReport rep;
@@ -57,7 +57,7 @@ NonlinearReport solve_nonlinear(const OperationalSystem& sys, const Eigen::Vecto
   // Block Jacobi needs more PCG iterations per step than the factor: up to
   // the system's size (where CG in exact arithmetic is done).
   if (!solver.keeps_factor()) options.max_cg_iterations = std::max(options.max_cg_iterations, int(n));
-  rep.newton = solve::newton(p, x, options, what, previous);
+  rep.newton = solve::newton(p, x, options, what, start);
   fem::measure_deformation(set, work);
   rep.max_rotation = work.max_rotation;
   rep.max_strain = work.max_strain;

@@ -38,12 +38,12 @@ struct NonlinearReport {
 bool needs_nonlinear_solve(const OperationalSystem& sys, const NonlinearFrame& frame);
 
 // Solves r(x) = 0 from x (warm start; resized from zero when its size
-// differs), on the secant from `previous` when given (solve::newton).
+// differs), from the predicted `start` when given (solve::newton).
 // Throws softcut::Error starting with `what` when Newton does not converge,
 // or naming the grasper's node when a grasp holds a node that is not an
 // unknown of the operational system.
 NonlinearReport solve_nonlinear(const OperationalSystem& sys, const Eigen::VectorXd& b, Eigen::VectorXd& x,
                                 OperationalSolver& solver, fem::NonlinearWork& work, const NonlinearFrame& frame,
-                                const std::string& what, const Eigen::VectorXd* previous = nullptr);
+                                const std::string& what, const Eigen::VectorXd* start = nullptr);
 
 }  // namespace softcut::hybrid

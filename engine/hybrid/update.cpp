@@ -185,7 +185,7 @@ const FrameReport& update(const Model& M, State& S, std::span<const Load> loads,
   t.reset();
   if (S.x_generation != op.generation) {
     S.x_operational = gather_nodes(S.u, op.nodes);
-    S.x_before.resize(0);
+    S.secant.clear();
     S.x_generation = op.generation;
   }
   const Eigen::VectorXd b = op.rhs(S.forces, S.P_prime);
@@ -195,15 +195,15 @@ const FrameReport& update(const Model& M, State& S, std::span<const Load> loads,
   const NonlinearFrame& nl = opt.nonlinear ? *opt.nonlinear : linear_frame;
   if (needs_nonlinear_solve(op, nl)) {
     rep.newton = true;
-    Eigen::VectorXd x_last = S.x_operational;
+    const Eigen::VectorXd x_last = S.x_operational;
     rep.nonlinear = solve_nonlinear(op, b, S.x_operational, solver, S.nonlinear, nl, "operational solve",
-                                    S.x_before.size() > 0 ? &S.x_before : nullptr);
-    S.x_before.swap(x_last);
+                                    S.secant.predict(S.x_operational));
+    S.secant.record(x_last, S.x_operational);
     rep.solve.iterations = rep.nonlinear.newton.cg_iterations;
     rep.solve.relative_residual = rep.nonlinear.newton.relative_residual;
   } else {
     rep.solve = solver.solve(op, b, S.x_operational);
-    S.x_before.resize(0);  // a linear frame keeps no secant (no copy a frame on the fast path)
+    S.secant.clear();  // a linear frame keeps no history (no copy a frame on the fast path)
   }
   scatter_nodes(S.x_operational, op.nodes, S.u);
   rep.operational_ms = t.ms();

@@ -82,7 +82,7 @@ struct State {
   Eigen::VectorXd As_loads;          // (3|s|) m, K*^-1 (Ps0 + Ps_interact)
   Eigen::VectorXd P_prime;           // (3|I|) N, KI2 K22^-1 P2
   Eigen::VectorXd x_operational;     // (operational->size()) m, last solution (warm start)
-  Eigen::VectorXd x_before;          // the solution of the frame before it (Newton's secant start); may be empty
+  solve::SecantStart secant;         // a nonlinear frame's predicted Newton start
   long x_generation = -1;            // system the warm starts belong to
   long frames = 0;
   FrameReport last;

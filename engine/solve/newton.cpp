@@ -128,16 +128,16 @@ std::string newton_from(const NewtonProblem& p, Eigen::VectorXd& x, const Newton
 }  // namespace
 
 NewtonReport newton(const NewtonProblem& p, Eigen::VectorXd& x, const NewtonOptions& opt, const std::string& what,
-                    const Eigen::VectorXd* previous) {
+                    const Eigen::VectorXd* start) {
   NewtonReport rep;
-  if (previous && previous->size() == x.size() && x.size() > 0) {
-    Eigen::VectorXd start = 2 * x - *previous;
-    if (newton_from(p, start, opt, rep).empty()) {
-      x.swap(start);
+  if (start && start->size() == x.size() && x.size() > 0) {
+    Eigen::VectorXd from = *start;
+    if (newton_from(p, from, opt, rep).empty()) {
+      x.swap(from);
       return rep;
     }
-    // The secant overshot (a load that stopped or turned): from x, with the
-    // failed attempt's work still counted.
+    // The prediction led Newton astray: from x, with the failed attempt's
+    // work still counted.
     const NewtonReport failed = rep;
     rep = {};
     const std::string why = newton_from(p, x, opt, rep);
@@ -149,6 +149,33 @@ NewtonReport newton(const NewtonProblem& p, Eigen::VectorXd& x, const NewtonOpti
   const std::string why = newton_from(p, x, opt, rep);
   if (!why.empty()) fail(what, why);
   return rep;
+}
+
+void SecantStart::clear() {
+  increment_.resize(0);
+  theta_ = 0;
+  steady_ = 0;
+}
+
+const Eigen::VectorXd* SecantStart::predict(const Eigen::VectorXd& x) {
+  if (increment_.size() != x.size() || x.size() == 0 || steady_ < 2) return nullptr;
+  start_ = x + theta_ * increment_;
+  return &start_;
+}
+
+void SecantStart::record(const Eigen::VectorXd& from, const Eigen::VectorXd& solution) {
+  if (from.size() != solution.size()) {
+    clear();
+    return;
+  }
+  Eigen::VectorXd step = solution - from;
+  if (increment_.size() == step.size()) {
+    const double dd = increment_.squaredNorm();
+    const double ratio = dd > 0 ? step.dot(increment_) / dd : 0.0;
+    steady_ = ratio >= 0.5 && ratio <= 1.5 ? steady_ + 1 : 0;
+    theta_ = std::clamp(ratio, 0.0, 1.0);
+  }
+  increment_.swap(step);
 }
 
 }  // namespace softcut::solve

@@ -74,13 +74,38 @@ struct NewtonReport {
 // Solves from x (the warm start; the result is left in x). Throws
 // softcut::Error starting with `what` when |r| does not fall below the
 // tolerance within the options' limits, or the residual is not finite.
-// `previous` (optional): the solution of the frame before x's, of the same
-// system; the solve then starts on the secant through the two,
-// 2 x - previous, and falls back to x if Newton fails from there. A load
-// that ramps over the frames then starts each frame O(dt^2) off instead of
-// O(dt): one Newton step fewer a frame (box_111132 pressed over 30 frames:
-// 2.9 -> 2.1 steps a frame).
+// `start` (optional, x's size): a predicted start (SecantStart); the solve
+// begins there and falls back to x if Newton fails from it, the failed
+// attempt's work counted.
 NewtonReport newton(const NewtonProblem& p, Eigen::VectorXd& x, const NewtonOptions& opt = {},
-                    const std::string& what = "Newton solve", const Eigen::VectorXd* previous = nullptr);
+                    const std::string& what = "Newton solve", const Eigen::VectorXd* start = nullptr);
+
+// The start of each frame's Newton solve of one system, predicted from the
+// frames before: x_n + theta (x_n - x_{n-1}), theta how the last increment
+// continued the one before it (their least-squares ratio, clamped to
+// [0, 1]), once two increments in a row continued the one before them
+// (ratio 0.5 .. 1.5): a load that ramps. A ramped load then starts each
+// frame O(dt^2) off instead of O(dt): box_111132 pressed over 30 frames,
+// 2.9 -> 2.1 Newton steps a frame. A plain secant (theta = 1 always)
+// overshot where cuts and tools moving in jerks broke the trend: the shipped
+// through_cut and tensioned_incision took 1.5 -> 2.2 and 1.4 -> 2.6 steps a
+// frame with it.
+class SecantStart {
+ public:
+  // Forget the history (a new system: a cut, or a frame solved otherwise).
+  void clear();
+  // The predicted start of the solve that follows the solution x; null
+  // when there is nothing to predict from (valid until the next call).
+  const Eigen::VectorXd* predict(const Eigen::VectorXd& x);
+  // After that solve: the solution it started from and the one it found.
+  void record(const Eigen::VectorXd& from, const Eigen::VectorXd& solution);
+  double theta() const { return theta_; }
+
+ private:
+  Eigen::VectorXd increment_;  // x_n - x_{n-1}; empty: unknown
+  Eigen::VectorXd start_;
+  double theta_ = 0;
+  int steady_ = 0;  // increments in a row that continued the one before
+};
 
 }  // namespace softcut::solve

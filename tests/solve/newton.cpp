@@ -2,16 +2,18 @@
 // one CG iteration: P is the tangent), a stiffening one checked against its
 // own equations at a tight tolerance with quadratic convergence, one whose
 // exact tangent is indefinite on the way (the projected fallback), one
-// that cannot converge in the steps it is given (a clear error), and a load
-// ramped over frames (the secant start, and its fallback).
+// that cannot converge in the steps it is given (a clear error), and loads
+// over frames (the predicted start: a ramp, a ramp that stops, a fallback).
 #include "solve/newton.hpp"
 
 #include <doctest/doctest.h>
 
 #include <Eigen/Cholesky>
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <random>
+#include <vector>
 
 #include "core/error.hpp"
 #include "test_support.hpp"
@@ -110,44 +112,68 @@ TEST_SUITE("solve/newton") {
 
   TEST_CASE("a ramped load: the secant start through the last two frames saves Newton steps, same answers") {
     // The stiffening problem loaded by b k / 10 over ten frames, each solve
-    // warm-started from the frame before, with and without its predecessor.
+    // warm-started from the frame before, with and without SecantStart.
     Problem pr(40, 3);
     pr.c = 2.0;
     const Eigen::VectorXd full = 5 * pr.b;
-    Eigen::VectorXd plain = Eigen::VectorXd::Zero(40), secant = plain, before;
+    Eigen::VectorXd plain = Eigen::VectorXd::Zero(40), secant = plain;
+    solve::SecantStart predictor;
     int plain_steps = 0, secant_steps = 0;
     solve::NewtonOptions opt;
     opt.tolerance = 1e-12;
     for (int k = 1; k <= 10; ++k) {
       pr.b = full * (k / 10.0);
       plain_steps += solve::newton(pr.problem(), plain, opt).iterations;
-      const Eigen::VectorXd last = secant;
-      secant_steps += solve::newton(pr.problem(), secant, opt, "ramp", before.size() ? &before : nullptr).iterations;
-      before = last;
+      const Eigen::VectorXd from = secant;
+      secant_steps += solve::newton(pr.problem(), secant, opt, "ramp", predictor.predict(secant)).iterations;
+      predictor.record(from, secant);
       CAPTURE(k);
       CHECK((pr.b - pr.F(secant)).norm() <= 1e-12 * (pr.b.norm() + pr.F(secant).norm()));
       CHECK((secant - plain).norm() <= 1e-10 * plain.norm());
+      if (k >= 3) CHECK(predictor.theta() > 0.5);  // a ramp continues: nearly the plain secant
     }
     CAPTURE(plain_steps);
     CHECK(secant_steps <= plain_steps - 5);
   }
 
-  TEST_CASE("a secant start Newton cannot converge from falls back to the warm start, its work counted") {
+  TEST_CASE("the predicted start learns that a load stopped, and follows it again") {
+    // Ramped over four frames, then held: the secant would overshoot by one
+    // frame's increment; theta falls to 0 and the held frames take no step.
+    Problem pr(40, 4);
+    pr.c = 2.0;
+    const Eigen::VectorXd full = 2 * pr.b;
+    Eigen::VectorXd x = Eigen::VectorXd::Zero(40);
+    solve::SecantStart predictor;
+    std::vector<int> steps;
+    for (int k = 1; k <= 8; ++k) {
+      pr.b = full * (std::min(k, 4) / 4.0);
+      const Eigen::VectorXd from = x;
+      steps.push_back(solve::newton(pr.problem(), x, {}, "hold", predictor.predict(x)).iterations);
+      predictor.record(from, x);
+    }
+    CHECK(predictor.theta() == 0.0);
+    CHECK(steps[6] == 0);  // converged where it started: no overshoot
+    CHECK(steps[7] == 0);
+    predictor.clear();
+    CHECK(predictor.predict(x) == nullptr);
+  }
+
+  TEST_CASE("a predicted start Newton cannot converge from falls back to the warm start, its work counted") {
     Problem pr(40, 5);
     pr.c = 2.0;
     solve::NewtonOptions opt;
     opt.max_iterations = 12;
     Eigen::VectorXd x = Eigen::VectorXd::Zero(40), alone = x;
     const int direct = solve::newton(pr.problem(), alone, opt).iterations;
-    // 2 x - previous lies 1e4 out: the cubic term needs more than 12 steps back.
-    const Eigen::VectorXd previous = Eigen::VectorXd::Constant(40, -1e4);
-    const solve::NewtonReport rep = solve::newton(pr.problem(), x, opt, "fallback", &previous);
+    // 1e4 out: the cubic term needs more than 12 steps back.
+    const Eigen::VectorXd start = Eigen::VectorXd::Constant(40, 1e4);
+    const solve::NewtonReport rep = solve::newton(pr.problem(), x, opt, "fallback", &start);
     CHECK((x - alone).norm() <= 1e-9 * alone.norm());
     CHECK(rep.iterations == direct + opt.max_iterations);
     // Failing from both is the error of the warm start's attempt.
     opt.max_iterations = 2;
     x.setZero();
-    CHECK_THROWS_WITH_AS(solve::newton(pr.problem(), x, opt, "fallback", &previous),
+    CHECK_THROWS_WITH_AS(solve::newton(pr.problem(), x, opt, "fallback", &start),
                          doctest::Contains("fallback: Newton's method did not converge in 2 steps"), Error);
   }
 
