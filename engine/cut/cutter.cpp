@@ -255,12 +255,11 @@ CutRecord cut_step(mesh::TetMesh& m, CutState& st, const SweptSurface& blade, co
   st.cut_stroke.resize(size_t(n0 + nsplit), st.stroke);
   st.cut_offset.resize(size_t(n0 + nsplit), 0);
   for (int v = 0; v < n0; ++v)
-    if (snapped[size_t(v)] && st.locked[size_t(v)]) {
-      ++rec.locked_snapped;
-      rec.locked_snap_reach = std::max(rec.locked_snap_reach, s * min_len[size_t(v)]);
-    }
-  for (int v = 0; v < n0; ++v)
     if (snapped[size_t(v)]) {
+      if (st.locked[size_t(v)]) {  // never cut: the caller says the cut stopped short
+        ++rec.locked_snapped;
+        rec.locked_snap_reach = std::max(rec.locked_snap_reach, s * min_len[size_t(v)]);
+      }
       rec.nodes_snapped += st.cut_stroke[size_t(v)] < 0;
       st.cut_offset[size_t(v)] = std::max(current(v) ? st.cut_offset[size_t(v)] : 0.0, distance(blade, m.node(v)));
       st.cut_stroke[size_t(v)] = st.stroke;

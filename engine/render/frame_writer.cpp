@@ -46,7 +46,7 @@ struct FrameWriter::Impl {
   mutable std::mutex mutex;
   std::condition_variable changed;  // a queue, busy or failure changed
   std::deque<Job> queue;            // to draw
-  std::deque<Drawn> drawn;          // to encode and write (at most one waits)
+  std::optional<Drawn> drawn;       // to encode and write (one waits at most)
   bool busy = false, encoding = false, stop = false;
   std::exception_ptr failure;
   FrameWriterStats stats;
@@ -95,7 +95,7 @@ struct FrameWriter::Impl {
       std::lock_guard lock(mutex);
       stop = true;
       queue.clear();
-      drawn.clear();
+      drawn.reset();
     }
     changed.notify_all();
     worker.join();
@@ -193,8 +193,8 @@ struct FrameWriter::Impl {
         fail_all(error);
       } else {
         // One drawn frame waits at most: the next draw overlaps its encoding.
-        changed.wait(lock, [&] { return stop || failure || drawn.empty(); });
-        if (!stop && !failure) drawn.push_back(std::move(*d));
+        changed.wait(lock, [&] { return stop || failure || !drawn; });
+        if (!stop && !failure) drawn = std::move(d);
       }
       busy = false;
       lock.unlock();
@@ -208,17 +208,17 @@ struct FrameWriter::Impl {
   void fail_all(std::exception_ptr error) {
     if (!failure) failure = error;
     queue.clear();
-    drawn.clear();
+    drawn.reset();
   }
 
   // The encoder thread: PNGs, files and the video of drawn frames, in order.
   void encode_loop() {
     for (;;) {
       std::unique_lock lock(mutex);
-      changed.wait(lock, [&] { return stop || !drawn.empty(); });
+      changed.wait(lock, [&] { return stop || drawn; });
       if (stop) break;
-      Drawn d = std::move(drawn.front());
-      drawn.pop_front();
+      Drawn d = std::move(*drawn);
+      drawn.reset();
       encoding = true;
       lock.unlock();
       changed.notify_all();  // the drawing thread may hand over the next
@@ -269,7 +269,7 @@ struct FrameWriter::Impl {
     if (mode == Mode::worker) {
       Timer timer;
       std::unique_lock lock(mutex);
-      changed.wait(lock, [&] { return failure || (queue.empty() && !busy && drawn.empty() && !encoding); });
+      changed.wait(lock, [&] { return failure || (queue.empty() && !busy && !drawn && !encoding); });
       stats.wait_ms += timer.ms();
       rethrow_failure(lock);
     }
