@@ -112,6 +112,7 @@ class CholmodSolver : public OperationalSolver {
 
  private:
   void dense_product(const Eigen::VectorXd& b, Eigen::VectorXd& x);
+  void factor_solve(const Eigen::VectorXd& b, Eigen::VectorXd& x);
   static constexpr int kAdoptAfterSolves = 8;
   // Makes the kept factor (or its correction) serve `sys`.
   void prepare(const OperationalSystem& sys);
@@ -142,6 +143,7 @@ class CholmodSolver : public OperationalSolver {
   std::shared_ptr<HelperThread> helper_;                 // the run's second thread, or null
   solve::SolveWorkspace ws_;  // CHOLMOD's solve buffers, kept between frames
   Eigen::VectorXd r_;  // residual scratch
+  Eigen::VectorXd y_;  // the forward half of factor_solve
   long generation_ = -1;
 };
 
