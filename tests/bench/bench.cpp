@@ -328,7 +328,8 @@ TEST_SUITE("bench/bench") {
 
   TEST_CASE("bench nonlinear: the corotational hybrid frame equals the whole-mesh Newton solve, ratios reported") {
     const fs::path dir = softcut::test::scratch_dir("bench_nonlinear");
-    const auto r = run_cli("bench nonlinear --cells 5 --op-tets 300 --frames 3 --json " + (dir / "n.json").string());
+    const auto r =
+        run_cli("bench nonlinear --cells 5 --op-tets 300 --frames 3 --paper-frames 6 --json " + (dir / "n.json").string());
     REQUIRE_MESSAGE(r.status == 0, r.output);
     const Json j = read_json(dir / "n.json");
     CHECK(j["model"] == "box_1500");
@@ -345,12 +346,27 @@ TEST_SUITE("bench/bench") {
     CHECK(j["speedup_vs_monolithic"].get<double>() > 0);
     CHECK(j["cost_vs_linear"].get<double>() > 0);
     CHECK(contains(r.output, "| corotational |"));
+    // The paper's models at the paper's operational sizes (Table 2: 71 and 416 tets).
+    REQUIRE(j["paper"].size() == 2);
+    CHECK(j["paper"][0]["model"] == "ligament");
+    CHECK(j["paper"][0]["operational_tets"] == 71);
+    CHECK(j["paper"][1]["model"] == "upper_leg");
+    CHECK(j["paper"][1]["operational_tets"] == 416);
+    for (const Json& p : j["paper"]) {
+      CHECK(p["frame_hz"].get<double>() > 0);
+      CHECK(p["newton_iterations_mean"].get<double>() >= 1);
+      CHECK(p["rotation_max_deg"].get<double>() > 3);  // the push turns the region's tets
+      CHECK(p["cost_vs_linear"].get<double>() > 0);
+    }
+    CHECK(contains(r.output, "| upper_leg | 2580 | 416 |"));
   }
 
   TEST_CASE("bench nonlinear: bad options") {
     CHECK(run_cli("bench nonlinear --help").status == 0);
     check_rejected("nonlinear --cells 1", "--cells");
     check_rejected("nonlinear --frames x", "--frames");
+    check_rejected("nonlinear --frames 2", "--frames");  // frame 1 makes the factor: none left to time
+    check_rejected("nonlinear --paper-frames 0", "--paper-frames");
   }
 
   TEST_CASE("bench cut: bad options") {
