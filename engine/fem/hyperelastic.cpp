@@ -289,17 +289,15 @@ double element_energy(const TetRest& r, const TetCorners& x) {
   return energy;
 }
 
-Deformation deformation(const Eigen::Matrix3d& F) {
+Deformation deformation(const Eigen::Matrix3d& F, double strain_floor) {
   Eigen::Matrix3d R, S;
   polar(F, R, S);
   Deformation d;
   d.rotation = std::acos(std::clamp(0.5 * (R.trace() - 1), -1.0, 1.0));
-  // The eigenvalues of S - I in closed form (Eigen's computeDirect: a cubic's
-  // trigonometric roots, several times faster than the QR iteration, to
-  // about 1e-12 of |S - I|; a report, not a force).
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
-  eig.computeDirect(S - Eigen::Matrix3d::Identity(), Eigen::EigenvaluesOnly);
-  d.strain = eig.eigenvalues().cwiseAbs().maxCoeff();
+  // max |sigma_k - 1| <= |S - I|_F: no eigensolve where that cannot pass the floor.
+  if ((S - Eigen::Matrix3d::Identity()).norm() <= strain_floor) return d;
+  const Eigen::Vector3d s = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(S, Eigen::EigenvaluesOnly).eigenvalues();
+  d.strain = (s.array() - 1).abs().maxCoeff();
   return d;
 }
 

@@ -66,7 +66,10 @@ struct Deformation {
   double rotation = 0;  // angle of the polar rotation of F, rad (0 .. pi)
   double strain = 0;    // largest principal stretch's distance from 1, |sigma_k - 1| (a flipped tet: > 1)
 };
-Deformation deformation(const Eigen::Matrix3d& F);
+// strain_floor: where the strain cannot pass it (|S - I|_F <= floor), it is
+// not computed and reported as 0 (a caller after the largest over many
+// tets passes the largest so far: the eigensolve is most of the cost).
+Deformation deformation(const Eigen::Matrix3d& F, double strain_floor = -1);
 
 // Polar decomposition F = R S with R a rotation (det +1) for every F: a tet
 // well away from flat by Higham's scaled Newton iteration, a flat or

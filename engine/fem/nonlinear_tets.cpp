@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "core/error.hpp"
+#include "core/helper_thread.hpp"
 #include "fem/assembly.hpp"
 
 namespace softcut::fem {
@@ -36,46 +37,66 @@ NonlinearTets::NonlinearTets(const mesh::TetMesh& m, const std::vector<Material>
   }
 }
 
+namespace {
+
+// out += work.scratch's per-tet 12-vectors at their unknowns, in tet order
+// (the order a serial loop adds them in, whoever computed them).
+void add_scratch(const NonlinearTets& set, const NonlinearWork& work, Eigen::VectorXd& out) {
+  for (int e = 0; e < set.size(); ++e) {
+    const auto& unk = set.unknown(e);
+    for (int k = 0; k < 4; ++k)
+      if (unk[size_t(k)] >= 0) out.segment<3>(3 * Eigen::Index(unk[size_t(k)])) += work.scratch[size_t(e)].segment<3>(3 * k);
+  }
+}
+
+}  // namespace
+
 double evaluate(const NonlinearTets& set, const Eigen::VectorXd& x, const Eigen::MatrixX3d& prescribed,
-                Eigen::VectorXd& d, NonlinearWork& work, bool tangent) {
+                Eigen::VectorXd& d, NonlinearWork& work, bool tangent, HelperThread* helper) {
   const int n = set.size();
   work.D.resize(size_t(n));
   work.x.resize(size_t(n));
+  work.scratch.resize(size_t(n));
   work.force_unit = set.force_unit();
-  double energy = 0;
-  Vec12 f, uf;
-  Mat12 K;
-  for (int e = 0; e < n; ++e) {
-    const auto& unk = set.unknown(e);
-    TetCorners u;
-    for (int k = 0; k < 4; ++k) {
-      const int j = unk[size_t(k)];
-      if (j >= 0) u.row(k) = x.segment<3>(3 * Eigen::Index(j)).transpose();
-      else if (prescribed.size() > 0) u.row(k) = prescribed.row(set.node(e)[size_t(k)]);
-      else u.row(k).setZero();
-      uf.segment<3>(3 * k) = j >= 0 ? Eigen::Vector3d(u.row(k).transpose()) : Eigen::Vector3d::Zero();
+  // The tets in two fixed halves, the second on the helper: each tet's
+  // force difference into work.scratch, added into d in tet order after;
+  // the energy as the two halves' sums. The same bits with or without it.
+  double energy[2] = {0, 0};
+  row_halves(helper, n, [&](long first, long count) {
+    Vec12 f, uf;
+    Mat12 K;
+    double sum = 0;
+    for (long e = first; e < first + count; ++e) {
+      const auto& unk = set.unknown(int(e));
+      TetCorners u;
+      for (int k = 0; k < 4; ++k) {
+        const int j = unk[size_t(k)];
+        if (j >= 0) u.row(k) = x.segment<3>(3 * Eigen::Index(j)).transpose();
+        else if (prescribed.size() > 0) u.row(k) = prescribed.row(set.node(int(e))[size_t(k)]);
+        else u.row(k).setZero();
+        uf.segment<3>(3 * k) = j >= 0 ? Eigen::Vector3d(u.row(k).transpose()) : Eigen::Vector3d::Zero();
+      }
+      TetCorners& xe = work.x[size_t(e)];
+      xe = set.corners(int(e)) + u;
+      double energy_e = 0;
+      element_force(set.rest(int(e)), xe, f, tangent ? &K : nullptr, tangent ? Tangent::exact : Tangent::none,
+                    &energy_e);
+      const Mat12& K0 = set.linear_stiffness(int(e));
+      const Vec12& f0 = set.initial_force(int(e));
+      const Vec12 K0u = K0 * uf;
+      work.scratch[size_t(e)] = f - K0u + f0;
+      sum += energy_e - 0.5 * uf.dot(K0u) + f0.dot(uf);
+      if (tangent) {
+        Mat12& D = work.D[size_t(e)];
+        D = K - K0;
+        for (int k = 0; k < 4; ++k)
+          if (unk[size_t(k)] < 0) D.middleRows<3>(3 * k).setZero(), D.middleCols<3>(3 * k).setZero();
+      }
     }
-    const TetCorners& X = set.corners(e);
-    TetCorners& xe = work.x[size_t(e)];
-    xe = X + u;
-    const TetRest& r = set.rest(e);
-    double energy_e = 0;
-    element_force(r, xe, f, tangent ? &K : nullptr, tangent ? Tangent::exact : Tangent::none, &energy_e);
-    const Mat12& K0 = set.linear_stiffness(e);
-    const Vec12& f0 = set.initial_force(e);
-    const Vec12 K0u = K0 * uf;
-    const Vec12 de = f - K0u + f0;
-    energy += energy_e - 0.5 * uf.dot(K0u) + f0.dot(uf);
-    for (int k = 0; k < 4; ++k)
-      if (unk[size_t(k)] >= 0) d.segment<3>(3 * Eigen::Index(unk[size_t(k)])) += de.segment<3>(3 * k);
-    if (tangent) {
-      Mat12& D = work.D[size_t(e)];
-      D = K - K0;
-      for (int k = 0; k < 4; ++k)
-        if (unk[size_t(k)] < 0) D.middleRows<3>(3 * k).setZero(), D.middleCols<3>(3 * k).setZero();
-    }
-  }
-  return energy;
+    energy[first == 0 ? 0 : 1] = sum;
+  });
+  add_scratch(set, work, d);
+  return energy[0] + energy[1];
 }
 
 void measure_deformation(const NonlinearTets& set, NonlinearWork& work) {
@@ -85,7 +106,7 @@ void measure_deformation(const NonlinearTets& set, NonlinearWork& work) {
     const TetRest& r = set.rest(e);
     if (r.model == MaterialModel::linear) continue;
     const Eigen::Matrix3d F = deformation_gradient(r, work.x[size_t(e)]);
-    const Deformation def = deformation(F);
+    const Deformation def = deformation(F, work.max_strain);  // its strain only where it can pass the largest so far
     work.max_rotation = std::max(work.max_rotation, def.rotation);
     work.max_strain = std::max(work.max_strain, def.strain);
     work.inverted += F.determinant() <= 0;
@@ -105,19 +126,25 @@ void project(const NonlinearTets& set, NonlinearWork& work) {
   }
 }
 
-void apply_difference(const NonlinearTets& set, const NonlinearWork& work, const Eigen::VectorXd& p,
-                      Eigen::VectorXd& y) {
-  Vec12 pe;
-  for (int e = 0; e < set.size(); ++e) {
-    if (set.rest(e).model == MaterialModel::linear) continue;
-    const auto& unk = set.unknown(e);
-    for (int k = 0; k < 4; ++k)
-      pe.segment<3>(3 * k) = unk[size_t(k)] >= 0 ? Eigen::Vector3d(p.segment<3>(3 * Eigen::Index(unk[size_t(k)])))
-                                                 : Eigen::Vector3d::Zero();
-    const Vec12 ye = work.D[size_t(e)] * pe;
-    for (int k = 0; k < 4; ++k)
-      if (unk[size_t(k)] >= 0) y.segment<3>(3 * Eigen::Index(unk[size_t(k)])) += ye.segment<3>(3 * k);
-  }
+void apply_difference(const NonlinearTets& set, NonlinearWork& work, const Eigen::VectorXd& p, Eigen::VectorXd& y,
+                      HelperThread* helper) {
+  work.scratch.resize(size_t(set.size()));
+  row_halves(helper, set.size(), [&](long first, long count) {
+    Vec12 pe;
+    for (long e = first; e < first + count; ++e) {
+      if (set.rest(int(e)).model == MaterialModel::linear) {
+        work.scratch[size_t(e)].setZero();
+        continue;
+      }
+      const auto& unk = set.unknown(int(e));
+      for (int k = 0; k < 4; ++k)
+        pe.segment<3>(3 * k) = unk[size_t(k)] >= 0
+                                   ? Eigen::Vector3d(p.segment<3>(3 * Eigen::Index(unk[size_t(k)])))
+                                   : Eigen::Vector3d::Zero();
+      work.scratch[size_t(e)].noalias() = work.D[size_t(e)] * pe;
+    }
+  });
+  add_scratch(set, work, y);
 }
 
 }  // namespace softcut::fem

@@ -24,6 +24,10 @@
 #include "fem/material.hpp"
 #include "mesh/tet_mesh.hpp"
 
+namespace softcut {
+class HelperThread;
+}
+
 namespace softcut::fem {
 
 class NonlinearTets {
@@ -71,6 +75,7 @@ struct NonlinearWork {
   // NonlinearTets::force_unit() of the last evaluate(), N: for a Newton
   // scale that never asks for less than rounding (|r| <= 1e-16 of it).
   double force_unit = 0;
+  std::vector<Vec12> scratch;  // (size()) a tet's share of evaluate's d or apply_difference's y
 };
 
 // d(x) added into `d` (the system's size, 3 x unknowns) for the unknowns'
@@ -79,16 +84,18 @@ struct NonlinearWork {
 // `work` when `tangent`. Returns the energy correction
 // sum_e (E_e - 1/2 [u_e]_free^T K_e [u_e]_free + f0_e^T [u_e]_free), whose
 // gradient is d (J).
+// With a helper, the tets go in two fixed halves, the second on it: the same
+// bits either way (and for apply_difference).
 double evaluate(const NonlinearTets& set, const Eigen::VectorXd& x, const Eigen::MatrixX3d& prescribed,
-                Eigen::VectorXd& d, NonlinearWork& work, bool tangent = true);
+                Eigen::VectorXd& d, NonlinearWork& work, bool tangent = true, HelperThread* helper = nullptr);
 // work.max_rotation, max_strain and inverted at the positions of the last
 // evaluate() (once per solve: a polar decomposition and an eigensolve a tet).
 void measure_deformation(const NonlinearTets& set, NonlinearWork& work);
 // Replaces work.D by the projected (positive semidefinite) element tangents
 // at the positions of the last evaluate().
 void project(const NonlinearTets& set, NonlinearWork& work);
-// y += D p.
-void apply_difference(const NonlinearTets& set, const NonlinearWork& work, const Eigen::VectorXd& p,
-                      Eigen::VectorXd& y);
+// y += D p (work.scratch holds the tets' products).
+void apply_difference(const NonlinearTets& set, NonlinearWork& work, const Eigen::VectorXd& p, Eigen::VectorXd& y,
+                      HelperThread* helper = nullptr);
 
 }  // namespace softcut::fem

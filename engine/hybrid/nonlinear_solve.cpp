@@ -10,7 +10,7 @@ bool needs_nonlinear_solve(const OperationalSystem& sys, const NonlinearFrame& f
 
 NonlinearReport solve_nonlinear(const OperationalSystem& sys, const Eigen::VectorXd& b, Eigen::VectorXd& x,
                                 OperationalSolver& solver, fem::NonlinearWork& work, const NonlinearFrame& frame,
-                                const std::string& what, const Eigen::VectorXd* start) {
+                                const std::string& what, const Eigen::VectorXd* start, HelperThread* helper) {
   const Eigen::Index n = sys.size();
   if (x.size() != n) x.setZero(n);
   NonlinearReport rep;
@@ -28,7 +28,7 @@ NonlinearReport solve_nonlinear(const OperationalSystem& sys, const Eigen::Vecto
   solve::NewtonProblem p;
   p.residual = [&](const Eigen::VectorXd& at, Eigen::VectorXd& r) {
     Eigen::VectorXd d = Eigen::VectorXd::Zero(n);
-    const double correction = fem::evaluate(set, at, frame.prescribed, d, work);
+    const double correction = fem::evaluate(set, at, frame.prescribed, d, work, true, helper);
     sys.apply(at, Ax);
     r = b - Ax - d;
     // The sizes of the terms r is the difference of: its rounding floor
@@ -38,7 +38,9 @@ NonlinearReport solve_nonlinear(const OperationalSystem& sys, const Eigen::Vecto
     return 0.5 * at.dot(Ax) - b.dot(at) + correction + spring_energy;
   };
   p.project = [&] { fem::project(set, work); };
-  p.tangent_difference = [&](const Eigen::VectorXd& v, Eigen::VectorXd& y) { fem::apply_difference(set, work, v, y); };
+  p.tangent_difference = [&](const Eigen::VectorXd& v, Eigen::VectorXd& y) {
+    fem::apply_difference(set, work, v, y, helper);
+  };
   if (solver.keeps_factor()) {  // P^-1 exactly, the springs by Woodbury
     p.precondition = [&](const Eigen::VectorXd& r, Eigen::VectorXd& z) {
       solver.precondition(sys, r, z);

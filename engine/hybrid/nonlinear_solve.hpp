@@ -41,9 +41,11 @@ bool needs_nonlinear_solve(const OperationalSystem& sys, const NonlinearFrame& f
 // differs), from the predicted `start` when given (solve::newton).
 // Throws softcut::Error starting with `what` when Newton does not converge,
 // or naming the grasper's node when a grasp holds a node that is not an
-// unknown of the operational system.
+// unknown of the operational system. `helper`: the run's second thread,
+// which takes half of each element loop (fem::evaluate); same bits without.
 NonlinearReport solve_nonlinear(const OperationalSystem& sys, const Eigen::VectorXd& b, Eigen::VectorXd& x,
                                 OperationalSolver& solver, fem::NonlinearWork& work, const NonlinearFrame& frame,
-                                const std::string& what, const Eigen::VectorXd* start = nullptr);
+                                const std::string& what, const Eigen::VectorXd* start = nullptr,
+                                HelperThread* helper = nullptr);
 
 }  // namespace softcut::hybrid

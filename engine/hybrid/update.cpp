@@ -54,9 +54,13 @@ State make_state(const Model& M, std::unique_ptr<OperationalSolver> solver, cons
   // touch's backward solve through the K22 factor, once they are past the
   // caches' fastest level (kHelperMinEntries); it needs an idle core.
   const double n_op = M.operational ? M.operational->size() : 0;
+  // A nonlinear law's tets count as kEntriesPerNonlinearTet entries each
+  // (an element pass with its tangent reads and writes about that many).
+  const double nonlinear_tets =
+      M.operational && M.operational->nonlinear_law ? double(M.operational->nonlinear->size()) : 0.0;
   const double dense_entries = double(M.Kstar_inv_Pstar.size()) +
                                (n_op <= CholmodSolver::kDenseMax ? n_op * n_op : 0.0) +
-                               (S.columns ? M.K22.factor_nonzeros() : 0.0);
+                               (S.columns ? M.K22.factor_nonzeros() : 0.0) + kEntriesPerNonlinearTet * nonlinear_tets;
   const int threads = opt.product_threads > 0 ? opt.product_threads
                       : dense_entries >= kHelperMinEntries ? std::min(2, thread_policy().threads)
                                                            : 1;
@@ -197,7 +201,7 @@ const FrameReport& update(const Model& M, State& S, std::span<const Load> loads,
     rep.newton = true;
     const Eigen::VectorXd x_last = S.x_operational;
     rep.nonlinear = solve_nonlinear(op, b, S.x_operational, solver, S.nonlinear, nl, "operational solve",
-                                    S.secant.predict(S.x_operational));
+                                    S.secant.predict(S.x_operational), S.helper.get());
     S.secant.record(x_last, S.x_operational);
     rep.solve.iterations = rep.nonlinear.newton.cg_iterations;
     rep.solve.relative_residual = rep.nonlinear.newton.relative_residual;

@@ -60,8 +60,9 @@ struct UpdateOptions {
 struct StateOptions {
   double column_cache_bytes = 256.0 * 1024 * 1024;  // bound of the column cache (product and factor storage)
   // Threads for the frame's dense products (stage 5's (K*^-1 P*) AI, a small
-  // operational system's kept inverse) and a first touch's backward solve
-  // (columns.hpp): 1, or 2 (a HelperThread); 0: 2 when
+  // operational system's kept inverse), a first touch's backward solve
+  // (columns.hpp) and a nonlinear frame's element loops: 1, or 2 (a
+  // HelperThread); 0: 2 when
   // the thread policy has two idle cores and the products are large enough
   // to pay for it (kHelperMinEntries). The bits are the same either way.
   int product_threads = 0;
@@ -71,6 +72,9 @@ struct StateOptions {
 // inverse, plus the K22 factor where first touches read it) from which a second thread pays: the upper leg's (128k + 103k)
 // frame goes from 27 to 17-19 us; far below, the hand-over costs more than the half saves.
 constexpr double kHelperMinEntries = 65536;
+// A tet of a nonlinear law in that count: its element pass (force and
+// tangent, about 0.7 us) costs what reading ~300 entries does.
+constexpr double kEntriesPerNonlinearTet = 300;
 
 struct State {
   Eigen::MatrixX3d u;  // (nnode x 3) m: sets 1, I, s each frame; fixed rows 0; interior rows as last recovered

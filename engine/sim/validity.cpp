@@ -63,9 +63,11 @@ Validity measure_validity(const Model& m, const State& s) {
       condensed_rotations.push_back(rotation);
       continue;
     }
-    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;  // closed form (as fem::deformation)
-    eig.computeDirect(0.5 * (G + G.transpose()), Eigen::EigenvaluesOnly);
-    const double strain = eig.eigenvalues().cwiseAbs().maxCoeff();
+    const double strain =
+        Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(0.5 * (G + G.transpose()), Eigen::EigenvaluesOnly)
+            .eigenvalues()
+            .cwiseAbs()
+            .maxCoeff();
     if (rotation > v.linear_rotation) v.linear_rotation = rotation, v.linear_tet = t;
     v.linear_strain = std::max(v.linear_strain, strain);
     rotations.push_back(rotation), strains.push_back(strain);

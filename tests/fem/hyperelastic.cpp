@@ -247,6 +247,14 @@ TEST_SUITE("fem/hyperelastic") {
       const fem::Deformation d = fem::deformation(F);
       CHECK(d.rotation == doctest::Approx(Eigen::AngleAxisd(Q).angle()).epsilon(1e-9));
       CHECK(d.strain == doctest::Approx(trial % 2 ? 1.5 : 0.3));
+      // Below a floor the strain cannot pass (|S - I|_F <= floor) it is not computed.
+      const double bound = (S - Eigen::Matrix3d::Identity()).norm();
+      const fem::Deformation above = fem::deformation(F, 0.99 * d.strain), below = fem::deformation(F, bound);
+      CHECK(above.strain == d.strain);
+      CHECK(above.rotation == d.rotation);
+      CHECK(below.strain == 0);
+      CHECK(below.rotation == d.rotation);
+      CHECK(bound >= d.strain);
     }
   }
 
