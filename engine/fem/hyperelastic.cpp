@@ -97,7 +97,7 @@ struct Corotational {
     const Eigen::Matrix3d RM = R * Minv;
     Eigen::Matrix3d A[3];
     for (int m = 0; m < 3; ++m) A[m] = skew(RM.col(m)) * RA;
-    Eigen::Matrix3d U[4], W[4], q;  // U_k(a, m) = (A_m g_k)_a; W_l(b, m) = (g_l x r_b)_m
+    Eigen::Matrix3d U[4], W[4];  // U_k(a, m) = (A_m g_k)_a; W_l(b, m) = (g_l x r_b)_m
     Eigen::Matrix<double, 3, 4> Rg = R * g.transpose();
     for (int k = 0; k < 4; ++k) {
       const Eigen::Vector3d gk = g.row(k).transpose();
