@@ -45,7 +45,8 @@ void add_scratch(const NonlinearTets& set, const NonlinearWork& work, Eigen::Vec
   for (int e = 0; e < set.size(); ++e) {
     const auto& unk = set.unknown(e);
     for (int k = 0; k < 4; ++k)
-      if (unk[size_t(k)] >= 0) out.segment<3>(3 * Eigen::Index(unk[size_t(k)])) += work.scratch[size_t(e)].segment<3>(3 * k);
+      if (unk[size_t(k)] >= 0)
+        out.segment<3>(3 * Eigen::Index(unk[size_t(k)])) += work.scratch[size_t(e)].segment<3>(3 * k);
   }
 }
 

@@ -89,7 +89,8 @@ struct NonlinearWork {
 double evaluate(const NonlinearTets& set, const Eigen::VectorXd& x, const Eigen::MatrixX3d& prescribed,
                 Eigen::VectorXd& d, NonlinearWork& work, bool tangent = true, HelperThread* helper = nullptr);
 // work.max_rotation, max_strain and inverted at the positions of the last
-// evaluate() (once per solve: a polar decomposition and an eigensolve a tet).
+// evaluate() (once per solve: a polar decomposition a tet, an eigensolve
+// where the strain can pass the largest so far).
 void measure_deformation(const NonlinearTets& set, NonlinearWork& work);
 // Replaces work.D by the projected (positive semidefinite) element tangents
 // at the positions of the last evaluate().
