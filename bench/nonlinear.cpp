@@ -168,7 +168,8 @@ int bench_nonlinear(const Args& args) {
   o.app().add_flag("--quick", quick, "n = 8, 800 operational tets");
   o.app().add_option("--cells", n, "n (the box has 2n x n x n cells, 12 n^3 tets)")->check(CLI::Range(2, 40));
   o.app().add_option("--op-tets", op_tets, "operational tets (about)")->check(CLI::Range(50, 200000));
-  o.app().add_option("--frames", frames, "loaded frames (the load grows over them; the first is not timed)")->check(CLI::Range(3, 100));
+  o.app().add_option("--frames", frames, "loaded frames (the load grows over them; the first is not timed)")
+      ->check(CLI::Range(3, 100));
   o.app().add_option("--force", force, "the press at the last frame, N (default 0.1: its tets turn by about 30 deg)")
       ->check(CLI::Range(1e-6, 10.0));
   o.app().add_option("--paper-frames", paper_frames,
@@ -218,7 +219,8 @@ int bench_nonlinear(const Args& args) {
     const BenchModel b = p.make();
     const Series c = run(cat(p.generator, " corotational"),
                          paper_spec(p.generator, b, p.radius, p.force, paper_frames, "corotational"));
-    const Series l = run(cat(p.generator, " linear"), paper_spec(p.generator, b, p.radius, p.force, paper_frames, "linear"));
+    const Series l =
+        run(cat(p.generator, " linear"), paper_spec(p.generator, b, p.radius, p.force, paper_frames, "linear"));
     if (c.nodes != b.mesh.num_nodes() || c.tets != b.mesh.num_tets())
       fail("bench nonlinear: the '", p.generator, "' generator made ", c.tets, " tets, the bench's model ",
            b.mesh.num_tets(), ": its operational region would not be the paper's");

@@ -83,8 +83,9 @@ struct Corotational {
     return out;
   }
   // The exact tangent straight from dP's three terms, without the 9 x 9 H
-  // (a third of the flops: an element with its tangent 1.09 -> 0.74 us). With H(ac, bd) = dP_ac / dF_bd and K(3k+a, 3l+b) = V sum_cd
-  // H(ac, bd) g_k[c] g_l[d] (g_k: row k of grad):
+  // (a third of the flops: an element with its tangent 1.09 -> 0.74 us).
+  // With H(ac, bd) = dP_ac / dF_bd and K(3k+a, 3l+b) = V sum_cd H(ac, bd)
+  // g_k[c] g_l[d] (g_k: row k of grad):
   //   2 mu dF          -> 2 mu V (g_k . g_l) delta_ab
   //   lambda tr(B) R   -> lambda V (R g_k)_a (R g_l)_b
   //   skew(R w) RA     -> V sum_m (A_m g_k)_a (g_l x r_b)_m,
